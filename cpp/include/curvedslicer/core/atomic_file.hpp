@@ -1,0 +1,26 @@
+// Writing output files so that a reader never sees a half-written file: data goes to a temporary
+// file in the same folder, which is renamed over the target only after a successful close.
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string_view>
+
+namespace curvedslicer {
+
+/// Writes `path` atomically: `write` fills the stream of a temporary sibling file, which then
+/// replaces `path`. On any exception (from `write` or the file system) the temporary file is
+/// removed, `path` is left as it was, and the exception propagates (file-system errors as
+/// `IoError` naming the path).
+void writeFileAtomically(const std::filesystem::path& path,
+                         const std::function<void(std::ostream&)>& write, bool binary = false);
+
+/// Convenience: atomically writes a string.
+void writeTextFileAtomically(const std::filesystem::path& path, std::string_view text);
+
+/// Creates `dir` (and parents) if missing; throws IoError naming the folder if that fails or
+/// if it exists as a non-folder.
+void ensureDirectory(const std::filesystem::path& dir);
+
+}  // namespace curvedslicer
