@@ -1,0 +1,31 @@
+// Cleaning a triangle soup into an indexed mesh: vertex welding with a tolerance relative to the
+// model size, removal of degenerate and duplicated triangles. Cost O(n log n).
+#pragma once
+
+#include <cstddef>
+
+#include "curvedslicer/mesh/tri_mesh.hpp"
+
+namespace curvedslicer {
+
+struct CleanOptions {
+  /// Vertices closer than this fraction of the bounding-box diagonal are merged. 0 merges only
+  /// bit-identical positions.
+  double relativeWeldTolerance = 1e-6;
+  bool removeDegenerate = true;  ///< triangles with a repeated vertex after welding, or zero area
+  bool removeDuplicates = true;  ///< triangles over the same three vertices (keeps the first)
+};
+
+struct CleanResult {
+  TriMesh mesh;                       ///< faceIds carried over from the input (when present)
+  std::size_t mergedVertices = 0;     ///< input vertices merged into another
+  std::size_t degenerateTriangles = 0;
+  std::size_t duplicateTriangles = 0;          ///< same orientation as the kept copy
+  std::size_t oppositeDuplicateTriangles = 0;  ///< opposite orientation to the kept copy
+  double weldTolerance = 0.0;                  ///< mm, the absolute tolerance used
+};
+
+/// @throws InvalidInput for non-finite coordinates or out-of-range indices.
+CleanResult cleanMesh(const TriMesh& mesh, const CleanOptions& options = {});
+
+}  // namespace curvedslicer
