@@ -1,25 +1,33 @@
 // Any-angle geodesic propagation (the accurate default).
 //
 // Dijkstra order over the 26-neighbourhood, but every cell carries a *parent*: a source triangle
-// (distance = exact point–triangle distance) or a pivot cell (distance = pivot distance + straight
+// (distance = exact point–triangle distance) or a pivot point (distance = pivot distance + straight
 // segment). A cell inherits the parent of the neighbour that reaches it best (optimistically, as in
 // Lazy Theta*, Nash et al. 2010); when the cell is popped the straight segment to its parent is
-// checked for line of sight, and only if that fails the cell takes the best of (a) its finished
-// neighbours' parents that it can see, and (b) a finished neighbour itself as a new pivot. Pivots
-// therefore appear only where shortest paths bend around concave edges, so distances are exact
-// straight-line distances wherever the source is visible, and the stencil bias of fixed-neighbour
-// Dijkstra (ACCURACY.md) never accumulates.
+// checked for line of sight, and only if that fails the cell takes the best of
+//   (a) the parents of its finished neighbours that it can see,
+//   (b) a new pivot on a reflex (concave) edge of the model within reach, placed at the point of
+//       the edge that minimises parent distance + segment (shortest paths inside a polyhedron bend
+//       only at reflex edges and vertices, so this pivot is where the true path bends), and
+//   (c) a finished neighbour's centre as a pivot (the fallback when no model surface is given).
+// Pivots therefore appear only where shortest paths bend around concave edges; elsewhere distances
+// are exact straight-line distances, and the stencil bias of fixed-neighbour Dijkstra
+// (ACCURACY.md) never accumulates.
 //
-// Line of sight: sphere tracing through the clearance field (exact EDT of the outside) while the
-// segment is far from walls, exact cell walking (3D DDA over the inside mask) near walls.
+// Line of sight: with the model surface, an exact test of the segment against the surface
+// triangles in the bricks it passes; without it, sphere tracing through the clearance field (exact
+// EDT of the outside) far from walls and exact cell walking near walls.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <vector>
 
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/voxel/clearance.hpp"
 #include "field_internal.hpp"
+#include "solid_boundary.hpp"
 
 namespace curvedslicer::detail {
 
@@ -28,6 +36,11 @@ namespace {
 constexpr std::uint8_t kDone = 1;
 constexpr std::uint8_t kVerified = 2;
 constexpr double kSqrt3 = 1.7320508075688772;
+/// Reflex edges considered at a line-of-sight failure lie within this many cells of the cell or
+/// of the point where its blocked segment meets the surface.
+constexpr double kEdgeReach = 2.5;
+/// A chord between two points of the surface may dip this many cells outside the solid.
+constexpr double kChordDepth = 0.02;
 
 struct HeapItem {
   float d;
@@ -39,17 +52,25 @@ struct HeapGreater {
   }
 };
 
+struct Pivot {
+  Vec3 position;  // cell units
+  double distance;
+  std::int32_t edge = -1;  // reflex edge the pivot lies on, -1 for a cell-centre pivot
+};
+
 class AnyAnglePropagator {
  public:
   AnyAnglePropagator(const VoxelGrid& grid, const std::vector<Triangle>& source,
                      double seedBandCells, std::vector<float>& dist,
-                     std::vector<std::int32_t>& parent, std::vector<float> clearance)
+                     std::vector<std::int32_t>& parent, const SolidBoundary* boundary,
+                     std::vector<float> clearance)
       : g_(grid.geometry),
         inside_(grid.inside),
         source_(source),
         slack_(seedBandCells),
         dist_(dist),
         parent_(parent),
+        boundary_(boundary),
         clearance_(std::move(clearance)),
         state_(dist.size(), 0) {
     const auto& offs = neighbourOffsets26();
@@ -62,7 +83,6 @@ class AnyAnglePropagator {
   }
 
   MethodStats run(const std::vector<std::uint32_t>& seeds, Progress progress) {
-    MethodStats stats;
     std::size_t insideCount = 0;
     for (std::uint8_t v : inside_) insideCount += v;
     heap_.reserve(seeds.size() * 4);
@@ -78,15 +98,14 @@ class AnyAnglePropagator {
       heap_.pop_back();
       const std::uint32_t n = item.n;
       if ((state_[n] & kDone) || item.d != dist_[n]) continue;  // stale entry
-      const Vec3i c = g_.cell(n);
-      const Vec3 x = cellCentre(c);
+      const Vec3 x = cellCentre(g_.cell(n));
       if (!(state_[n] & kVerified)) {
         state_[n] |= kVerified;
-        ++stats.lineOfSightTests;
+        ++stats_.lineOfSightTests;
         Vec3 target;
         evaluate(parent_[n], x, &target);
         if (!visible(x, target, slackFor(parent_[n]))) {
-          ++stats.lineOfSightFailures;
+          ++stats_.lineOfSightFailures;
           repair(n, x);
           push(dist_[n], n);  // its value grew: back into the queue, now verified
           continue;
@@ -110,8 +129,10 @@ class AnyAnglePropagator {
         }
       }
     }
-    return stats;
+    return stats_;
   }
+
+  std::size_t edgePivots() const { return edgePivots_; }
 
  private:
   void push(float d, std::uint32_t n) {
@@ -125,40 +146,146 @@ class AnyAnglePropagator {
       const Triangle& t = source_[parentTriangle(code)];
       return pointTriangleDistance(x, t[0], t[1], t[2], target);
     }
-    const Vec3 pc = cellCentre(g_.cell(static_cast<std::size_t>(code)));
-    if (target) *target = pc;
-    return dist_[static_cast<std::size_t>(code)] + (x - pc).norm();
+    const Pivot& p = pivots_[static_cast<std::size_t>(code)];
+    if (target) *target = p.position;
+    return p.distance + (x - p.position).norm();
   }
 
   /// The last stretch of a segment to a source triangle runs through cells cut by the start
-  /// surface; seeds within the band are taken as visible, so that stretch is not checked.
+  /// surface (which may also lie slightly off the solid); seeds within the band are taken as
+  /// visible, so that stretch is not checked.
   double slackFor(std::int32_t code) const { return code < 0 ? slack_ : 0.0; }
 
-  /// Line-of-sight failure at cell n: best of the finished neighbours' parents that n can see and
-  /// of the finished neighbours themselves as pivots.
+  std::int32_t addPivot(const Pivot& pivot) {
+    if (pivots_.size() >= static_cast<std::size_t>(INT32_MAX)) {
+      throw ResourceLimit("too many pivot points in the geodesic field; use a larger voxel size");
+    }
+    pivots_.push_back(pivot);
+    return static_cast<std::int32_t>(pivots_.size() - 1);
+  }
+
+  /// Minimises evaluate(q, y) + |x − y| over y on the segment [a, b]; returns the value and y.
+  double bestPointOnEdge(std::int32_t q, const Vec3& a, const Vec3& b, const Vec3& x,
+                         Vec3* y) const {
+    const Vec3 ab = b - a;
+    const double len = ab.norm();
+    const Vec3 u = ab / len;
+    if (q >= 0) {
+      // Point parent: unfold about the edge line — s* = (h2·s1 + h1·s2) / (h1 + h2).
+      const Vec3& P = pivots_[static_cast<std::size_t>(q)].position;
+      const double s1 = (P - a).dot(u), s2 = (x - a).dot(u);
+      const double h1 = (P - a - s1 * u).norm(), h2 = (x - a - s2 * u).norm();
+      const double s = h1 + h2 > 0 ? (h2 * s1 + h1 * s2) / (h1 + h2) : 0.5 * (s1 + s2);
+      *y = a + std::clamp(s, 0.0, len) * u;
+      return evaluate(q, *y, nullptr) + (x - *y).norm();
+    }
+    // Triangle parent: the objective is convex along the edge; golden-section search.
+    constexpr double kPhi = 0.6180339887498949;
+    auto f = [&](double s) {
+      const Vec3 p = a + s * u;
+      return evaluate(q, p, nullptr) + (x - p).norm();
+    };
+    double lo = 0.0, hi = len;
+    double m1 = hi - kPhi * (hi - lo), m2 = lo + kPhi * (hi - lo);
+    double f1 = f(m1), f2 = f(m2);
+    while (hi - lo > 1e-4) {
+      if (f1 < f2) {
+        hi = m2;
+        m2 = m1;
+        f2 = f1;
+        m1 = hi - kPhi * (hi - lo);
+        f1 = f(m1);
+      } else {
+        lo = m1;
+        m1 = m2;
+        f1 = f2;
+        m2 = lo + kPhi * (hi - lo);
+        f2 = f(m2);
+      }
+    }
+    const double s = 0.5 * (lo + hi);
+    *y = a + s * u;
+    return f(s);
+  }
+
+  /// Line-of-sight failure at cell n: see the file comment, (a)–(c).
   void repair(std::uint32_t n, const Vec3& x) {
     const std::int32_t failed = parent_[n];
     double best = kInf;
     std::int32_t bestParent = kNoParent;
-    std::int32_t tried[26];
-    int triedCount = 0;
+    std::optional<Pivot> newPivot;
+    std::uint32_t bestCell = 0;
+    bool viaCell = false;
+    std::int32_t parents[27];
+    int parentCount = 0;
+    parents[parentCount++] = failed;
     for (int o = 0; o < 26; ++o) {
       const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
       if (!(state_[m] & kDone)) continue;
-      const double viaPivot = dist_[m] + lengths_[o];
-      if (viaPivot < best) {
-        best = viaPivot;
-        bestParent = static_cast<std::int32_t>(m);
+      // (c) the neighbour as a pivot.
+      const double viaNeighbour = dist_[m] + lengths_[o];
+      if (viaNeighbour < best) {
+        best = viaNeighbour;
+        bestCell = static_cast<std::uint32_t>(m);
+        viaCell = true;
+        newPivot.reset();
       }
       const std::int32_t q = parent_[m];
-      if (q == failed || std::find(tried, tried + triedCount, q) != tried + triedCount) continue;
-      tried[triedCount++] = q;
+      if (std::find(parents, parents + parentCount, q) != parents + parentCount) continue;
+      parents[parentCount++] = q;
+      // (a) the neighbour's parent, if visible.
       Vec3 target;
       const double viaParent = evaluate(q, x, &target);
       if (viaParent < best && visible(x, target, slackFor(q))) {
         best = viaParent;
         bestParent = q;
+        viaCell = false;
+        newPivot.reset();
       }
+    }
+    // (b) pivots on reflex edges near the cell and near where its blocked segment hits the
+    // surface, for every candidate parent.
+    if (boundary_) {
+      boundary_->reflexEdgesNear(x, kEdgeReach, edges_);
+      Vec3 target, hit;
+      evaluate(failed, x, &target);
+      if (!boundary_->segmentClear(x, shortened(x, target, slackFor(failed)), &hit)) {
+        boundary_->reflexEdgesNear(hit, kEdgeReach, moreEdges_);
+        edges_.insert(edges_.end(), moreEdges_.begin(), moreEdges_.end());
+        std::sort(edges_.begin(), edges_.end());
+        edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
+      }
+      for (std::uint32_t e : edges_) {
+        const auto& edge = boundary_->reflexEdge(e);
+        for (int i = 0; i < parentCount; ++i) {
+          const std::int32_t q = parents[i];
+          Vec3 y;
+          const double value = bestPointOnEdge(q, edge[0], edge[1], x, &y);
+          if (!(value < best - 1e-9)) continue;
+          // y lies on the surface: the segments to it must not cross the surface, and must not
+          // leave the solid at y or at the parent pivot (a chord across a concave hollow).
+          Vec3 target;
+          const double dy = evaluate(q, y, &target);
+          if (!boundary_->segmentClear(x, y)) continue;
+          if (boundary_->leavesSolidAt(e, target - y, kChordDepth)) continue;
+          if (q >= 0 && pivots_[static_cast<std::size_t>(q)].edge >= 0 &&
+              boundary_->leavesSolidAt(
+                  static_cast<std::uint32_t>(pivots_[static_cast<std::size_t>(q)].edge), y - target,
+                  kChordDepth))
+            continue;
+          const Vec3 end = q < 0 ? shortened(y, target, slack_) : target;
+          if (!boundary_->segmentClear(y, end)) continue;
+          best = value;
+          newPivot = Pivot{y, dy, static_cast<std::int32_t>(e)};
+          viaCell = false;
+        }
+      }
+    }
+    if (newPivot) {
+      bestParent = addPivot(*newPivot);
+      ++edgePivots_;
+    } else if (viaCell) {
+      bestParent = addPivot({cellCentre(g_.cell(bestCell)), dist_[bestCell], -1});
     }
     if (bestParent == kNoParent) {
       // Cannot happen: a queued cell always has a finished neighbour or is a seed.
@@ -166,6 +293,18 @@ class AnyAnglePropagator {
     }
     dist_[n] = static_cast<float>(best);
     parent_[n] = bestParent;
+  }
+
+  static Vec3 shortened(const Vec3& from, const Vec3& to, double slack) {
+    const Vec3 d = to - from;
+    const double len = d.norm();
+    if (len <= slack) return from;
+    return to - d * (slack / len);
+  }
+
+  bool visible(const Vec3& from, const Vec3& to, double slack) const {
+    if (boundary_) return boundary_->segmentClear(from, shortened(from, to, slack));
+    return visibleThroughCells(from, to, slack);
   }
 
   bool insideCell(const Vec3& p, std::size_t* index) const {
@@ -177,9 +316,9 @@ class AnyAnglePropagator {
     return inside_[*index] != 0;
   }
 
-  /// True if the segment from `from` (an inside cell centre) to `to`, minus its last `slack`
-  /// cells, stays inside inside cells.
-  bool visible(const Vec3& from, const Vec3& to, double slack) const {
+  /// Voxel-only line of sight: the segment from `from` (an inside cell centre) to `to`, minus its
+  /// last `slack` cells, stays inside inside cells.
+  bool visibleThroughCells(const Vec3& from, const Vec3& to, double slack) const {
     Vec3 d = to - from;
     const double len = d.norm();
     if (len <= slack + 1e-12) return true;
@@ -197,7 +336,6 @@ class AnyAnglePropagator {
         t += safe;
         continue;
       }
-      // Walk to the exit of the current cell.
       double step = kInf;
       for (int a = 0; a < 3; ++a) {
         if (d[a] == 0) continue;
@@ -215,9 +353,14 @@ class AnyAnglePropagator {
   double slack_;
   std::vector<float>& dist_;
   std::vector<std::int32_t>& parent_;
+  const SolidBoundary* boundary_;
   std::vector<float> clearance_;
   std::vector<std::uint8_t> state_;
   std::vector<HeapItem> heap_;
+  std::vector<Pivot> pivots_;
+  std::vector<std::uint32_t> edges_, moreEdges_;
+  MethodStats stats_;
+  std::size_t edgePivots_ = 0;
   Vec3 offsets_[26];
   double lengths_[26];
   std::ptrdiff_t deltas_[26];
@@ -225,16 +368,27 @@ class AnyAnglePropagator {
 
 }  // namespace
 
-MethodStats propagateAnyAngle(const VoxelGrid& grid, const std::vector<Triangle>& source,
+MethodStats propagateAnyAngle(const VoxelGrid& grid, const TriMesh* model,
+                              const std::vector<Triangle>& source,
                               const std::vector<std::uint32_t>& seeds, double seedBandCells,
                               std::vector<float>& dist, std::vector<std::int32_t>& parent,
                               Progress progress) {
   // Neighbour offsets are applied without bounds checks: computeGeodesicField has checked that
   // no inside cell touches the grid border.
-  progress.report(0.0, "geodesic field: clearance");
-  std::vector<float> clearance = computeClearance(grid, progress.sub(0.0, 0.1));
-  AnyAnglePropagator propagator(grid, source, seedBandCells, dist, parent, std::move(clearance));
-  return propagator.run(seeds, progress.sub(0.1, 1.0));
+  std::unique_ptr<SolidBoundary> boundary;
+  std::vector<float> clearance;
+  if (model) {
+    progress.report(0.0, "geodesic field: surface index");
+    boundary = std::make_unique<SolidBoundary>(grid.geometry, *model);
+  } else {
+    progress.report(0.0, "geodesic field: clearance");
+    clearance = computeClearance(grid, progress.sub(0.0, 0.1));
+  }
+  AnyAnglePropagator propagator(grid, source, seedBandCells, dist, parent, boundary.get(),
+                                std::move(clearance));
+  MethodStats stats = propagator.run(seeds, progress.sub(0.1, 1.0));
+  stats.edgePivots = propagator.edgePivots();
+  return stats;
 }
 
 }  // namespace curvedslicer::detail

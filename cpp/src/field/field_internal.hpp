@@ -17,12 +17,18 @@ using Triangle = std::array<Vec3, 3>;
 /// Source triangles in cell coordinates; zero-area triangles dropped.
 std::vector<Triangle> toCellCoordinates(const GridGeometry& geometry, const TriMesh& source);
 
-inline Vec3 cellCentre(const Vec3i& c) { return c.cast<double>().array() + 0.5; }
+inline Vec3 cellCentre(const Vec3i& c) {
+  return c.cast<double>().array() + 0.5;
+}
 
 /// Parent encoding of the any-angle method: >= 0 a pivot cell, < 0 the source triangle -1-code.
 inline constexpr std::int32_t kNoParent = INT32_MIN;
-inline std::int32_t triangleParent(std::size_t t) { return -1 - static_cast<std::int32_t>(t); }
-inline std::size_t parentTriangle(std::int32_t code) { return static_cast<std::size_t>(-1 - code); }
+inline std::int32_t triangleParent(std::size_t t) {
+  return -1 - static_cast<std::int32_t>(t);
+}
+inline std::size_t parentTriangle(std::int32_t code) {
+  return static_cast<std::size_t>(-1 - code);
+}
 
 /// Seeds: inside cells whose centre lies within `bandCells` of a source triangle get the exact
 /// distance (cell units) and, if `parent` is given, the closest triangle as parent.
@@ -37,11 +43,14 @@ struct MethodStats {
   std::size_t lineOfSightFailures = 0;
   std::size_t outerIterations = 0;
   std::size_t correctionRounds = 0;
+  std::size_t edgePivots = 0;
 };
 
 /// Any-angle propagation (see geodesic_field.hpp). `dist` holds the seeds on entry and the field
 /// (cell units, +inf where unreached) on exit.
-MethodStats propagateAnyAngle(const VoxelGrid& grid, const std::vector<Triangle>& source,
+/// `model` (may be null) enables exact line of sight and pivots on its reflex edges.
+MethodStats propagateAnyAngle(const VoxelGrid& grid, const TriMesh* model,
+                              const std::vector<Triangle>& source,
                               const std::vector<std::uint32_t>& seeds, double seedBandCells,
                               std::vector<float>& dist, std::vector<std::int32_t>& parent,
                               Progress progress);

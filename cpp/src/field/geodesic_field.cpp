@@ -38,7 +38,8 @@ std::vector<Triangle> toCellCoordinates(const GridGeometry& g, const TriMesh& so
   out.reserve(source.triangles.size());
   for (std::size_t t = 0; t < source.triangles.size(); ++t) {
     Triangle tri;
-    for (int k = 0; k < 3; ++k) tri[k] = (g.frame.toFrame(source.corner(t, k)) - g.corner) / g.voxelSize;
+    for (int k = 0; k < 3; ++k)
+      tri[k] = (g.frame.toFrame(source.corner(t, k)) - g.corner) / g.voxelSize;
     if ((tri[1] - tri[0]).cross(tri[2] - tri[0]).squaredNorm() <= 0.0) continue;
     out.push_back(tri);
   }
@@ -134,8 +135,10 @@ UnreachedVoxels reportUnreached(const VoxelGrid& grid, const std::vector<float>&
 }  // namespace
 }  // namespace detail
 
-GeodesicResult computeGeodesicField(const VoxelGrid& grid, const TriMesh& source,
-                                    const GeodesicOptions& options, Progress progress) {
+namespace {
+
+GeodesicResult computeField(const VoxelGrid& grid, const TriMesh* model, const TriMesh& source,
+                            const GeodesicOptions& options, Progress progress) {
   const GridGeometry& g = grid.geometry;
   if (g.cellCount() == 0 || grid.inside.size() != g.cellCount()) {
     throw InvalidInput("the voxel grid is empty or inconsistent; voxelize the model first");
@@ -156,8 +159,9 @@ GeodesicResult computeGeodesicField(const VoxelGrid& grid, const TriMesh& source
           cell[b] = u;
           cell[c] = v;
           if (grid.inside[g.index(cell)]) {
-            throw InvalidInput("the voxel grid has inside cells on its border; voxelize with a "
-                               "padding of at least 1 cell");
+            throw InvalidInput(
+                "the voxel grid has inside cells on its border; voxelize with a "
+                "padding of at least 1 cell");
           }
         }
     }
@@ -182,10 +186,11 @@ GeodesicResult computeGeodesicField(const VoxelGrid& grid, const TriMesh& source
     std::vector<std::int32_t> parent(g.cellCount(), detail::kNoParent);
     const auto seeds = detail::placeSeeds(grid, tris, band, dist, &parent, source);
     result.seedCount = seeds.size();
-    stats = detail::propagateAnyAngle(grid, tris, seeds, band, dist, parent, progress.sub(0.02, 1.0));
+    stats = detail::propagateAnyAngle(grid, model, tris, seeds, band, dist, parent,
+                                      progress.sub(0.02, 1.0));
   } else {
-    const double radius = options.paperSearchRadius > 0 ? options.paperSearchRadius
-                                                        : 2.0 * std::sqrt(3.0);
+    const double radius =
+        options.paperSearchRadius > 0 ? options.paperSearchRadius : 2.0 * std::sqrt(3.0);
     if (!std::isfinite(radius) || radius < std::sqrt(3.0)) {
       throw InvalidInput("paper search radius must be at least sqrt(3) voxels: " +
                          std::to_string(radius) + "; use the default 2*sqrt(3)");
@@ -198,6 +203,7 @@ GeodesicResult computeGeodesicField(const VoxelGrid& grid, const TriMesh& source
   result.lineOfSightFailures = stats.lineOfSightFailures;
   result.paperOuterIterations = stats.outerIterations;
   result.paperCorrectionRounds = stats.correctionRounds;
+  result.edgePivots = stats.edgePivots;
 
   result.unreached = detail::reportUnreached(grid, dist);
   double maxD = 0.0;
@@ -215,6 +221,22 @@ GeodesicResult computeGeodesicField(const VoxelGrid& grid, const TriMesh& source
   result.field.distance = std::move(dist);
   progress.report(1.0, "geodesic field");
   return result;
+}
+
+}  // namespace
+
+GeodesicResult computeGeodesicField(const VoxelGrid& grid, const TriMesh& source,
+                                    const GeodesicOptions& options, Progress progress) {
+  return computeField(grid, nullptr, source, options, progress);
+}
+
+GeodesicResult computeGeodesicField(const VoxelGrid& grid, const TriMesh& model,
+                                    const TriMesh& source, const GeodesicOptions& options,
+                                    Progress progress) {
+  if (model.triangles.empty()) {
+    throw InvalidInput("the model surface has no triangles; pass the solid's mesh");
+  }
+  return computeField(grid, &model, source, options, progress);
 }
 
 }  // namespace curvedslicer

@@ -5,13 +5,19 @@
 //  * Step 3 (eq. 8): J_P = min over the cells N of the reference set B inside the search sphere of
 //    radius r = 2√3·L around P of (l_i + t_i). All cells of a front are evaluated against the same
 //    B (not against each other), so the result does not depend on visiting order.
-//  * Step 4: "reference point set B is updated with point set A" is read as B := A (the front
-//    moves on); the proof of §2.2.3 needs B to be one thin band, which B := B ∪ A would not be.
-//  * Steps 5–8 (ambiguous in the text): the set C that is expanded again must be the set of
-//    *lagging* cells, t < Smax − √3·L, while D (t ≥ Smax − √3·L) waits; E = unknown neighbours of
-//    C, computed by step 3; B := D ∪ E; repeat until C is empty. The literal wording ("in point set
-//    C, the GDTS values are greater") would push the leading cells further ahead, which contradicts
-//    the stated purpose (keep every value of B within √3·L of Smax, §2.2.3) and fig. 9(b)
+//  * Steps 4 and 8, "B is updated with A" / "with the union of D and E", are read as unions: B
+//    accumulates every computed cell, and the newest cells form the working front whose unknown
+//    neighbours are computed next. (Reading "updated with" as replacement — B = the newest front
+//    only — leaves eq. 8 so few directions inside the sphere that the method breaks its own
+//    accuracy claim: measured on the 128-cell analytic cases, overestimates of 3.7 % + L on the
+//    spherical shell and 5.7 % + L on the U-bend, against the 2.9 % + L bound of the sphere's
+//    angular gap, which the union reading meets.)
+//  * Steps 5–8 (ambiguous in the text): the part of the front C that is expanded again must be
+//    the *lagging* cells, t < Smax − √3·L, while D (t ≥ Smax − √3·L) waits; E = unknown neighbours
+//    of C, computed by step 3; the front becomes D ∪ E; repeat until C is empty. The literal
+//    wording ("in point set C, the GDTS values are greater") would push the leading cells further
+//    ahead, which contradicts the stated purpose (keep every value of B within √3·L of Smax,
+//    §2.2.3) and fig. 9(b)
 //    ("propagation along the shorter side"); the reading above achieves that purpose.
 //  * Step 9: the loop ends when no unknown cell borders B; inside cells never reached are reported.
 //  * Seeds (step 1) get the exact distance to the start surface rather than 0, as the issue asks.
@@ -26,7 +32,8 @@ namespace curvedslicer::detail {
 
 namespace {
 
-enum : std::uint8_t { kUnknown = 0, kKnown = 1, kInB = 2, kPending = 3 };
+// kKnown: computed (member of the reference set B); kFront: computed and on the working front.
+enum : std::uint8_t { kUnknown = 0, kKnown = 1, kFront = 2, kPending = 3 };
 constexpr double kSqrt3 = 1.7320508075688772;
 
 struct Offset {
@@ -57,24 +64,24 @@ class PaperSearch {
     MethodStats stats;
     std::size_t insideCount = 0;
     for (std::uint8_t v : inside_) insideCount += v;
-    // Step 1: the seeds form the reference set B.
+    // Step 1: the seeds form the reference set B (and the first front, named B below).
     std::vector<std::uint32_t> B(seeds.begin(), seeds.end());
-    for (std::uint32_t s : B) state_[s] = kInB;
+    for (std::uint32_t s : B) state_[s] = kFront;
     std::size_t known = B.size();
     std::vector<std::uint32_t> A, C, D, E;
     std::size_t nextReport = 0;
     while (true) {
-      // Step 2: A = unknown cells around B.
+      // Step 2: A = unknown cells around the front.
       collectUnknownNeighbours(B, A);
       if (A.empty()) break;  // step 9: nothing left that B can reach
       ++stats.outerIterations;
       // Step 3: GDTS of A from B within the search sphere (eq. 8).
       evaluate(A);
-      // Step 4: Smax over A; B := A.
+      // Step 4: Smax over A; A joins the reference set and becomes the front.
       float smax = 0.0f;
       for (std::uint32_t p : A) smax = std::max(smax, dist_[p]);
       for (std::uint32_t p : B) state_[p] = kKnown;
-      for (std::uint32_t p : A) state_[p] = kInB;
+      for (std::uint32_t p : A) state_[p] = kFront;
       B.swap(A);
       known += B.size();
       // Steps 5–8: bring the lagging part of B forward until B spans at most √3·L.
@@ -88,9 +95,9 @@ class PaperSearch {
         collectUnknownNeighbours(C, E);  // step 7
         evaluate(E);
         for (std::uint32_t p : C) state_[p] = kKnown;
-        for (std::uint32_t p : E) state_[p] = kInB;
+        for (std::uint32_t p : E) state_[p] = kFront;
         known += E.size();
-        B.swap(D);  // step 8: B := D ∪ E
+        B.swap(D);  // step 8: the front becomes D ∪ E (E joins the reference set)
         B.insert(B.end(), E.begin(), E.end());
       }
       if (known >= nextReport) {
@@ -123,19 +130,20 @@ class PaperSearch {
     std::sort(out.begin(), out.end());
   }
 
-  /// Eq. 8 for every cell of `cells` against the current reference set B.
+  /// Eq. 8 for every cell of `cells` against the reference set B (every computed cell).
   void evaluate(const std::vector<std::uint32_t>& cells) {
     const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(cells.size());
 #pragma omp parallel for schedule(static) if (count > 4096)
     for (std::ptrdiff_t q = 0; q < count; ++q) {
       const std::uint32_t p = cells[q];
       const Vec3i c = g_.cell(p);
-      const bool interior = (c.array() >= reach_).all() && (c.array() < g_.dims.array() - reach_).all();
+      const bool interior =
+          (c.array() >= reach_).all() && (c.array() < g_.dims.array() - reach_).all();
       float best = kInfF;
       for (const Offset& o : sphere_) {
         if (!interior && !g_.contains(c + o.o)) continue;
         const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(p) + o.delta);
-        if (state_[m] == kInB) best = std::min(best, dist_[m] + o.length);
+        if (state_[m] == kFront || state_[m] == kKnown) best = std::min(best, dist_[m] + o.length);
       }
       dist_[p] = best;
     }

@@ -26,7 +26,9 @@ std::string joinIds(const std::vector<int>& ids, std::size_t limit = 12) {
   return s.str();
 }
 
-bool finite(const Vec3& v) { return v.allFinite(); }
+bool finite(const Vec3& v) {
+  return v.allFinite();
+}
 
 }  // namespace
 
@@ -53,7 +55,8 @@ TriMesh resolveStartSurface(const TriMesh& model, const StartSurface& start) {
     case StartSurface::Kind::Plane: {
       const Aabb box = model.bounds();
       if (box.empty()) {
-        throw InvalidInput("cannot place a start plane: the model has no vertices; load a model first");
+        throw InvalidInput(
+            "cannot place a start plane: the model has no vertices; load a model first");
       }
       Vec3 n = start.planeNormal;
       if (!finite(n) || n.norm() < 1e-12) {

@@ -58,9 +58,9 @@ struct DistanceField {
 /// Inside voxels that no path from the start surface reaches (e.g. a separate shell).
 struct UnreachedVoxels {
   std::size_t count = 0;
-  std::size_t components = 0;  ///< 26-connected components among them
-  Aabb bounds;                 ///< part frame, of their centres
-  Vec3 example = Vec3::Zero(); ///< one unreached voxel centre, part frame
+  std::size_t components = 0;   ///< 26-connected components among them
+  Aabb bounds;                  ///< part frame, of their centres
+  Vec3 example = Vec3::Zero();  ///< one unreached voxel centre, part frame
 };
 
 struct GeodesicResult {
@@ -71,17 +71,28 @@ struct GeodesicResult {
   UnreachedVoxels unreached;
   double maxDistance = 0.0;  ///< mm, over reached voxels
   // Diagnostics.
-  std::size_t lineOfSightTests = 0;     ///< AnyAngle
-  std::size_t lineOfSightFailures = 0;  ///< AnyAngle: voxels that needed a pivot
-  std::size_t paperOuterIterations = 0; ///< Paper: loops of steps 2–9
-  std::size_t paperCorrectionRounds = 0;///< Paper: loops of steps 5–8
+  std::size_t lineOfSightTests = 0;       ///< AnyAngle
+  std::size_t lineOfSightFailures = 0;    ///< AnyAngle: voxels that needed a pivot
+  std::size_t paperOuterIterations = 0;   ///< Paper: loops of steps 2–9
+  std::size_t paperCorrectionRounds = 0;  ///< Paper: loops of steps 5–8
+  std::size_t edgePivots = 0;             ///< AnyAngle: pivots placed on reflex edges of the model
 };
 
-/// Computes the field.
+/// Computes the field with the solid's surface at hand (the accurate configuration, used by the
+/// pipeline): the any-angle method then tests line of sight exactly against the model's triangles
+/// and bends paths at sub-voxel pivots on its reflex (concave) edges.
 /// @param grid    voxelized solid (inside mask); the result shares its geometry
+/// @param model   the solid's closed, outward-oriented surface, part frame
 /// @param source  start-surface triangles, part frame (see `resolveStartSurface`)
 /// @throws InvalidInput if the start surface does not touch the solid (no inside voxel centre
 ///         within the seed band), naming the gap; Cancelled via `progress`.
+GeodesicResult computeGeodesicField(const VoxelGrid& grid, const TriMesh& model,
+                                    const TriMesh& source, const GeodesicOptions& options = {},
+                                    Progress progress = {});
+
+/// The same from the voxel grid alone: line of sight through the voxel mask (clearance field and
+/// cell walking) and pivots at voxel centres. Less accurate next to walls (errors up to about one
+/// voxel around concave edges); for grids that do not come from a mesh.
 GeodesicResult computeGeodesicField(const VoxelGrid& grid, const TriMesh& source,
                                     const GeodesicOptions& options = {}, Progress progress = {});
 

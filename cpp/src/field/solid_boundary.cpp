@@ -1,0 +1,199 @@
+#include "solid_boundary.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <utility>
+
+namespace curvedslicer::detail {
+
+namespace {
+
+constexpr double kStartTolerance = 0.05;
+
+/// Builds CSR lists from (brick, item) pairs.
+void buildCsr(std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs, std::size_t bricks,
+              std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& list) {
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  start.assign(bricks + 1, 0);
+  for (const auto& p : pairs) ++start[p.first + 1];
+  for (std::size_t b = 0; b < bricks; ++b) start[b + 1] += start[b];
+  list.resize(pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) list[i] = pairs[i].second;
+}
+
+}  // namespace
+
+SolidBoundary::SolidBoundary(const GridGeometry& g, const TriMesh& model) {
+  bdims_ = (g.dims.array() + kBrick - 1) / kBrick;
+  const std::size_t bricks = static_cast<std::size_t>(bdims_.x()) * bdims_.y() * bdims_.z();
+
+  std::vector<Vec3> v(model.vertices.size());
+  for (std::size_t i = 0; i < v.size(); ++i)
+    v[i] = (g.frame.toFrame(model.vertices[i]) - g.corner) / g.voxelSize;
+
+  // Triangles -> bricks (bounding-box range, then a plane-to-brick-centre test).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  const double brickRadius = 0.5 * std::sqrt(3.0) * kBrick + 1e-6;
+  std::vector<std::uint32_t> triOfModel(model.triangles.size(), UINT32_MAX);
+  for (std::size_t t = 0; t < model.triangles.size(); ++t) {
+    const Vec3i& f = model.triangles[t];
+    Triangle tri{v[f[0]], v[f[1]], v[f[2]]};
+    const Vec3 n = (tri[1] - tri[0]).cross(tri[2] - tri[0]);
+    const double nn = n.norm();
+    if (!(nn > 0)) continue;
+    const std::uint32_t id = static_cast<std::uint32_t>(tris_.size());
+    triOfModel[t] = id;
+    tris_.push_back(tri);
+    normals_.push_back(n);
+    const Vec3 lo = tri[0].cwiseMin(tri[1]).cwiseMin(tri[2]);
+    const Vec3 hi = tri[0].cwiseMax(tri[1]).cwiseMax(tri[2]);
+    const Vec3i b0 = brickOf(lo), b1 = brickOf(hi);
+    const Vec3 unit = n / nn;
+    for (int i = b0.x(); i <= b1.x(); ++i)
+      for (int j = b0.y(); j <= b1.y(); ++j)
+        for (int k = b0.z(); k <= b1.z(); ++k) {
+          const Vec3 centre = (Vec3(i, j, k).array() + 0.5) * kBrick;
+          if (std::abs(unit.dot(centre - tri[0])) > brickRadius) continue;
+          pairs.emplace_back(static_cast<std::uint32_t>(brickIndex(Vec3i(i, j, k))), id);
+        }
+  }
+  buildCsr(pairs, bricks, triStart_, triList_);
+
+  // Reflex edges: manifold, consistently oriented edges whose neighbouring triangle's far vertex
+  // lies outside (in front of) the first triangle's plane.
+  struct Use {
+    std::uint32_t tri;
+    bool forward;  // the triangle traverses the edge from lower to higher vertex index
+    int opposite;  // vertex not on the edge
+  };
+  std::map<std::pair<int, int>, std::vector<Use>> edges;
+  for (std::size_t t = 0; t < model.triangles.size(); ++t) {
+    if (triOfModel[t] == UINT32_MAX) continue;
+    const Vec3i& f = model.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      const int a = f[k], b = f[(k + 1) % 3], c = f[(k + 2) % 3];
+      edges[{std::min(a, b), std::max(a, b)}].push_back({triOfModel[t], a < b, c});
+    }
+  }
+  pairs.clear();
+  for (const auto& [key, uses] : edges) {
+    if (uses.size() != 2 || uses[0].forward == uses[1].forward) continue;
+    const Vec3& a = v[key.first];
+    const Vec3& b = v[key.second];
+    const Vec3 n1 = normals_[uses[0].tri].normalized();
+    const double edgeLen = (b - a).norm();
+    const double bulge = n1.dot(v[uses[1].opposite] - a);
+    // Reflex when the second face turns outward by more than ~1e-6 rad relative to its size.
+    const double size = (v[uses[1].opposite] - a).norm();
+    if (!(bulge > 1e-6 * size) || !(edgeLen > 0)) continue;
+    const std::uint32_t id = static_cast<std::uint32_t>(reflex_.size());
+    reflex_.push_back({a, b});
+    reflexNormals_.push_back({n1, normals_[uses[1].tri].normalized()});
+    const Vec3i b0 = brickOf(a.cwiseMin(b).array() - 3.0);
+    const Vec3i b1 = brickOf(a.cwiseMax(b).array() + 3.0);
+    for (int i = b0.x(); i <= b1.x(); ++i)
+      for (int j = b0.y(); j <= b1.y(); ++j)
+        for (int k = b0.z(); k <= b1.z(); ++k)
+          pairs.emplace_back(static_cast<std::uint32_t>(brickIndex(Vec3i(i, j, k))), id);
+  }
+  buildCsr(pairs, bricks, edgeStart_, edgeList_);
+}
+
+Vec3i SolidBoundary::brickOf(const Vec3& p) const {
+  Vec3i b;
+  for (int a = 0; a < 3; ++a) {
+    const int i = static_cast<int>(std::floor(p[a] / kBrick));
+    b[a] = std::clamp(i, 0, bdims_[a] - 1);
+  }
+  return b;
+}
+
+bool SolidBoundary::crossesTriangle(const Vec3& a, const Vec3& b, std::uint32_t t) const {
+  const Triangle& tri = tris_[t];
+  const Vec3& n = normals_[t];
+  const double eps = 1e-9 * n.norm();
+  const double da = n.dot(a - tri[0]);
+  const double db = n.dot(b - tri[0]);
+  if (std::abs(da) <= eps || std::abs(db) <= eps) return false;  // touches the plane at an end
+  if ((da > 0) == (db > 0)) return false;
+  const double s = da / (da - db);
+  // A start point within kStartTolerance cells outside the surface (a cell centre in the sliver
+  // between a curved solid and its tessellation) is not blocked by that surface.
+  if (s * (b - a).norm() < kStartTolerance) return false;
+  const Vec3 p = a + s * (b - a);
+  // Inclusive point-in-triangle test (a crossing through an edge or vertex counts).
+  const double tol = -1e-9 * n.squaredNorm();
+  for (int k = 0; k < 3; ++k) {
+    const Vec3& u = tri[k];
+    const Vec3& w = tri[(k + 1) % 3];
+    if (n.dot((w - u).cross(p - u)) < tol) return false;
+  }
+  return true;
+}
+
+bool SolidBoundary::segmentClear(const Vec3& a, const Vec3& b, Vec3* hit) const {
+  // 3D DDA over bricks from a to b.
+  const Vec3 d = b - a;
+  const Vec3 pa = a / kBrick;
+  Vec3i cell = brickOf(a);
+  const Vec3i last = brickOf(b);
+  Vec3i step;
+  Vec3 tMax, tDelta;
+  for (int k = 0; k < 3; ++k) {
+    const double dk = d[k] / kBrick;
+    if (dk > 0) {
+      step[k] = 1;
+      tMax[k] = (std::floor(pa[k]) + 1 - pa[k]) / dk;
+      tDelta[k] = 1 / dk;
+    } else if (dk < 0) {
+      step[k] = -1;
+      tMax[k] = (pa[k] - std::floor(pa[k])) / -dk;
+      tDelta[k] = -1 / dk;
+    } else {
+      step[k] = 0;
+      tMax[k] = kInf;
+      tDelta[k] = kInf;
+    }
+  }
+  // Guard against rounding: at most the Manhattan brick distance + a few steps.
+  int budget = (last - cell).cwiseAbs().sum() + 4;
+  while (true) {
+    const std::size_t bi = brickIndex(cell);
+    for (std::uint32_t i = triStart_[bi]; i < triStart_[bi + 1]; ++i) {
+      if (!crossesTriangle(a, b, triList_[i])) continue;
+      if (hit) {
+        const Triangle& tri = tris_[triList_[i]];
+        const Vec3& n = normals_[triList_[i]];
+        const double da = n.dot(a - tri[0]), db = n.dot(b - tri[0]);
+        *hit = a + (da / (da - db)) * (b - a);
+      }
+      return false;
+    }
+    if (cell == last || budget-- <= 0) break;
+    int axis = 0;
+    if (tMax[1] < tMax[axis]) axis = 1;
+    if (tMax[2] < tMax[axis]) axis = 2;
+    if (tMax[axis] > 1.0) break;
+    cell[axis] += step[axis];
+    if (cell[axis] < 0 || cell[axis] >= bdims_[axis]) break;
+    tMax[axis] += tDelta[axis];
+  }
+  return true;
+}
+
+void SolidBoundary::reflexEdgesNear(const Vec3& x, double radius,
+                                    std::vector<std::uint32_t>& out) const {
+  out.clear();
+  const std::size_t bi = brickIndex(brickOf(x));
+  for (std::uint32_t i = edgeStart_[bi]; i < edgeStart_[bi + 1]; ++i) {
+    const std::uint32_t e = edgeList_[i];
+    const Vec3& a = reflex_[e][0];
+    const Vec3 ab = reflex_[e][1] - a;
+    const double s = std::clamp((x - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+    if ((a + s * ab - x).norm() <= radius) out.push_back(e);
+  }
+}
+
+}  // namespace curvedslicer::detail

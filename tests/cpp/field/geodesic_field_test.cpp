@@ -1,0 +1,237 @@
+// Behaviour of computeGeodesicField beyond accuracy: seeds, start surfaces, unreached voxels,
+// options, bad input, cancellation, determinism.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "common/shapes.hpp"
+#include "curvedslicer/core/error.hpp"
+#include "curvedslicer/field/geodesic_field.hpp"
+#include "curvedslicer/field/start_surface.hpp"
+
+namespace curvedslicer {
+namespace {
+
+/// Model-aligned grid over `box` (2 cells padding), inside = predicate at cell centres.
+template <class Pred>
+VoxelGrid gridFor(const Aabb& box, double L, Pred inside) {
+  VoxelGrid grid;
+  GridGeometry& g = grid.geometry;
+  g.voxelSize = L;
+  g.corner = box.min.array() - 2 * L;
+  g.dims = ((box.size().array() / L).ceil() + 4).cast<int>();
+  grid.inside.assign(g.cellCount(), 0);
+  for (std::size_t n = 0; n < g.cellCount(); ++n)
+    if (inside(g.centerInPart(n))) {
+      grid.inside[n] = 1;
+      ++grid.insideCount;
+    }
+  return grid;
+}
+
+Aabb box(const Vec3& a, const Vec3& b) {
+  Aabb r;
+  r.extend(a);
+  r.extend(b);
+  return r;
+}
+
+VoxelGrid boxGrid(double L = 1.0) {
+  return gridFor(box(Vec3(0, 0, 0), Vec3(10, 8, 20)), L, [](const Vec3& p) {
+    return p.x() >= 0 && p.x() <= 10 && p.y() >= 0 && p.y() <= 8 && p.z() >= 0 && p.z() <= 20;
+  });
+}
+
+TriMesh boxMesh() {
+  return testing::makeBox(Vec3(0, 0, 0), Vec3(10, 8, 20));
+}
+
+TEST(GeodesicField, BuildPlateGivesHeightAboveThePlate) {
+  const VoxelGrid grid = boxGrid();
+  const TriMesh src = resolveStartSurface(boxMesh(), StartSurface::buildPlate());
+  for (GeodesicMethod m : {GeodesicMethod::AnyAngle, GeodesicMethod::Paper}) {
+    GeodesicOptions o;
+    o.method = m;
+    const GeodesicResult r = computeGeodesicField(grid, src, o);
+    EXPECT_EQ(r.reachedCount, grid.insideCount);
+    EXPECT_EQ(r.unreached.count, 0u);
+    EXPECT_GT(r.seedCount, 0u);
+    for (std::size_t n = 0; n < grid.inside.size(); ++n) {
+      if (!grid.inside[n]) {
+        EXPECT_EQ(r.field.at(n), kInfF);
+        continue;
+      }
+      // Straight up from the plate: both methods are exact along a grid axis.
+      EXPECT_NEAR(r.field.at(n), grid.geometry.centerInPart(n).z(), 1e-4) << toString(m);
+    }
+    EXPECT_NEAR(r.maxDistance, 19.5, 1e-4);
+  }
+}
+
+TEST(GeodesicField, SeedsGetExactSubVoxelDistances) {
+  // Plane at z = 0.3 inside the first cell layer: seeds at z = 0.5 and 1.5 get 0.2 and 1.2.
+  const VoxelGrid grid = boxGrid();
+  const TriMesh src = resolveStartSurface(boxMesh(), StartSurface::horizontalPlane(0.3));
+  const GeodesicResult r = computeGeodesicField(grid, src);
+  const std::size_t n = grid.geometry.index(grid.geometry.cellOf(Vec3(4.5, 4.5, 0.5)));
+  EXPECT_NEAR(r.field.at(n), 0.2, 1e-6);
+  const std::size_t m = grid.geometry.index(grid.geometry.cellOf(Vec3(4.5, 4.5, 1.5)));
+  EXPECT_NEAR(r.field.at(m), 1.2, 1e-6);
+}
+
+TEST(GeodesicField, FacesOfTheModelAsStartSurface) {
+  // Box faces: triangles 0..11 of makeBox; pick the two triangles of the x = 10 face by geometry.
+  TriMesh model = boxMesh();
+  model.faceIds.resize(model.triangles.size());
+  std::vector<int> ids;
+  for (std::size_t t = 0; t < model.triangles.size(); ++t) {
+    model.faceIds[t] = static_cast<int>(t);
+    bool onFace = true;
+    for (int k = 0; k < 3; ++k) onFace &= std::abs(model.corner(t, k).x() - 10.0) < 1e-9;
+    if (onFace) ids.push_back(static_cast<int>(t));
+  }
+  ASSERT_EQ(ids.size(), 2u);
+  const TriMesh src = resolveStartSurface(model, StartSurface::faces(ids));
+  EXPECT_EQ(src.triangleCount(), 2u);
+  const VoxelGrid grid = boxGrid();
+  const GeodesicResult r = computeGeodesicField(grid, src);
+  for (std::size_t n = 0; n < grid.inside.size(); ++n)
+    if (grid.inside[n]) EXPECT_NEAR(r.field.at(n), 10.0 - grid.geometry.centerInPart(n).x(), 1e-4);
+}
+
+TEST(GeodesicField, UnknownFaceIdsAreNamed) {
+  TriMesh model = boxMesh();
+  model.faceIds = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
+  try {
+    resolveStartSurface(model, StartSurface::faces({3, 40, 41}));
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("40,41"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("0..11"), std::string::npos) << e.what();
+  }
+}
+
+TEST(GeodesicField, StartSurfaceThatMissesTheSolidIsAnError) {
+  const VoxelGrid grid = boxGrid();
+  const TriMesh src = resolveStartSurface(boxMesh(), StartSurface::horizontalPlane(-50.0));
+  try {
+    computeGeodesicField(grid, src);
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("does not touch the solid"), std::string::npos) << msg;
+  }
+  TriMesh far = testing::makeSphere(Vec3(100, 0, 0), 3.0, 1);
+  EXPECT_THROW(
+      computeGeodesicField(grid, resolveStartSurface(boxMesh(), StartSurface::surface(far))),
+      InvalidInput);
+}
+
+TEST(GeodesicField, BadPlaneNormalAndEmptySurfaces) {
+  EXPECT_THROW(resolveStartSurface(boxMesh(), StartSurface::plane(Vec3::Zero(), Vec3::Zero())),
+               InvalidInput);
+  EXPECT_THROW(resolveStartSurface(boxMesh(), StartSurface::surface(TriMesh{})), InvalidInput);
+  EXPECT_THROW(resolveStartSurface(boxMesh(), StartSurface::faces({})), InvalidInput);
+  TriMesh noIds = boxMesh();
+  EXPECT_THROW(resolveStartSurface(noIds, StartSurface::faces({1})), InvalidInput);
+  EXPECT_THROW(parseGeodesicMethod("dijkstra"), InvalidInput);
+  EXPECT_EQ(parseGeodesicMethod("Paper"), GeodesicMethod::Paper);
+  EXPECT_EQ(parseGeodesicMethod("anyangle"), GeodesicMethod::AnyAngle);
+}
+
+TEST(GeodesicField, DisconnectedPartIsReportedNotDropped) {
+  // Two boxes; the start plane touches only the lower one.
+  const VoxelGrid grid = gridFor(box(Vec3(0, 0, 0), Vec3(10, 10, 30)), 1.0, [](const Vec3& p) {
+    const bool inXY = p.x() >= 0 && p.x() <= 10 && p.y() >= 0 && p.y() <= 10;
+    return inXY && ((p.z() >= 0 && p.z() <= 10) || (p.z() >= 20 && p.z() <= 30));
+  });
+  const TriMesh src = resolveStartSurface(boxMesh(), StartSurface::horizontalPlane(0.0));
+  for (GeodesicMethod m : {GeodesicMethod::AnyAngle, GeodesicMethod::Paper}) {
+    GeodesicOptions o;
+    o.method = m;
+    const GeodesicResult r = computeGeodesicField(grid, src, o);
+    EXPECT_EQ(r.unreached.count, 1000u) << toString(m);
+    EXPECT_EQ(r.unreached.components, 1u);
+    EXPECT_EQ(r.reachedCount + r.unreached.count, grid.insideCount);
+    EXPECT_GE(r.unreached.bounds.min.z(), 20.0);
+    EXPECT_GE(r.unreached.example.z(), 20.0);
+  }
+}
+
+TEST(GeodesicField, ConcaveObstacleIsWalkedAround) {
+  // A wall with a gap: from the plate at y = 0, points behind the wall go around its end.
+  const VoxelGrid grid = gridFor(box(Vec3(0, 0, 0), Vec3(40, 40, 4)), 0.5, [](const Vec3& p) {
+    const bool inBox =
+        p.x() >= 0 && p.x() <= 40 && p.y() >= 0 && p.y() <= 40 && p.z() >= 0 && p.z() <= 4;
+    const bool wall = p.y() >= 10 && p.y() <= 12 && p.x() <= 30;
+    return inBox && !wall;
+  });
+  TriMesh src;
+  src.vertices = {Vec3(0, 0, -1), Vec3(40, 0, -1), Vec3(40, 0, 5), Vec3(0, 0, 5)};
+  src.triangles = {Vec3i(0, 1, 2), Vec3i(0, 2, 3)};
+  const GeodesicResult r = computeGeodesicField(grid, src);
+  // Point behind the wall at (5, 30): around the wall's end (30, 12): 12 + |(5,30) − (30,12)|.
+  const std::size_t n = grid.geometry.index(grid.geometry.cellOf(Vec3(5.1, 30.1, 2.1)));
+  const Vec3 p = grid.geometry.centerInPart(n);
+  const double exact = 12.0 + std::hypot(p.x() - 30.0, p.y() - 12.0);
+  EXPECT_NEAR(r.field.at(n), exact, 0.5);
+  EXPECT_GT(r.lineOfSightFailures, 0u);
+}
+
+TEST(GeodesicField, DeterministicAcrossRuns) {
+  const VoxelGrid grid =
+      gridFor(box(Vec3(-12, -12, -12), Vec3(12, 12, 12)), 0.5, [](const Vec3& p) {
+        const double r = p.norm();
+        return r >= 4 && r <= 12;
+      });
+  const TriMesh src = testing::makeSphere(Vec3::Zero(), 4.0, 3);
+  for (GeodesicMethod m : {GeodesicMethod::AnyAngle, GeodesicMethod::Paper}) {
+    GeodesicOptions o;
+    o.method = m;
+    const auto a = computeGeodesicField(grid, src, o);
+    const auto b = computeGeodesicField(grid, src, o);
+    EXPECT_EQ(a.field.distance, b.field.distance) << toString(m);
+  }
+}
+
+TEST(GeodesicField, CancellationThrowsAndReportsMonotonicProgress) {
+  const VoxelGrid grid = boxGrid(0.25);
+  const TriMesh src = resolveStartSurface(boxMesh(), StartSurface::buildPlate());
+  for (GeodesicMethod m : {GeodesicMethod::AnyAngle, GeodesicMethod::Paper}) {
+    double last = -1.0;
+    int calls = 0;
+    bool monotonic = true;
+    Progress progress([&](double f, std::string_view) {
+      monotonic &= f >= last;
+      last = f;
+      return ++calls < 4;
+    });
+    GeodesicOptions o;
+    o.method = m;
+    EXPECT_THROW(computeGeodesicField(grid, src, o, progress), Cancelled) << toString(m);
+    EXPECT_TRUE(monotonic);
+  }
+}
+
+TEST(GeodesicField, InsideCellsOnTheGridBorderAreRejected) {
+  VoxelGrid grid = boxGrid();
+  grid.inside[0] = 1;
+  const TriMesh src = resolveStartSurface(boxMesh(), StartSurface::buildPlate());
+  EXPECT_THROW(computeGeodesicField(grid, src), InvalidInput);
+}
+
+TEST(PointTriangleDistance, RegionsAndDegenerateTriangles) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  Vec3 q;
+  EXPECT_NEAR(pointTriangleDistance(Vec3(0.2, 0.2, 3), a, b, c, &q), 3.0, 1e-12);
+  EXPECT_TRUE(q.isApprox(Vec3(0.2, 0.2, 0)));
+  EXPECT_NEAR(pointTriangleDistance(Vec3(-1, -1, 0), a, b, c), std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(pointTriangleDistance(Vec3(1, 1, 0), a, b, c), std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(pointTriangleDistance(Vec3(0.5, -2, 0), a, b, c), 2.0, 1e-12);
+  // Collinear triangle: distance to the segment.
+  EXPECT_NEAR(pointTriangleDistance(Vec3(0.5, 1, 0), a, b, Vec3(2, 0, 0)), 1.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace curvedslicer
