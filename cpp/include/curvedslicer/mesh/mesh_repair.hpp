@@ -1,5 +1,12 @@
 // Cleaning a triangle soup into an indexed mesh: vertex welding with a tolerance relative to the
 // model size, removal of degenerate and duplicated triangles. Cost O(n log n).
+//
+// Welding visits the vertices in index order; each joins the lowest-index representative within
+// the tolerance (found through a spatial hash), or becomes a representative itself. So every
+// merged vertex lies within the tolerance of the position it takes (no transitive chains), and
+// the result does not depend on hash order. Representatives keep their own positions. The output
+// keeps only vertices used by a surviving triangle, in input order; triangles stay in input
+// order.
 #pragma once
 
 #include <cstddef>
@@ -12,7 +19,9 @@ struct CleanOptions {
   /// Vertices closer than this fraction of the bounding-box diagonal are merged. 0 merges only
   /// bit-identical positions.
   double relativeWeldTolerance = 1e-6;
-  bool removeDegenerate = true;  ///< triangles with a repeated vertex after welding, or zero area
+  /// Triangles with a repeated vertex after welding, or area below 1e-12·diag² (the threshold
+  /// analyzeMesh uses).
+  bool removeDegenerate = true;
   bool removeDuplicates = true;  ///< triangles over the same three vertices (keeps the first)
 };
 
