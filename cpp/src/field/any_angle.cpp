@@ -63,7 +63,7 @@ class AnyAnglePropagator {
   AnyAnglePropagator(const VoxelGrid& grid, const std::vector<Triangle>& source,
                      double seedBandCells, std::vector<float>& dist,
                      std::vector<std::int32_t>& parent, const SolidBoundary* boundary,
-                     std::vector<float> clearance)
+                     std::vector<std::uint8_t> clearance)
       : g_(grid.geometry),
         inside_(grid.inside),
         source_(source),
@@ -120,9 +120,10 @@ class AnyAnglePropagator {
       for (int o = 0; o < 26; ++o) {
         const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
         if (!inside_[m] || (state_[m] & kDone)) continue;
-        const double cand = evaluate(p, x + offsets_[o], nullptr);
+        // Compare as stored (float): an equal candidate must not count as an improvement.
+        const float cand = static_cast<float>(evaluate(p, x + offsets_[o], nullptr));
         if (cand < dist_[m]) {
-          dist_[m] = static_cast<float>(cand);
+          dist_[m] = cand;
           parent_[m] = p;
           state_[m] &= static_cast<std::uint8_t>(~kVerified);
           push(dist_[m], static_cast<std::uint32_t>(m));
@@ -302,9 +303,29 @@ class AnyAnglePropagator {
     return to - d * (slack / len);
   }
 
+  /// Line of sight from `from` (an inside cell centre) to `to`, ignoring the last `slack` cells.
+  /// Sphere tracing through the clearance field accepts the part of the segment that is far from
+  /// every wall; the rest is tested exactly against the surface (or by cell walking without it).
   bool visible(const Vec3& from, const Vec3& to, double slack) const {
-    if (boundary_) return boundary_->segmentClear(from, shortened(from, to, slack));
-    return visibleThroughCells(from, to, slack);
+    const Vec3 end = shortened(from, to, slack);
+    const Vec3 d = end - from;
+    const double len = d.norm();
+    if (len < 1e-12) return true;
+    const Vec3 dir = d / len;
+    double t = 0.0;
+    while (true) {
+      std::size_t idx;
+      if (!insideCell(from + t * dir, &idx)) break;
+      // Every point within `safe` of the current point lies in an inside cell, with half a cell
+      // to spare (see clearance.hpp).
+      const double safe = clearance_[idx] - kSqrt3 - 0.5;
+      if (t + safe >= len) return true;
+      if (safe < 1.0) break;
+      t += safe;
+    }
+    const Vec3 rest = from + t * dir;
+    if (boundary_) return boundary_->segmentClear(rest, end);
+    return visibleThroughCells(rest, end);
   }
 
   bool insideCell(const Vec3& p, std::size_t* index) const {
@@ -316,14 +337,13 @@ class AnyAnglePropagator {
     return inside_[*index] != 0;
   }
 
-  /// Voxel-only line of sight: the segment from `from` (an inside cell centre) to `to`, minus its
-  /// last `slack` cells, stays inside inside cells.
-  bool visibleThroughCells(const Vec3& from, const Vec3& to, double slack) const {
+  /// Voxel-only line of sight: the segment from `from` to `to` stays inside inside cells.
+  bool visibleThroughCells(const Vec3& from, const Vec3& to) const {
     Vec3 d = to - from;
     const double len = d.norm();
-    if (len <= slack + 1e-12) return true;
+    if (len <= 1e-12) return true;
     d /= len;
-    const double tEnd = len - slack;
+    const double tEnd = len;
     const Vec3 inv(d.x() != 0 ? 1.0 / d.x() : kInf, d.y() != 0 ? 1.0 / d.y() : kInf,
                    d.z() != 0 ? 1.0 / d.z() : kInf);
     double t = 0.0;
@@ -354,7 +374,7 @@ class AnyAnglePropagator {
   std::vector<float>& dist_;
   std::vector<std::int32_t>& parent_;
   const SolidBoundary* boundary_;
-  std::vector<float> clearance_;
+  std::vector<std::uint8_t> clearance_;  // floor of the clearance in cells, saturated at 255
   std::vector<std::uint8_t> state_;
   std::vector<HeapItem> heap_;
   std::vector<Pivot> pivots_;
@@ -376,13 +396,16 @@ MethodStats propagateAnyAngle(const VoxelGrid& grid, const TriMesh* model,
   // Neighbour offsets are applied without bounds checks: computeGeodesicField has checked that
   // no inside cell touches the grid border.
   std::unique_ptr<SolidBoundary> boundary;
-  std::vector<float> clearance;
   if (model) {
     progress.report(0.0, "geodesic field: surface index");
     boundary = std::make_unique<SolidBoundary>(grid.geometry, *model);
-  } else {
-    progress.report(0.0, "geodesic field: clearance");
-    clearance = computeClearance(grid, progress.sub(0.0, 0.1));
+  }
+  progress.report(0.01, "geodesic field: clearance");
+  std::vector<std::uint8_t> clearance(grid.inside.size());
+  {
+    const std::vector<float> exact = computeClearance(grid, progress.sub(0.01, 0.1));
+    for (std::size_t i = 0; i < exact.size(); ++i)
+      clearance[i] = static_cast<std::uint8_t>(std::min(255.0f, std::floor(exact[i])));
   }
   AnyAnglePropagator propagator(grid, source, seedBandCells, dist, parent, boundary.get(),
                                 std::move(clearance));

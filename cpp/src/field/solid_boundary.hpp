@@ -48,7 +48,7 @@ class SolidBoundary {
   Vec3i brickOf(const Vec3& p) const;
   bool crossesTriangle(const Vec3& a, const Vec3& b, std::uint32_t t) const;
 
-  static constexpr int kBrick = 4;  // cells per brick edge
+  static constexpr int kBrick = 2;  // cells per brick edge
   Vec3i bdims_;
   std::vector<Triangle> tris_;
   std::vector<Vec3> normals_;                      // unnormalised
