@@ -42,7 +42,9 @@ struct VoxelizeResult {
   VoxelizeStats stats;
 };
 
-/// Grid geometry for a mesh: frame (PCA or model axes), corner, dims = ceil(extent / L) + 2·padding.
+/// Grid geometry for a mesh: frame (PCA or model axes); the grid is anchored at the frame origin
+/// (cell faces at multiples of L), covering the model's box in the frame plus `padding` cells on
+/// each side, so dims can be one more than ceil(extent / L) + 2·padding.
 /// @throws InvalidInput (L <= 0 or non-finite, empty mesh, non-finite coordinates),
 ///         ResourceLimit when cells·bytesPerCell exceeds the budget — the message gives the cell
 ///         count, the memory it needs and the smallest voxel size that fits.
