@@ -21,7 +21,6 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <vector>
 
 #include "curvedslicer/core/error.hpp"
@@ -41,6 +40,13 @@ constexpr double kSqrt3 = 1.7320508075688772;
 constexpr double kEdgeReach = 2.5;
 /// A chord between two points of the surface may dip this many cells outside the solid.
 constexpr double kChordDepth = 0.02;
+
+struct Candidate {
+  double value;         // total distance via this option, cells
+  std::int32_t parent;  // parent of the option (or of the new pivot)
+  std::int32_t edge;    // reflex edge of a new pivot, -1 for "take the parent directly"
+  Vec3 point;           // the new pivot's position
+};
 
 struct HeapItem {
   float d;
@@ -209,40 +215,31 @@ class AnyAnglePropagator {
     return f(s);
   }
 
-  /// Line-of-sight failure at cell n: see the file comment, (a)–(c).
+  /// Line-of-sight failure at cell n: see the file comment, (a)–(c). Candidate lengths are cheap,
+  /// visibility tests are not: all candidates are valued first, then tested in increasing order
+  /// until one is visible; the neighbour-centre pivot (always admissible) bounds the search.
   void repair(std::uint32_t n, const Vec3& x) {
     const std::int32_t failed = parent_[n];
+    // (c) the best finished neighbour as a pivot.
     double best = kInf;
-    std::int32_t bestParent = kNoParent;
-    std::optional<Pivot> newPivot;
     std::uint32_t bestCell = 0;
-    bool viaCell = false;
     std::int32_t parents[27];
     int parentCount = 0;
     parents[parentCount++] = failed;
+    candidates_.clear();
     for (int o = 0; o < 26; ++o) {
       const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
       if (!(state_[m] & kDone)) continue;
-      // (c) the neighbour as a pivot.
       const double viaNeighbour = dist_[m] + lengths_[o];
       if (viaNeighbour < best) {
         best = viaNeighbour;
         bestCell = static_cast<std::uint32_t>(m);
-        viaCell = true;
-        newPivot.reset();
       }
       const std::int32_t q = parent_[m];
       if (std::find(parents, parents + parentCount, q) != parents + parentCount) continue;
       parents[parentCount++] = q;
-      // (a) the neighbour's parent, if visible.
-      Vec3 target;
-      const double viaParent = evaluate(q, x, &target);
-      if (viaParent < best && visible(x, target, slackFor(q))) {
-        best = viaParent;
-        bestParent = q;
-        viaCell = false;
-        newPivot.reset();
-      }
+      // (a) the neighbour's parent.
+      candidates_.push_back({evaluate(q, x, nullptr), q, -1, Vec3::Zero()});
     }
     // (b) pivots on reflex edges near the cell and near where its blocked segment hits the
     // surface, for every candidate parent.
@@ -259,41 +256,62 @@ class AnyAnglePropagator {
       for (std::uint32_t e : edges_) {
         const auto& edge = boundary_->reflexEdge(e);
         for (int i = 0; i < parentCount; ++i) {
-          const std::int32_t q = parents[i];
           Vec3 y;
-          const double value = bestPointOnEdge(q, edge[0], edge[1], x, &y);
-          if (!(value < best - 1e-9)) continue;
-          // y lies on the surface: the segments to it must not cross the surface, and must not
-          // leave the solid at y or at the parent pivot (a chord across a concave hollow).
-          Vec3 target;
-          const double dy = evaluate(q, y, &target);
-          if (!boundary_->segmentClear(x, y)) continue;
-          if (boundary_->leavesSolidAt(e, target - y, kChordDepth)) continue;
-          if (q >= 0 && pivots_[static_cast<std::size_t>(q)].edge >= 0 &&
-              boundary_->leavesSolidAt(
-                  static_cast<std::uint32_t>(pivots_[static_cast<std::size_t>(q)].edge), y - target,
-                  kChordDepth))
-            continue;
-          const Vec3 end = q < 0 ? shortened(y, target, slack_) : target;
-          if (!boundary_->segmentClear(y, end)) continue;
-          best = value;
-          newPivot = Pivot{y, dy, static_cast<std::int32_t>(e)};
-          viaCell = false;
+          const double value = bestPointOnEdge(parents[i], edge[0], edge[1], x, &y);
+          if (value < best - 1e-9)
+            candidates_.push_back({value, parents[i], static_cast<std::int32_t>(e), y});
         }
       }
     }
-    if (newPivot) {
-      bestParent = addPivot(*newPivot);
-      ++edgePivots_;
-    } else if (viaCell) {
-      bestParent = addPivot({cellCentre(g_.cell(bestCell)), dist_[bestCell], -1});
+    std::sort(candidates_.begin(), candidates_.end(),
+              [](const Candidate& a, const Candidate& b) { return a.value < b.value; });
+    for (const Candidate& c : candidates_) {
+      if (!(c.value < best)) break;
+      if (c.edge < 0 ? visibleVia(c.parent, x) : pivotAdmissible(c, x)) {
+        if (c.edge >= 0) {
+          Vec3 target;
+          const double dy = evaluate(c.parent, c.point, &target);
+          dist_[n] = static_cast<float>(c.value);
+          parent_[n] = addPivot({c.point, dy, c.edge});
+          ++edgePivots_;
+        } else {
+          dist_[n] = static_cast<float>(c.value);
+          parent_[n] = c.parent;
+        }
+        return;
+      }
     }
-    if (bestParent == kNoParent) {
+    if (best == kInf) {
       // Cannot happen: a queued cell always has a finished neighbour or is a seed.
       throw NumericalFailure("any-angle propagation lost the parent of a voxel; please report");
     }
     dist_[n] = static_cast<float>(best);
-    parent_[n] = bestParent;
+    parent_[n] = addPivot({cellCentre(g_.cell(bestCell)), dist_[bestCell], -1});
+  }
+
+  bool visibleVia(std::int32_t q, const Vec3& x) const {
+    Vec3 target;
+    evaluate(q, x, &target);
+    return visible(x, target, slackFor(q));
+  }
+
+  /// A pivot at point c.point of reflex edge c.edge with parent c.parent: the segments to it must
+  /// not cross the surface, and must not leave the solid at the pivot or at the parent pivot (a
+  /// chord across a concave hollow).
+  bool pivotAdmissible(const Candidate& c, const Vec3& x) const {
+    Vec3 target;
+    evaluate(c.parent, c.point, &target);
+    const auto e = static_cast<std::uint32_t>(c.edge);
+    if (boundary_->leavesSolidAt(e, target - c.point, kChordDepth)) return false;
+    if (c.parent >= 0) {
+      const Pivot& p = pivots_[static_cast<std::size_t>(c.parent)];
+      if (p.edge >= 0 && boundary_->leavesSolidAt(static_cast<std::uint32_t>(p.edge),
+                                                  c.point - target, kChordDepth))
+        return false;
+    }
+    if (!boundary_->segmentClear(x, c.point)) return false;
+    const Vec3 end = c.parent < 0 ? shortened(c.point, target, slack_) : target;
+    return boundary_->segmentClear(c.point, end);
   }
 
   static Vec3 shortened(const Vec3& from, const Vec3& to, double slack) {
@@ -379,6 +397,7 @@ class AnyAnglePropagator {
   std::vector<HeapItem> heap_;
   std::vector<Pivot> pivots_;
   std::vector<std::uint32_t> edges_, moreEdges_;
+  std::vector<Candidate> candidates_;
   MethodStats stats_;
   std::size_t edgePivots_ = 0;
   Vec3 offsets_[26];

@@ -11,16 +11,16 @@ namespace {
 
 constexpr double kStartTolerance = 0.05;
 
-/// Builds CSR lists from (brick, item) pairs.
-void buildCsr(std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs, std::size_t bricks,
+/// Builds CSR lists from (brick, item) pairs by counting (pairs of one item are unique and items
+/// arrive in increasing order, so each brick's list comes out sorted).
+void buildCsr(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs, std::size_t bricks,
               std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& list) {
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   start.assign(bricks + 1, 0);
   for (const auto& p : pairs) ++start[p.first + 1];
   for (std::size_t b = 0; b < bricks; ++b) start[b + 1] += start[b];
   list.resize(pairs.size());
-  for (std::size_t i = 0; i < pairs.size(); ++i) list[i] = pairs[i].second;
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (const auto& p : pairs) list[fill[p.first]++] = p.second;
 }
 
 }  // namespace
@@ -60,6 +60,7 @@ SolidBoundary::SolidBoundary(const GridGeometry& g, const TriMesh& model) {
         }
   }
   buildCsr(pairs, bricks, triStart_, triList_);
+  stamp_.assign(tris_.size(), 0);
 
   // Reflex edges: manifold, consistently oriented edges whose neighbouring triangle's far vertex
   // lies outside (in front of) the first triangle's plane.
@@ -157,12 +158,19 @@ bool SolidBoundary::segmentClear(const Vec3& a, const Vec3& b, Vec3* hit) const 
       tDelta[k] = kInf;
     }
   }
+  if (++epoch_ == 0) {  // wrapped: clear the marks
+    std::fill(stamp_.begin(), stamp_.end(), 0);
+    epoch_ = 1;
+  }
   // Guard against rounding: at most the Manhattan brick distance + a few steps.
   int budget = (last - cell).cwiseAbs().sum() + 4;
   while (true) {
     const std::size_t bi = brickIndex(cell);
     for (std::uint32_t i = triStart_[bi]; i < triStart_[bi + 1]; ++i) {
-      if (!crossesTriangle(a, b, triList_[i])) continue;
+      const std::uint32_t t = triList_[i];
+      if (stamp_[t] == epoch_) continue;
+      stamp_[t] = epoch_;
+      if (!crossesTriangle(a, b, t)) continue;
       if (hit) {
         const Triangle& tri = tris_[triList_[i]];
         const Vec3& n = normals_[triList_[i]];

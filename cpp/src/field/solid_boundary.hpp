@@ -20,9 +20,10 @@ class SolidBoundary {
   ///               exactly two consistently oriented triangles are never reflex edges.
   SolidBoundary(const GridGeometry& geometry, const TriMesh& model);
 
-  /// True if the open segment (a, b) crosses no triangle strictly (touching a triangle's plane at
-  /// an endpoint, or running inside a plane, is not a crossing). Cell coordinates. When blocked and
-  /// `hit` is given, it receives a crossing point (one of the first bricks' along the segment).
+  /// Not thread-safe (per-query marks). True if the open segment (a, b) crosses no triangle
+  /// strictly (touching a triangle's plane at an endpoint, or running inside a plane, is not a
+  /// crossing). Cell coordinates. When blocked and `hit` is given, it receives a crossing point
+  /// (one of the first bricks' along the segment).
   bool segmentClear(const Vec3& a, const Vec3& b, Vec3* hit = nullptr) const;
 
   /// Indices of reflex edges passing within `radius` cells of `x`, ascending.
@@ -49,6 +50,10 @@ class SolidBoundary {
   bool crossesTriangle(const Vec3& a, const Vec3& b, std::uint32_t t) const;
 
   static constexpr int kBrick = 2;  // cells per brick edge
+  // Per-query marks so a triangle spanning several bricks is tested once per segment. Queries are
+  // therefore not thread-safe (the field propagation is sequential).
+  mutable std::vector<std::uint32_t> stamp_;
+  mutable std::uint32_t epoch_ = 0;
   Vec3i bdims_;
   std::vector<Triangle> tris_;
   std::vector<Vec3> normals_;                      // unnormalised
