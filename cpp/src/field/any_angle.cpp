@@ -264,7 +264,7 @@ class AnyAnglePropagator {
       }
     }
     std::sort(candidates_.begin(), candidates_.end(),
-              [](const Candidate& a, const Candidate& b) { return a.value < b.value; });
+              [](const Candidate& l, const Candidate& r) { return l.value < r.value; });
     for (const Candidate& c : candidates_) {
       if (!(c.value < best)) break;
       if (c.edge < 0 ? visibleVia(c.parent, x) : pivotAdmissible(c, x)) {

@@ -1,14 +1,40 @@
 // Curved layers from the geodesic field (paper §2.3).
 //
-// Layer i (i = 1, 2, …) is the iso-surface d = i·h of the field. Two representations:
-//  - the paper's voxel sets S_i = {P : i·h − L/2 ≤ t_P ≤ i·h + L/2} (eq. 13);
-//  - a triangle surface: marching tetrahedra (consistent Kuhn decomposition of each cube, so the
-//    surface is watertight without ambiguous cases) on the field extended a few cells beyond the
-//    solid, then clipped to the solid by the signed distance to the model surface, with rim
-//    vertices projected onto the model surface.
-// Per layer: area, triangle count, connected components and the measured thickness to the
-// previous layer (distances from this layer's vertices to the previous surface; for layer 1 the
-// start surface).
+// Layer i (i = 1, 2, … while i·h ≤ the largest reached distance) is the iso-surface d = i·h of the
+// field. Two representations:
+//  - the paper's voxel sets S_i = {P : i·h − L/2 ≤ t_P ≤ i·h + L/2} (eq. 13); a voxel belongs to
+//    two sets when h < L;
+//  - a triangle surface, built in four steps:
+//    1. Extension: the field exists only on reached inside cells. Outside cells within 2 cells
+//       (Chebyshev) of a reached cell get a weighted least-squares linear fit d ≈ a + g·(x − x0)
+//       over the reached cells of the surrounding 7³ box (weights 1/|x − x0|²); gradient
+//       directions the samples do not span (one-cell-thick walls, rods) get no gradient component,
+//       and with no direction spanned the nearest reached value is used. A linear field is
+//       extended exactly, so iso-surfaces cross the model boundary straight.
+//    2. Marching tetrahedra on the dual grid (cubes whose corners are 8 cell centres), each cube
+//       split into the 6 Kuhn tetrahedra around its main diagonal — consistent across cubes, so
+//       the surface is watertight away from its rim without ambiguous cases. Vertices are linear
+//       on tetrahedron edges and shared through a key of the global grid edge. One pass over the
+//       cubes serves all levels (parallel over fixed x slabs, merged in slab order, so the output
+//       does not depend on the thread count). Cubes with a corner lacking a value are skipped.
+//    3. Clipping (optional): every vertex gets its side of the model surface — from the voxel
+//       mask where no model triangle meets its cell, else from the exact signed distance
+//       (geom/triangle_bvh.hpp, pseudo-normal sign). Triangles crossing the surface are split at
+//       the linear zero of the signed distance; the new rim vertices (and vertices within 1e-6·L
+//       of the surface) are moved to their closest point on the model surface, so the rim lies
+//       on it. Triangles with repeated vertices or zero area and unused vertices are removed.
+//    4. Statistics: area, connected components (triangles sharing an edge), and the thickness to
+//       the previous layer: distances from this layer's vertices (or a sample of them, see
+//       `LayerOptions::thicknessSamples`) to the previous layer's surface — for layer 1 to the
+//       start surface.
+// Preconditions: `field` computed on `grid` (same geometry); `model` the closed, outward-oriented
+// surface the grid was voxelized from (only when clipping).
+// Cost: O(cells) for the extension scan and the marching pass, closest-point queries for vertices
+// in cells the model surface passes through and for the thickness samples, and one hierarchy per
+// layer for the thickness. Measured (2 cores, Release): 400×300×400 cells (21 M inside), analytic
+// field, 101 layers, 21–26 M output vertices and 42–51 M triangles: 18 s (flat layers) to 21 s
+// (curved layers), half of it for the thickness statistics; peak memory about 3× the output
+// meshes (which take ~24 bytes per triangle).
 #pragma once
 
 #include <cstddef>
@@ -25,6 +51,11 @@ struct LayerOptions {
   double layerThickness = 1.0;  ///< h, mm (> 0)
   bool clipToSolid = true;      ///< clip surfaces to the model and project rims onto it
   int maxLayers = 100000;       ///< safety limit; more layers is an InvalidInput error
+  /// Vertices per layer measured for `thicknessToPrevious` (evenly spaced runs of consecutive
+  /// vertices); 0 measures every vertex, < 0 skips the measurement (samples = 0). Measuring a
+  /// layer builds a hierarchy over the previous one (~0.4 µs per triangle) and costs one
+  /// closest-point query per sample (~3 µs on flat, ~25 µs on curved layers).
+  int thicknessSamples = 4096;
 };
 
 struct ThicknessStats {
@@ -35,8 +66,10 @@ struct ThicknessStats {
 struct LayerSurface {
   int index = 0;       ///< i, 1-based
   double level = 0.0;  ///< i·h, mm
-  TriMesh mesh;        ///< part frame
-  double area = 0.0;   ///< mm²
+  /// Part frame, indexed (neighbouring triangles share vertices), no face ids. Triangles are
+  /// oriented with normals towards increasing distance (away from the start surface).
+  TriMesh mesh;
+  double area = 0.0;  ///< mm²
   std::size_t components = 0;
   ThicknessStats thicknessToPrevious;
 };
@@ -48,16 +81,34 @@ struct VoxelLayerSet {
   std::vector<std::size_t> cells;  ///< linear cell indices into the grid
 };
 
-struct LayersResult {
-  std::vector<LayerSurface> surfaces;
-  std::vector<VoxelLayerSet> voxelSets;
+/// Diagnostics of one `extractLayers` call.
+struct LayerExtractionStats {
+  std::size_t extendedCells = 0;         ///< outside cells given extrapolated field values
+  std::size_t partialFits = 0;           ///< of those, fitted with a rank-deficient gradient
+  std::size_t nearestFallbacks = 0;      ///< of those, given the nearest reached value
+  std::size_t exactDistanceQueries = 0;  ///< vertices clipped with an exact signed distance
+  std::size_t rimVertices = 0;           ///< vertices created on the model surface by clipping
+  double seconds = 0.0;                  ///< wall time of the call
 };
 
-/// @param field   geodesic field (its geometry matches `grid`)
+struct LayersResult {
+  std::vector<LayerSurface> surfaces;    ///< layers 1..n, in order (a layer may be empty)
+  std::vector<VoxelLayerSet> voxelSets;  ///< S_1..S_n, in order
+  LayerExtractionStats stats;
+};
+
+/// Extracts layers 1..n (see the file comment). Progress stages: "extending field", "marching
+/// tetrahedra", "merging layers", "clipping layers", "measuring thickness", "voxel sets".
+/// @param field   geodesic field, mm, +inf for outside/unreached cells (geometry matches `grid`)
 /// @param grid    the voxelized solid
-/// @param model   the solid's surface, part frame (for clipping and rim projection)
-/// @param source  the start surface triangles (thickness reference of layer 1)
-/// @throws InvalidInput for h <= 0 or more than `maxLayers` layers.
+/// @param model   the solid's surface, part frame (for clipping and rim projection; may be empty
+///                when `clipToSolid` is false)
+/// @param source  the start-surface triangles, part frame (thickness reference of layer 1; may be
+///                empty, then layer 1 reports no thickness samples)
+/// @throws InvalidInput for h <= 0 or non-finite, more than `maxLayers` layers (the message gives
+///         the count and the smallest h that fits), a field that does not match the grid, has NaN
+///         values or no reached voxel, or an empty model with clipping on; Cancelled via
+///         `progress` (no partial result).
 LayersResult extractLayers(const DistanceField& field, const VoxelGrid& grid, const TriMesh& model,
                            const TriMesh& source, const LayerOptions& options = {},
                            Progress progress = {});
