@@ -1,0 +1,170 @@
+#include "layers_command.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "curvedslicer/core/atomic_file.hpp"
+#include "curvedslicer/core/error.hpp"
+#include "curvedslicer/core/progress.hpp"
+#include "curvedslicer/field/geodesic_field.hpp"
+#include "curvedslicer/mesh/mesh_io.hpp"
+#include "curvedslicer/pipeline/layer_output.hpp"
+#include "curvedslicer/pipeline/layer_pipeline.hpp"
+#include "curvedslicer/pipeline/option_parsing.hpp"
+#include "curvedslicer/pipeline/report_json.hpp"
+#include "terminal_progress.hpp"
+
+namespace curvedslicer::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kVoxelSetsFile = "voxel_sets.ply";
+constexpr const char* kReportFile = "report.json";
+
+struct Job {
+  LayerJobOptions options;
+  StartSurfaceSpec start;
+  LayerFileFormat format = LayerFileFormat::Ply;
+};
+
+/// Parses and checks every argument without touching a file.
+Job parseArguments(const LayersArguments& args) {
+  Job job;
+  job.options.layers.layerThickness = parseLength(args.layerThickness, "layer thickness");
+  job.options.voxelize.voxelSize = parseLength(args.voxelSize, "voxel size");
+  job.options.geodesic.method = parseGeodesicMethod(args.method);
+  job.options.voxelize.alignment = parseGridAlignment(args.grid);
+  job.format = parseLayerFileFormat(args.format);
+  job.start = parseStartSurfaceSpec(args.start);
+  const double budgetMb = parseLength(args.memoryBudgetMb, "memory budget");
+  if (!std::isfinite(budgetMb) || budgetMb < 0.0) {
+    throw InvalidInput("memory budget must be 0 (automatic) or a positive number of MB: '" +
+                       args.memoryBudgetMb + "'; pass e.g. --memory-budget 4096");
+  }
+  job.options.voxelize.memoryBudgetBytes = budgetMb * 1024.0 * 1024.0;
+  job.options.capHoles = args.capHoles;
+  validateLayerJobOptions(job.options);
+  return job;
+}
+
+void printUnreachedWarning(const GeodesicResult& field) {
+  const UnreachedVoxels& u = field.unreached;
+  if (u.count == 0) return;
+  std::fprintf(stderr,
+               "curvedslicer: warning: %zu inside voxels (%zu separate region%s) cannot be "
+               "reached from the start surface and belong to no layer, e.g. near (%.3g, %.3g, "
+               "%.3g) mm; see report.json field.unreached\n",
+               u.count, u.components, u.components == 1 ? "" : "s", u.example.x(), u.example.y(),
+               u.example.z());
+}
+
+int failure(TerminalProgress& progress, int code, const std::string& message) {
+  progress.finishLine();
+  std::fprintf(stderr, "curvedslicer: error: %s\n", message.c_str());
+  return code;
+}
+
+}  // namespace
+
+int runLayersCommand(const LayersArguments& args) {
+  installInterruptHandlers();
+  TerminalProgress display(!args.quiet);
+  const fs::path outputDir(args.output);
+  try {
+    using Clock = std::chrono::steady_clock;
+    Job job = parseArguments(args);
+    checkOutputFolder(outputDir);
+
+    const Progress progress([&display](double fraction, std::string_view stage) {
+      return display.update(fraction, stage);
+    });
+
+    // ---- read ----------------------------------------------------------------------------------
+    progress.report(0.0, "read");
+    const auto readBegin = Clock::now();
+    const TriMesh model = readMesh(fs::path(args.model));
+    job.options.start = loadStartSurface(job.start);
+    const double readSeconds = std::chrono::duration<double>(Clock::now() - readBegin).count();
+
+    LayerJobResult result = runLayerJob(model, job.options, progress.sub(0.0, 0.95));
+    result.stageTimes.insert(result.stageTimes.begin(), StageTime{"read", readSeconds});
+    result.totalSeconds += readSeconds;
+
+    // ---- write ---------------------------------------------------------------------------------
+    const Progress writeProgress = progress.sub(0.95, 1.0);
+    writeProgress.report(0.0, "write");
+    const std::vector<std::string> layerFiles = layerFileNames(result.layers, job.format);
+    const MeshFormat meshFormat =
+        job.format == LayerFileFormat::Ply ? MeshFormat::Ply : MeshFormat::Obj;
+    OutputStaging staging(outputDir);
+    const auto& surfaces = result.layers.surfaces;
+    for (std::size_t k = 0; k < surfaces.size(); ++k) {
+      staging.stage(layerFiles[k],
+                    [&](const fs::path& path) { writeMesh(path, surfaces[k].mesh, meshFormat); });
+      writeProgress.report(0.9 * static_cast<double>(k + 1) / surfaces.size(), "write");
+    }
+    staging.stage(kVoxelSetsFile, [&](const fs::path& path) {
+      writeFileAtomically(
+          path,
+          [&](std::ostream& out) { writeVoxelSetsPly(out, result.layers, result.field.field); },
+          /*binary=*/true);
+    });
+    LayerReportInputs reportInputs;
+    reportInputs.modelPath = args.model;
+    reportInputs.modelFileTriangles = model.triangleCount();
+    reportInputs.startSpec = args.start;
+    reportInputs.layerFormat = job.format;
+    reportInputs.layerFiles = layerFiles;
+    reportInputs.voxelSetsFile = kVoxelSetsFile;
+    result.peakMemoryBytes = peakResidentMemoryBytes();
+    const std::string report =
+        formatLayerReport(makeLayerReport(reportInputs, job.options, result));
+    staging.stage(kReportFile,
+                  [&](const fs::path& path) { writeTextFileAtomically(path, report); });
+    writeProgress.report(1.0, "write");  // last chance to cancel: nothing is in place yet
+    staging.commit(isLayerFileName);
+    display.finishLine();
+
+    if (!args.quiet) {
+      printUnreachedWarning(result.field);
+      std::printf("curvedslicer: wrote %zu layers to %s (%s ... %s, %s, %s)\n", surfaces.size(),
+                  outputDir.string().c_str(), layerFiles.front().c_str(), layerFiles.back().c_str(),
+                  kVoxelSetsFile, kReportFile);
+    }
+    return kExitOk;
+  } catch (const Cancelled& e) {
+    if (interruptSignal() != 0) {
+      display.finishLine();
+      std::fprintf(stderr, "curvedslicer: interrupted; nothing was written to '%s'\n",
+                   outputDir.string().c_str());
+      return kExitInterruptedBase + interruptSignal();
+    }
+    return failure(display, kExitOther, e.what());
+  } catch (const InvalidInput& e) {
+    return failure(display, kExitInvalidInput, e.what());
+  } catch (const IoError& e) {
+    return failure(display, kExitIo, e.what());
+  } catch (const ResourceLimit& e) {
+    return failure(display, kExitResourceLimit, e.what());
+  } catch (const NumericalFailure& e) {
+    return failure(display, kExitNumericalFailure, e.what());
+  } catch (const fs::filesystem_error& e) {
+    return failure(display, kExitIo, e.what());
+  } catch (const std::bad_alloc&) {
+    return failure(display, kExitResourceLimit,
+                   "out of memory: the job needs more memory than is available; use a larger "
+                   "voxel size (--voxel) or set --memory-budget to what the machine can spare");
+  } catch (const std::exception& e) {
+    return failure(display, kExitOther, e.what());
+  }
+}
+
+}  // namespace curvedslicer::cli

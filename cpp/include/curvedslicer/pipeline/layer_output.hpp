@@ -1,0 +1,79 @@
+// Writing the results of a layer job into an output folder without ever leaving partial output.
+//
+// Everything is written into a hidden staging folder inside the output folder first; only when
+// every file is complete are they moved into place (rename, same file system), after which stale
+// layer files of an earlier run (layer_*.ply / layer_*.obj not rewritten now) are removed. If
+// anything fails before that point the staging folder is deleted and the output folder is left
+// exactly as it was (it is not even created if it did not exist).
+//
+// Files: layer_0001.ply … (one surface per layer, 4 digits or more), voxel_sets.ply (binary PLY
+// point cloud of the eq. 13 voxel sets: float x y z in the part frame, int layer, float distance
+// in mm; a voxel appears once per set that contains it) and report.json.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "curvedslicer/field/geodesic_field.hpp"
+#include "curvedslicer/layers/layer_extraction.hpp"
+#include "curvedslicer/pipeline/option_parsing.hpp"
+
+namespace curvedslicer {
+
+/// "layer_0001.ply": the 1-based index zero-padded to max(4, digits of `layerCount`).
+std::string layerFileName(int index, std::size_t layerCount, LayerFileFormat format);
+
+/// The file names of all layer surfaces, in order.
+std::vector<std::string> layerFileNames(const LayersResult& layers, LayerFileFormat format);
+
+/// True for names an earlier run may have written: layer_<digits>.ply or layer_<digits>.obj.
+bool isLayerFileName(const std::string& name);
+
+/// Writes the voxel sets as a binary little-endian PLY point cloud (see the file comment).
+/// @param field  the field the sets were taken from (cell centres and distances)
+void writeVoxelSetsPly(std::ostream& out, const LayersResult& layers, const DistanceField& field);
+
+/// A set of files staged inside `dir` and published together. Nothing touches the disk until the
+/// first `stage` call. Destroying an uncommitted staging removes everything it created.
+class OutputStaging {
+ public:
+  explicit OutputStaging(std::filesystem::path dir);
+  ~OutputStaging();
+  OutputStaging(const OutputStaging&) = delete;
+  OutputStaging& operator=(const OutputStaging&) = delete;
+
+  /// Writes the file `name` (a plain file name) into the staging folder through `write`, which
+  /// receives the staged path and must create that file.
+  /// @throws IoError if the folders cannot be created; whatever `write` throws.
+  void stage(const std::string& name,
+             const std::function<void(const std::filesystem::path&)>& write);
+
+  /// Moves every staged file into `dir` (in staging order), removes files for which
+  /// `isStale(name)` holds and that were not just written, then deletes the staging folder.
+  /// @throws IoError if a move fails (files already moved stay; the rest are removed).
+  void commit(const std::function<bool(const std::string&)>& isStale = {});
+
+  const std::filesystem::path& dir() const { return dir_; }
+  const std::vector<std::string>& stagedNames() const { return names_; }
+
+ private:
+  void prepare();
+  void discard() noexcept;
+
+  std::filesystem::path dir_;
+  std::filesystem::path staging_;
+  std::vector<std::string> names_;
+  bool createdDir_ = false;
+  bool prepared_ = false;
+  bool committed_ = false;
+};
+
+/// Checks before any heavy work that `dir` can become an output folder: it is a folder (or does
+/// not exist and its nearest existing ancestor is a folder) and is writable.
+/// @throws IoError naming the folder.
+void checkOutputFolder(const std::filesystem::path& dir);
+
+}  // namespace curvedslicer

@@ -1,0 +1,64 @@
+// Parsing the textual job options of the command line (and of scripts): start-surface specs such
+// as "plane:bottom", "plane:z=12.5", "faces:0-9,15", "mesh:base.obj"; id lists; lengths; grid
+// alignment and layer file format names. Pure string handling, O(length of the text) apart from
+// expanding id ranges; no file is read except by `loadStartSurface`.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "curvedslicer/field/start_surface.hpp"
+#include "curvedslicer/voxel/frame.hpp"
+
+namespace curvedslicer {
+
+/// Largest number of ids an id list may expand to (guards against "0-2000000000").
+inline constexpr std::size_t kMaxIdListSize = 50'000'000;
+
+/// Parses a list of non-negative integers with ranges: "0-9,15, 20-22". Spaces around items are
+/// allowed; a range a-b needs a <= b. The result keeps the order given, duplicates removed.
+/// @throws InvalidInput naming the offending item, for empty items, signs, non-digits, reversed
+///         ranges, values above INT_MAX and lists longer than kMaxIdListSize.
+std::vector<int> parseIdList(std::string_view text);
+
+/// A start surface as given on the command line. For kind Mesh the surface mesh is not loaded
+/// yet: `meshFile` names it (see loadStartSurface).
+struct StartSurfaceSpec {
+  std::string text;                ///< the spec as given, e.g. "faces:0-9,15"
+  StartSurface surface;            ///< kind and parameters (Mesh: empty mesh)
+  std::filesystem::path meshFile;  ///< Mesh only: the surface file
+};
+
+/// Parses "plane:bottom" (the build plate under the model, z = model min z), "plane:z=MM"
+/// (horizontal plane at z = MM, part frame), "faces:IDS" (0-based triangle positions in the model
+/// file; see parseIdList) or "mesh:FILE" (a surface mesh, STL or OBJ, part frame, mm).
+/// @throws InvalidInput listing the accepted forms.
+StartSurfaceSpec parseStartSurfaceSpec(std::string_view text);
+
+/// The spec's StartSurface, with the mesh file read for kind Mesh.
+/// @throws InvalidInput from reading the file, prefixed with "start surface mesh".
+StartSurface loadStartSurface(const StartSurfaceSpec& spec);
+
+/// Parses a length in mm ("1.5", "2e-1"). Non-finite spellings ("nan", "inf") are returned as
+/// such so that range checks can report them.
+/// @param what  the parameter's name for the message, e.g. "layer thickness"
+/// @throws InvalidInput if the text is not a number.
+double parseLength(std::string_view text, std::string_view what);
+
+/// "pca" or "model". @throws InvalidInput listing the choices.
+GridAlignment parseGridAlignment(std::string_view name);
+std::string_view toString(GridAlignment alignment);
+
+/// File format of the layer surfaces.
+enum class LayerFileFormat {
+  Ply,  ///< binary little-endian PLY
+  Obj,  ///< Wavefront OBJ
+};
+
+/// "ply" or "obj". @throws InvalidInput listing the choices.
+LayerFileFormat parseLayerFileFormat(std::string_view name);
+std::string_view toString(LayerFileFormat format);
+
+}  // namespace curvedslicer

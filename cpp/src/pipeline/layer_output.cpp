@@ -1,0 +1,206 @@
+#include "curvedslicer/pipeline/layer_output.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <system_error>
+#include <unordered_set>
+
+#include <unistd.h>
+
+#include "curvedslicer/core/error.hpp"
+
+namespace curvedslicer {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+template <typename T>
+void appendLittleEndian(std::string& buffer, T value) {
+  static_assert(sizeof(T) == 4);
+  std::uint32_t bits = 0;
+  std::memcpy(&bits, &value, 4);
+  if constexpr (std::endian::native == std::endian::big) {
+    bits =
+        ((bits & 0xffu) << 24) | ((bits & 0xff00u) << 8) | ((bits >> 8) & 0xff00u) | (bits >> 24);
+  }
+  char bytes[4];
+  std::memcpy(bytes, &bits, 4);
+  buffer.append(bytes, 4);
+}
+
+std::string errorText(const std::error_code& ec) {
+  return ec.message();
+}
+
+}  // namespace
+
+std::string layerFileName(int index, std::size_t layerCount, LayerFileFormat format) {
+  const std::size_t width = std::max<std::size_t>(4, std::to_string(layerCount).size());
+  std::string digits = std::to_string(index);
+  if (digits.size() < width) digits.insert(0, width - digits.size(), '0');
+  return "layer_" + digits + "." + std::string(toString(format));
+}
+
+std::vector<std::string> layerFileNames(const LayersResult& layers, LayerFileFormat format) {
+  std::vector<std::string> names;
+  names.reserve(layers.surfaces.size());
+  for (const LayerSurface& s : layers.surfaces) {
+    names.push_back(layerFileName(s.index, layers.surfaces.size(), format));
+  }
+  return names;
+}
+
+bool isLayerFileName(const std::string& name) {
+  constexpr std::string_view prefix = "layer_";
+  if (name.size() <= prefix.size() + 4 || name.rfind(prefix, 0) != 0) return false;
+  const std::string_view ext = std::string_view(name).substr(name.size() - 4);
+  if (ext != ".ply" && ext != ".obj") return false;
+  const std::string_view digits =
+      std::string_view(name).substr(prefix.size(), name.size() - prefix.size() - 4);
+  return !digits.empty() &&
+         std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+void writeVoxelSetsPly(std::ostream& out, const LayersResult& layers, const DistanceField& field) {
+  std::size_t points = 0;
+  for (const VoxelLayerSet& set : layers.voxelSets) points += set.cells.size();
+  out << "ply\n"
+      << "format binary_little_endian 1.0\n"
+      << "comment curvedslicer voxel layer sets S_i (paper eq. 13): voxel centres in the part "
+         "frame (mm), layer index i, geodesic distance (mm)\n"
+      << "element vertex " << points << "\n"
+      << "property float x\n"
+      << "property float y\n"
+      << "property float z\n"
+      << "property int layer\n"
+      << "property float distance\n"
+      << "end_header\n";
+  std::string buffer;
+  constexpr std::size_t kRecord = 20;
+  constexpr std::size_t kFlushBytes = std::size_t{1} << 20;
+  buffer.reserve(kFlushBytes + kRecord);
+  for (const VoxelLayerSet& set : layers.voxelSets) {
+    for (std::size_t n : set.cells) {
+      const Vec3 p = field.geometry.centerInPart(n);
+      appendLittleEndian(buffer, static_cast<float>(p.x()));
+      appendLittleEndian(buffer, static_cast<float>(p.y()));
+      appendLittleEndian(buffer, static_cast<float>(p.z()));
+      appendLittleEndian(buffer, static_cast<std::int32_t>(set.index));
+      appendLittleEndian(buffer, field.distance[n]);
+      if (buffer.size() >= kFlushBytes) {
+        out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+        buffer.clear();
+      }
+    }
+  }
+  out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+}
+
+// ---- OutputStaging ----------------------------------------------------------------------------
+
+OutputStaging::OutputStaging(fs::path dir) : dir_(std::move(dir)) {}
+
+OutputStaging::~OutputStaging() {
+  if (!committed_) discard();
+}
+
+void OutputStaging::prepare() {
+  if (prepared_) return;
+  std::error_code ec;
+  if (fs::exists(dir_, ec)) {
+    if (!fs::is_directory(dir_, ec)) {
+      throw IoError("output path exists and is not a folder: '" + dir_.string() +
+                    "'; choose a folder path");
+    }
+  } else {
+    fs::create_directories(dir_, ec);
+    if (ec) {
+      throw IoError("cannot create output folder '" + dir_.string() + "': " + errorText(ec) +
+                    "; check the path and its permissions");
+    }
+    createdDir_ = true;
+  }
+  static std::atomic<unsigned> counter{0};
+  staging_ = dir_ / (".curvedslicer-staging-" + std::to_string(::getpid()) + "-" +
+                     std::to_string(counter++));
+  fs::create_directory(staging_, ec);
+  if (ec) {
+    const std::string message = "cannot create a staging folder in '" + dir_.string() +
+                                "': " + errorText(ec) + "; check that the folder is writable";
+    discard();
+    throw IoError(message);
+  }
+  prepared_ = true;
+}
+
+void OutputStaging::stage(const std::string& name,
+                          const std::function<void(const fs::path&)>& write) {
+  prepare();
+  write(staging_ / name);
+  names_.push_back(name);
+}
+
+void OutputStaging::commit(const std::function<bool(const std::string&)>& isStale) {
+  std::error_code ec;
+  for (const std::string& name : names_) {
+    fs::rename(staging_ / name, dir_ / name, ec);
+    if (ec) {
+      throw IoError("cannot move '" + (staging_ / name).string() + "' to '" +
+                    (dir_ / name).string() + "': " + errorText(ec) + "; check the output folder");
+    }
+  }
+  committed_ = true;
+  if (isStale) {
+    const std::unordered_set<std::string> fresh(names_.begin(), names_.end());
+    std::vector<fs::path> stale;
+    for (fs::directory_iterator it(dir_, ec), end; !ec && it != end; it.increment(ec)) {
+      const std::string name = it->path().filename().string();
+      if (!fresh.count(name) && isStale(name) && it->is_regular_file(ec)) {
+        stale.push_back(it->path());
+      }
+    }
+    for (const fs::path& p : stale) fs::remove(p, ec);
+  }
+  if (prepared_) fs::remove_all(staging_, ec);
+}
+
+void OutputStaging::discard() noexcept {
+  std::error_code ec;
+  if (!staging_.empty()) fs::remove_all(staging_, ec);
+  if (createdDir_) fs::remove(dir_, ec);  // only succeeds while empty
+}
+
+void checkOutputFolder(const fs::path& dir) {
+  if (dir.empty()) {
+    throw IoError("output folder is empty: ''; pass a folder path such as out/part");
+  }
+  std::error_code ec;
+  fs::path existing = dir;
+  while (!fs::exists(existing, ec)) {
+    if (!existing.has_parent_path() || existing.parent_path() == existing) {
+      existing = fs::path(".");
+      break;
+    }
+    existing = existing.parent_path();
+  }
+  if (!fs::is_directory(existing, ec)) {
+    if (existing == dir) {
+      throw IoError("output path exists and is not a folder: '" + dir.string() +
+                    "'; choose a folder path");
+    }
+    throw IoError("cannot create output folder '" + dir.string() + "': '" + existing.string() +
+                  "' is not a folder; choose another output path");
+  }
+  if (::access(existing.c_str(), W_OK | X_OK) != 0) {
+    throw IoError("output folder is not writable: '" + existing.string() + "' (" +
+                  std::strerror(errno) + "); choose a writable folder");
+  }
+}
+
+}  // namespace curvedslicer

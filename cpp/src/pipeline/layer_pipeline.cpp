@@ -1,0 +1,236 @@
+#include "curvedslicer/pipeline/layer_pipeline.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <utility>
+
+#include <sys/resource.h>
+
+#include "curvedslicer/core/error.hpp"
+
+namespace curvedslicer {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::string formatNumber(double value) {
+  std::ostringstream out;
+  out.precision(6);
+  out << value;
+  return out.str();
+}
+
+void requirePositiveLength(double value, const char* what, const char* example) {
+  if (!std::isfinite(value) || value <= 0.0) {
+    throw InvalidInput(std::string(what) + " must be a positive number of millimetres: " +
+                       formatNumber(value) + "; pass a value such as " + example);
+  }
+}
+
+/// Times one stage and records it under `name`.
+class StageClock {
+ public:
+  explicit StageClock(std::vector<StageTime>& times) : times_(times) {}
+  void start(std::string name) {
+    name_ = std::move(name);
+    begin_ = Clock::now();
+  }
+  void stop() {
+    times_.push_back(
+        {std::move(name_), std::chrono::duration<double>(Clock::now() - begin_).count()});
+  }
+
+ private:
+  std::vector<StageTime>& times_;
+  std::string name_;
+  Clock::time_point begin_;
+};
+
+std::string describeBox(const Aabb& box) {
+  const Vec3 s = box.size();
+  return formatNumber(s.x()) + " x " + formatNumber(s.y()) + " x " + formatNumber(s.z()) + " mm";
+}
+
+/// The model must enclose a volume: |V| tiny against the cube of the box diagonal means a flat
+/// or sheet-like mesh.
+void validateModel(const MeshReport& report) {
+  if (report.triangles == 0) {
+    throw InvalidInput(
+        "model has no triangles left after cleaning (all were degenerate or duplicates): 0 "
+        "triangles; check the file, it must describe a closed solid");
+  }
+  const double diagonal = report.bounds.diagonal();
+  const double tiny = 1e-6 * diagonal * diagonal * diagonal;
+  if (!(std::abs(report.volume) > tiny)) {
+    throw InvalidInput("model encloses no volume: " + formatNumber(report.volume) +
+                       " mm^3 inside a bounding box of " + describeBox(report.bounds) +
+                       "; the model must be a closed solid, not a flat or sheet-like surface");
+  }
+}
+
+/// A voxel size giving roughly `cells` inside voxels for a solid of `volume` mm³.
+double voxelSizeForCells(double volume, double cells) {
+  return std::cbrt(volume / cells);
+}
+
+void validateGrid(const VoxelizeResult& vox, const MeshReport& report,
+                  const HoleCappingResult& capping, const LayerJobOptions& options) {
+  const std::size_t inside = vox.grid.insideCount;
+  const std::size_t unresolved = vox.stats.unresolvedVoxels;
+  const double L = vox.grid.geometry.voxelSize;
+  const bool openBeyondRepair =
+      unresolved > 0 &&
+      (inside == 0 || static_cast<double>(unresolved) > options.maxUnresolvedFraction * inside);
+  if (openBeyondRepair) {
+    throw InvalidInput(
+        "model is open beyond repair: " + std::to_string(unresolved) +
+        " voxels could not be classified as inside or outside (" + std::to_string(inside) +
+        " inside voxels; the mesh has " + std::to_string(report.openEdges) + " open and " +
+        std::to_string(report.nonManifoldEdges) + " non-manifold edges); " +
+        (options.capHoles
+             ? std::to_string(capping.openBoundaryEdges) +
+                   " boundary edges could not be capped (pinched holes) or the caps intersect the "
+                   "mesh: repair the mesh into a watertight solid"
+             : std::string("close the holes of the mesh or enable hole capping (--cap-holes)")));
+  }
+  if (inside < options.minInsideVoxels) {
+    // Aim for about a thousand inside voxels; never suggest anything coarser than half of L.
+    const double suggestion = std::min(voxelSizeForCells(std::abs(report.volume), 1000.0), 0.5 * L);
+    throw InvalidInput("voxel size too coarse for the model: " + formatNumber(L) + " mm gives " +
+                       std::to_string(inside) + " inside voxels (at least " +
+                       std::to_string(options.minInsideVoxels) +
+                       " needed); use a voxel size of about " + formatNumber(suggestion) +
+                       " mm or smaller");
+  }
+}
+
+}  // namespace
+
+void validateLayerJobOptions(const LayerJobOptions& options) {
+  requirePositiveLength(options.layers.layerThickness, "layer thickness", "1.5");
+  requirePositiveLength(options.voxelize.voxelSize, "voxel size", "0.5");
+  const double budget = options.voxelize.memoryBudgetBytes;
+  if (!std::isfinite(budget) || budget < 0.0) {
+    throw InvalidInput("memory budget must be zero (automatic) or positive: " +
+                       formatNumber(budget) + " bytes; pass a positive size or 0");
+  }
+  if (options.voxelize.padding < 1) {
+    throw InvalidInput("grid padding must be at least one cell: " +
+                       std::to_string(options.voxelize.padding) + "; pass 1 or more");
+  }
+  if (!std::isfinite(options.geodesic.seedBand)) {
+    throw InvalidInput("seed band must be finite: " + formatNumber(options.geodesic.seedBand) +
+                       " mm; pass 0 for the default (sqrt(3)·L)");
+  }
+  if (!std::isfinite(options.geodesic.paperSearchRadius)) {
+    throw InvalidInput(
+        "paper search radius must be finite: " + formatNumber(options.geodesic.paperSearchRadius) +
+        "; pass 0 for the paper's 2·sqrt(3)");
+  }
+  if (options.layers.maxLayers < 1) {
+    throw InvalidInput("layer limit must be at least 1: " +
+                       std::to_string(options.layers.maxLayers) + "; pass a positive limit");
+  }
+  if (!(options.maxUnresolvedFraction >= 0.0)) {
+    throw InvalidInput("unresolved-voxel fraction must not be negative: " +
+                       formatNumber(options.maxUnresolvedFraction) + "; pass e.g. 0.01");
+  }
+}
+
+LayerJobResult runLayerJob(const TriMesh& rawModel, const LayerJobOptions& options,
+                           Progress progress) {
+  const auto jobBegin = Clock::now();
+  validateLayerJobOptions(options);
+  if (rawModel.empty()) {
+    throw InvalidInput("model has no triangles: 0; pass a closed triangle mesh of the part");
+  }
+
+  LayerJobResult result;
+  StageClock clock(result.stageTimes);
+
+  // ---- clean ---------------------------------------------------------------------------------
+  progress.report(0.0, "clean");
+  clock.start("clean");
+  result.clean = cleanMesh(rawModel, options.clean);
+  clock.stop();
+
+  // ---- start surface -------------------------------------------------------------------------
+  progress.report(0.005, "start surface");
+  clock.start("start surface");
+  result.startDescription = options.start.describe();
+  result.source = resolveStartSurface(result.clean.mesh, options.start);
+  clock.stop();
+
+  // ---- cap holes -----------------------------------------------------------------------------
+  if (options.capHoles) {
+    progress.report(0.008, "cap holes");
+    clock.start("cap holes");
+    const double L = options.voxelize.voxelSize;
+    result.capping = capHoles(result.clean.mesh, result.source, {L, 0.25 * L});
+    result.clean.mesh = std::move(result.capping.mesh);
+    result.capping.mesh = TriMesh{};
+    clock.stop();
+  }
+  const TriMesh& model = result.clean.mesh;
+
+  // ---- analyze -------------------------------------------------------------------------------
+  progress.report(0.01, "analyze");
+  clock.start("analyze");
+  result.meshReport = analyzeMesh(model);
+  validateModel(result.meshReport);
+  // Fails with ResourceLimit before anything large is allocated.
+  (void)planGrid(model, options.voxelize);
+  clock.stop();
+
+  // ---- voxelize ------------------------------------------------------------------------------
+  progress.report(0.02, "voxelize");
+  clock.start("voxelize");
+  result.voxelization = voxelize(model, options.voxelize, progress.sub(0.02, 0.2));
+  validateGrid(result.voxelization, result.meshReport, result.capping, options);
+  clock.stop();
+
+  // ---- field ---------------------------------------------------------------------------------
+  progress.report(0.2, "field");
+  clock.start("field");
+  // With the model surface: exact line of sight and pivots on its concave edges.
+  result.field = computeGeodesicField(result.voxelization.grid, model, result.source,
+                                      options.geodesic, progress.sub(0.2, 0.8));
+  clock.stop();
+  const double h = options.layers.layerThickness;
+  if (!(result.field.maxDistance >= h)) {
+    throw InvalidInput(
+        "layer thickness exceeds the part's extent from the start surface: h = " + formatNumber(h) +
+        " mm, largest distance " + formatNumber(result.field.maxDistance) +
+        " mm; use a layer thickness below the largest distance");
+  }
+
+  // ---- layers --------------------------------------------------------------------------------
+  progress.report(0.8, "layers");
+  clock.start("layers");
+  result.layers = extractLayers(result.field.field, result.voxelization.grid, model, result.source,
+                                options.layers, progress.sub(0.8, 1.0));
+  clock.stop();
+  if (result.layers.surfaces.empty()) {
+    throw InvalidInput("no layer surface lies inside the part: 0 layers at h = " + formatNumber(h) +
+                       " mm (largest distance " + formatNumber(result.field.maxDistance) +
+                       " mm); use a smaller layer thickness or voxel size");
+  }
+  progress.report(1.0, "layers");
+
+  result.totalSeconds = std::chrono::duration<double>(Clock::now() - jobBegin).count();
+  result.peakMemoryBytes = peakResidentMemoryBytes();
+  return result;
+}
+
+std::size_t peakResidentMemoryBytes() {
+  struct rusage usage {};
+  if (::getrusage(RUSAGE_SELF, &usage) != 0 || usage.ru_maxrss < 0) return 0;
+  // Linux reports kilobytes.
+  return static_cast<std::size_t>(usage.ru_maxrss) * 1024u;
+}
+
+}  // namespace curvedslicer

@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# Builds and runs every test twice: a Release build (build/) and an AddressSanitizer +
+# UndefinedBehaviorSanitizer build (build-asan/, benchmarks off). Prints a summary and exits
+# non-zero if any build or test failed. Run scripts/setup.sh first for the dependencies.
+# CURVEDSLICER_BUILD_DIR / CURVEDSLICER_ASAN_BUILD_DIR override the two build folders.
+set -uo pipefail
+
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+jobs="$(nproc 2>/dev/null || echo 2)"
+logs="$repo/build-logs"
+mkdir -p "$logs"
+
+export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
+export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
+
+declare -a names=() results=() details=()
+failed=0
+
+# run_suite NAME BUILD_DIR CMAKE_ARGS...
+run_suite() {
+  local name="$1" dir="$2"
+  shift 2
+  local log="$logs/$name.log" start end status detail
+  start=$(date +%s)
+  echo "=== $name: configure + build ($dir) ==="
+  if ! cmake -S "$repo" -B "$dir" -G Ninja "$@" >"$log" 2>&1 ||
+     ! cmake --build "$dir" -j "$jobs" >>"$log" 2>&1; then
+    tail -n 60 "$log"
+    status="FAIL"
+    detail="build failed (log: $log)"
+  else
+    echo "=== $name: ctest ==="
+    if ctest --test-dir "$dir" --output-on-failure -j "$jobs" --timeout 1200 2>&1 | tee -a "$log"; then
+      status="PASS"
+    else
+      status="FAIL"
+    fi
+    detail="$(grep -E 'tests passed' "$log" | tail -n 1)"
+    [[ -n "$detail" ]] || detail="no test summary (log: $log)"
+  fi
+  end=$(date +%s)
+  [[ "$status" == "PASS" ]] || failed=1
+  names+=("$name")
+  results+=("$status")
+  details+=("$detail ($((end - start)) s)")
+}
+
+run_suite release "${CURVEDSLICER_BUILD_DIR:-$repo/build}" -DCMAKE_BUILD_TYPE=Release
+run_suite asan-ubsan "${CURVEDSLICER_ASAN_BUILD_DIR:-$repo/build-asan}" \
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCURVEDSLICER_SANITIZE=ON -DCURVEDSLICER_BUILD_BENCH=OFF
+
+echo
+echo "================ test summary ================"
+for i in "${!names[@]}"; do
+  printf '  %-11s %-4s  %s\n' "${names[$i]}" "${results[$i]}" "${details[$i]}"
+done
+if ((failed)); then
+  echo "RESULT: FAILED"
+  exit 1
+fi
+echo "RESULT: all tests passed"

@@ -1,0 +1,305 @@
+// The `curvedslicer` binary on bad input: each case exits with its specific code and message on
+// stderr ("curvedslicer: error: …") and leaves nothing in the output folder.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "cli_test_support.hpp"
+#include "common/shapes.hpp"
+#include "common/test_paths.hpp"
+
+namespace curvedslicer {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::CliRun;
+using testing::freshTempDir;
+using testing::listFolder;
+using testing::runCli;
+using testing::trianglesOf;
+using testing::writeBinaryStl;
+using Args = std::vector<std::string>;
+
+constexpr int kInvalidInput = 2;
+constexpr int kIoError = 3;
+constexpr int kResourceLimit = 4;
+
+::testing::AssertionResult contains(const std::string& text, const std::string& part) {
+  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
+}
+
+/// A folder with a 10 mm cube as binary STL (box.stl) and an empty output folder (out/).
+struct Workspace {
+  fs::path dir = freshTempDir();
+  fs::path out = dir / "out";
+  fs::path box = dir / "box.stl";
+  Workspace() {
+    fs::create_directories(out);
+    writeBinaryStl(box, trianglesOf(testing::makeBox(Vec3(0, 0, 0), Vec3(10, 10, 10))));
+  }
+  /// `layers MODEL --layer-thickness 2 --voxel 0.5 -o out` with `extra` appended.
+  Args layers(const fs::path& model, const Args& extra = {}) const {
+    Args args{"layers", model.string(), "--layer-thickness", "2", "--voxel",
+              "0.5",    "-o",           out.string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  }
+};
+
+/// Runs the CLI and checks exit code, the error message and that `out` stayed empty.
+void expectFailure(const Workspace& ws, const Args& args, int exitCode,
+                   const std::vector<std::string>& messageParts) {
+  const CliRun run = runCli(args);
+  EXPECT_EQ(run.exitCode, exitCode) << run.err;
+  EXPECT_TRUE(contains(run.err, "curvedslicer: error: "));
+  for (const std::string& part : messageParts) EXPECT_TRUE(contains(run.err, part));
+  EXPECT_EQ(run.out, "");
+  EXPECT_TRUE(listFolder(ws.out).empty()) << "output folder not empty: " << listFolder(ws.out)[0];
+}
+
+TEST(CliErrors, MissingModelFile) {
+  Workspace ws;
+  expectFailure(ws, ws.layers(ws.dir / "missing.stl"), kInvalidInput,
+                {"mesh file not found", "missing.stl"});
+}
+
+TEST(CliErrors, EmptyModelFile) {
+  Workspace ws;
+  std::ofstream(ws.dir / "empty.stl").close();
+  expectFailure(ws, ws.layers(ws.dir / "empty.stl"), kInvalidInput,
+                {"mesh file is empty", "empty.stl"});
+}
+
+TEST(CliErrors, TruncatedBinaryStl) {
+  Workspace ws;
+  const auto triangles = trianglesOf(testing::makeBox(Vec3(0, 0, 0), Vec3(10, 10, 10)));
+  writeBinaryStl(ws.dir / "cut.stl", triangles, -1, 84 + 50 * 5 + 17);  // mid-record
+  expectFailure(
+      ws, ws.layers(ws.dir / "cut.stl"), kInvalidInput,
+      {"binary STL size disagrees with its triangle count", "declares 12 triangles", "truncated"});
+  writeBinaryStl(ws.dir / "stub.stl", triangles, -1, 50);  // not even a header
+  expectFailure(ws, ws.layers(ws.dir / "stub.stl"), kInvalidInput,
+                {"binary STL is truncated", "84-byte header"});
+}
+
+TEST(CliErrors, BinaryStlCountDisagreesWithSize) {
+  Workspace ws;
+  writeBinaryStl(ws.dir / "count.stl",
+                 trianglesOf(testing::makeBox(Vec3(0, 0, 0), Vec3(10, 10, 10))), 1000);
+  expectFailure(ws, ws.layers(ws.dir / "count.stl"), kInvalidInput,
+                {"binary STL size disagrees with its triangle count", "declares 1000 triangles"});
+}
+
+TEST(CliErrors, NonFiniteCoordinates) {
+  Workspace ws;
+  for (float bad :
+       {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+    auto triangles = trianglesOf(testing::makeBox(Vec3(0, 0, 0), Vec3(10, 10, 10)));
+    triangles[3][1].y() = bad;
+    writeBinaryStl(ws.dir / "nan.stl", triangles);
+    expectFailure(ws, ws.layers(ws.dir / "nan.stl"), kInvalidInput, {"non-finite coordinate"});
+  }
+}
+
+TEST(CliErrors, FlatModelEnclosesNoVolume) {
+  Workspace ws;
+  writeBinaryStl(ws.dir / "flat.stl",
+                 trianglesOf(testing::makeBox(Vec3(0, 0, 0), Vec3(10, 10, 0))));
+  expectFailure(ws, ws.layers(ws.dir / "flat.stl"), kInvalidInput,
+                {"model encloses no volume", "closed solid"});
+}
+
+/// One eighth of a sphere as an open sheet (triangles with their centroid in x, y, z > 0): rays
+/// along every axis through the region it bounds cross it once, so no ray direction can decide.
+TriMesh makeSphereOctantSheet() {
+  const TriMesh sphere = testing::makeSphere(Vec3(0, 0, 0), 10.0, 3);
+  TriMesh sheet;
+  sheet.vertices = sphere.vertices;
+  for (std::size_t t = 0; t < sphere.triangleCount(); ++t) {
+    const Vec3 c = sphere.corner(t, 0) + sphere.corner(t, 1) + sphere.corner(t, 2);
+    if ((c.array() > 0.0).all()) sheet.triangles.push_back(sphere.triangles[t]);
+  }
+  return sheet;
+}
+
+TEST(CliErrors, OpenMeshBeyondRepair) {
+  Workspace ws;
+  writeBinaryStl(ws.dir / "dome.stl", trianglesOf(makeSphereOctantSheet()));
+  expectFailure(ws, ws.layers(ws.dir / "dome.stl"), kInvalidInput,
+                {"model is open beyond repair", "open", "--cap-holes"});
+  // The bundled curved-base part is open at its bottom and top as well.
+  expectFailure(ws, ws.layers(testing::modelPath("custom_base_geom_to_slice.obj")), kInvalidInput,
+                {"model is open beyond repair"});
+}
+
+TEST(CliErrors, StartPlaneFarBelowTheSolid) {
+  Workspace ws;
+  expectFailure(ws, ws.layers(ws.box, {"--start", "plane:z=-1000"}), kInvalidInput,
+                {"the start surface does not touch the solid"});
+}
+
+TEST(CliErrors, StartMeshFarAway) {
+  Workspace ws;
+  // A 10 mm square sheet 500 mm above the cube.
+  const std::vector<std::array<Eigen::Vector3f, 3>> sheet{
+      {Eigen::Vector3f(0, 0, 500), Eigen::Vector3f(10, 0, 500), Eigen::Vector3f(10, 10, 500)},
+      {Eigen::Vector3f(0, 0, 500), Eigen::Vector3f(10, 10, 500), Eigen::Vector3f(0, 10, 500)}};
+  writeBinaryStl(ws.dir / "sheet.stl", sheet);
+  expectFailure(ws, ws.layers(ws.box, {"--start", "mesh:" + (ws.dir / "sheet.stl").string()}),
+                kInvalidInput, {"the start surface does not touch the solid"});
+}
+
+TEST(CliErrors, StartMeshFileMissing) {
+  Workspace ws;
+  expectFailure(ws, ws.layers(ws.box, {"--start", "mesh:" + (ws.dir / "nobase.obj").string()}),
+                kInvalidInput, {"start surface mesh: mesh file not found", "nobase.obj"});
+}
+
+TEST(CliErrors, NonPositiveOrNonFiniteLayerThickness) {
+  Workspace ws;
+  for (const char* h : {"0", "-1.5", "nan", "inf"}) {
+    Args args{"layers", ws.box.string(), "--layer-thickness=" + std::string(h), "--voxel", "0.5",
+              "-o",     ws.out.string()};
+    expectFailure(ws, args, kInvalidInput,
+                  {"layer thickness must be a positive number of millimetres: "});
+  }
+  Args args{"layers", ws.box.string(), "--layer-thickness", "thick", "--voxel", "0.5",
+            "-o",     ws.out.string()};
+  expectFailure(ws, args, kInvalidInput, {"layer thickness is not a number: 'thick'"});
+}
+
+TEST(CliErrors, NonPositiveOrNonFiniteVoxelSize) {
+  Workspace ws;
+  for (const char* L : {"0", "-0.5", "nan"}) {
+    Args args{"layers", ws.box.string(), "--layer-thickness", "2", "--voxel=" + std::string(L),
+              "-o",     ws.out.string()};
+    expectFailure(ws, args, kInvalidInput, {"voxel size must be a positive number of millimetres"});
+  }
+}
+
+TEST(CliErrors, NegativeNumberAsSeparateArgument) {
+  Workspace ws;
+  Args args{"layers", ws.box.string(), "--layer-thickness", "-2", "--voxel", "0.5",
+            "-o",     ws.out.string()};
+  const CliRun run = runCli(args);
+  EXPECT_EQ(run.exitCode, kInvalidInput) << run.err;
+  EXPECT_TRUE(contains(run.err, "curvedslicer: error: "));
+  EXPECT_TRUE(listFolder(ws.out).empty());
+}
+
+TEST(CliErrors, GridBeyondTheMemoryBudget) {
+  Workspace ws;
+  Args args{"layers",  ws.box.string(), "--layer-thickness", "2",
+            "--voxel", "0.01",          "--memory-budget",   "100",
+            "-o",      ws.out.string()};
+  // 10 mm / 0.01 mm = 1000 cells per axis plus padding: about 1e9 cells.
+  expectFailure(ws, args, kResourceLimit,
+                {"cells at voxel size 0.01 mm", "memory budget", "use a voxel size of at least"});
+  expectFailure(ws, ws.layers(ws.box, {"--memory-budget=-5"}), kInvalidInput,
+                {"memory budget must be 0 (automatic) or a positive number of MB: '-5'"});
+}
+
+TEST(CliErrors, UnknownMethodGridAndFormat) {
+  Workspace ws;
+  expectFailure(ws, ws.layers(ws.box, {"--method", "fast"}), kInvalidInput,
+                {"unknown geodesic method: 'fast'", "anyangle", "paper"});
+  expectFailure(ws, ws.layers(ws.box, {"--grid", "obb"}), kInvalidInput,
+                {"unknown grid alignment: 'obb'"});
+  expectFailure(ws, ws.layers(ws.box, {"--format", "stl"}), kInvalidInput,
+                {"unknown layer file format: 'stl'"});
+}
+
+TEST(CliErrors, BadStartSpecSyntax) {
+  Workspace ws;
+  expectFailure(ws, ws.layers(ws.box, {"--start", "faces:1-"}), kInvalidInput,
+                {"bad face id list '1-'", "0-9,15"});
+  expectFailure(ws, ws.layers(ws.box, {"--start", "faces:a,b"}), kInvalidInput,
+                {"bad face id list"});
+  expectFailure(ws, ws.layers(ws.box, {"--start", "cone:3"}), kInvalidInput,
+                {"unknown start surface kind: 'cone:3'", "plane:bottom"});
+}
+
+TEST(CliErrors, FaceIdsTheModelDoesNotHave) {
+  Workspace ws;
+  expectFailure(ws, ws.layers(ws.box, {"--start", "faces:0,500-501"}), kInvalidInput,
+                {"start face ids not found in the model: 500", "501"});
+}
+
+TEST(CliErrors, UsageErrorsExitWithCodeTwo) {
+  Workspace ws;
+  // Missing required options, an unknown option, no subcommand.
+  expectFailure(ws, {"layers", ws.box.string(), "--voxel", "0.5", "-o", ws.out.string()},
+                kInvalidInput, {"--layer-thickness"});
+  expectFailure(ws, ws.layers(ws.box, {"--frobnicate"}), kInvalidInput, {"--frobnicate"});
+  expectFailure(ws, {}, kInvalidInput, {"subcommand"});
+  expectFailure(ws, {"layers", "--layer-thickness", "2", "--voxel", "0.5", "-o", ws.out.string()},
+                kInvalidInput, {"MODEL"});
+}
+
+TEST(CliErrors, OutputPathIsAFile) {
+  Workspace ws;
+  const fs::path file = ws.dir / "file.txt";
+  std::ofstream(file) << "x";
+  Args args{"layers", ws.box.string(), "--layer-thickness", "2", "--voxel", "0.5",
+            "-o",     file.string()};
+  const CliRun run = runCli(args);
+  EXPECT_EQ(run.exitCode, kIoError) << run.err;
+  EXPECT_TRUE(contains(run.err, "output path exists and is not a folder"));
+  EXPECT_EQ(testing::readWholeFile(file), "x");
+}
+
+TEST(CliErrors, FailureDoesNotCreateAMissingOutputFolder) {
+  Workspace ws;
+  const fs::path out = ws.dir / "never" / "created";
+  Args args{"layers", ws.box.string(), "--layer-thickness", "2",  "--voxel",
+            "0.5",    "--start",       "plane:z=-1000",     "-o", out.string()};
+  const CliRun run = runCli(args);
+  EXPECT_EQ(run.exitCode, kInvalidInput) << run.err;
+  EXPECT_FALSE(fs::exists(ws.dir / "never"));
+}
+
+TEST(CliErrors, VersionAndHelp) {
+  const CliRun version = runCli({"--version"});
+  EXPECT_EQ(version.exitCode, 0);
+  EXPECT_EQ(version.out, std::string("curvedslicer ") + CURVEDSLICER_VERSION + "\n");
+
+  const CliRun help = runCli({"layers", "--help"});
+  EXPECT_EQ(help.exitCode, 0) << help.err;
+  for (const char* part : {"MODEL",
+                           "--start",
+                           "plane:bottom",
+                           "plane:z=MM",
+                           "faces:IDS",
+                           "0-based",
+                           "0-9,15",
+                           "mesh:FILE",
+                           "--layer-thickness",
+                           "--voxel",
+                           "mm",
+                           "--method",
+                           "anyangle (default",
+                           "--grid",
+                           "pca (default",
+                           "--format",
+                           "ply (default",
+                           "--memory-budget",
+                           "80 %",
+                           "--quiet",
+                           "--output",
+                           "layer_0001.ply",
+                           "voxel_sets.ply",
+                           "report.json"}) {
+    EXPECT_TRUE(contains(help.out, part));
+  }
+  const CliRun top = runCli({"--help"});
+  EXPECT_EQ(top.exitCode, 0);
+  EXPECT_TRUE(contains(top.out, "layers"));
+}
+
+}  // namespace
+}  // namespace curvedslicer
