@@ -26,8 +26,8 @@ struct CleanOptions {
 };
 
 struct CleanResult {
-  TriMesh mesh;                       ///< faceIds carried over from the input (when present)
-  std::size_t mergedVertices = 0;     ///< input vertices merged into another
+  TriMesh mesh;                    ///< faceIds carried over from the input (when present)
+  std::size_t mergedVertices = 0;  ///< input vertices merged into another
   std::size_t degenerateTriangles = 0;
   std::size_t duplicateTriangles = 0;          ///< same orientation as the kept copy
   std::size_t oppositeDuplicateTriangles = 0;  ///< opposite orientation to the kept copy

@@ -11,8 +11,8 @@ namespace curvedslicer {
 struct MeshReport {
   std::size_t vertices = 0;
   std::size_t triangles = 0;
-  std::size_t openEdges = 0;         ///< edges used by exactly one triangle
-  std::size_t nonManifoldEdges = 0;  ///< edges used by three or more triangles
+  std::size_t openEdges = 0;            ///< edges used by exactly one triangle
+  std::size_t nonManifoldEdges = 0;     ///< edges used by three or more triangles
   std::size_t degenerateTriangles = 0;  ///< repeated vertex index or area below 1e-12·diag²
   /// Manifold edges whose two triangles traverse them in the same direction.
   std::size_t inconsistentEdges = 0;

@@ -30,10 +30,10 @@ struct VoxelizeOptions {
 };
 
 struct VoxelizeStats {
-  std::size_t columns = 0;        ///< z columns cast
-  std::size_t oddColumns = 0;     ///< z columns with an odd number of crossings
-  std::size_t resolvedVoxels = 0;   ///< voxels of odd columns decided by x/y rays
-  std::size_t unresolvedVoxels = 0; ///< voxels where no ray had an even count (left outside)
+  std::size_t columns = 0;           ///< z columns cast
+  std::size_t oddColumns = 0;        ///< z columns with an odd number of crossings
+  std::size_t resolvedVoxels = 0;    ///< voxels of odd columns decided by x/y rays
+  std::size_t unresolvedVoxels = 0;  ///< voxels where no ray had an even count (left outside)
   double seconds = 0.0;
 };
 
