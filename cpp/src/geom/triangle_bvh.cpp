@@ -1,5 +1,6 @@
 // TriangleBvh: CGAL AABB tree facade. See the header for the method.
 #include "curvedslicer/geom/triangle_bvh.hpp"
+#include "curvedslicer/mesh/mesh_repair.hpp"
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -150,23 +151,12 @@ struct TriangleBvh::Impl {
   }
 
   void buildPseudoNormals() {
-    std::vector<int> order(vertices.size());
-    std::iota(order.begin(), order.end(), 0);
-    auto lexLess = [this](int a, int b) {
-      const Vec3& p = vertices[a];
-      const Vec3& q = vertices[b];
-      if (p.x() != q.x()) return p.x() < q.x();
-      if (p.y() != q.y()) return p.y() < q.y();
-      if (p.z() != q.z()) return p.z() < q.z();
-      return a < b;
-    };
-    std::sort(order.begin(), order.end(), lexLess);
+    // Weld by position (STL soups repeat vertices), numbering the distinct positions 0, 1, …
+    const std::vector<int> rep = findExactDuplicateVertices(vertices);
     std::vector<int> weld(vertices.size(), -1);
     int welded = -1;
-    for (std::size_t i = 0; i < order.size(); ++i) {
-      if (i == 0 || vertices[order[i]] != vertices[order[i - 1]]) ++welded;
-      weld[order[i]] = welded;
-    }
+    for (std::size_t i = 0; i < rep.size(); ++i)
+      weld[i] = rep[i] == static_cast<int>(i) ? ++welded : weld[static_cast<std::size_t>(rep[i])];
     vertexNormal.assign(static_cast<std::size_t>(welded + 1), Vec3::Zero());
 
     std::unordered_map<std::uint64_t, Vec3> edgeSum;

@@ -32,8 +32,9 @@ struct CellKeyHash {
   }
 };
 
-/// Representative of each vertex: the lowest-index vertex with the identical position.
-std::vector<int> weldExact(const std::vector<Vec3>& vertices) {
+}  // namespace
+
+std::vector<int> findExactDuplicateVertices(const std::vector<Vec3>& vertices) {
   std::vector<int> order(vertices.size());
   std::iota(order.begin(), order.end(), 0);
   auto less = [&](int a, int b) {
@@ -52,6 +53,8 @@ std::vector<int> weldExact(const std::vector<Vec3>& vertices) {
   }
   return rep;
 }
+
+namespace {
 
 /// Representative of each vertex with tolerance `tol` > 0. Vertices are visited in index order;
 /// each joins the lowest-index representative within `tol` or becomes a representative itself,
@@ -139,7 +142,7 @@ CleanResult cleanMesh(const TriMesh& mesh, const CleanOptions& options) {
     const double cellSize = std::max(2.0 * result.weldTolerance, 1e-12 * diag);
     rep = weldWithTolerance(mesh.vertices, box.min, result.weldTolerance, cellSize);
   } else {
-    rep = weldExact(mesh.vertices);
+    rep = findExactDuplicateVertices(mesh.vertices);
   }
   for (std::size_t i = 0; i < nv; ++i) result.mergedVertices += rep[i] != static_cast<int>(i);
 

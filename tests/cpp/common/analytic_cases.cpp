@@ -8,8 +8,17 @@ namespace curvedslicer::testing {
 
 namespace {
 
-/// Model-aligned grid over `box` with 2 cells of padding; inside = predicate at cell centres.
-VoxelGrid makeGrid(const Aabb& box, double L, const std::function<bool(const Vec3&)>& inside) {
+TriMesh rectangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  TriMesh m;
+  m.vertices = {a, b, c, d};
+  m.triangles = {Vec3i(0, 1, 2), Vec3i(0, 2, 3)};
+  return m;
+}
+
+}  // namespace
+
+VoxelGrid makeGridFromPredicate(const Aabb& box, double L,
+                                const std::function<bool(const Vec3&)>& inside) {
   VoxelGrid grid;
   GridGeometry& g = grid.geometry;
   g.voxelSize = L;
@@ -28,15 +37,6 @@ VoxelGrid makeGrid(const Aabb& box, double L, const std::function<bool(const Vec
   return grid;
 }
 
-TriMesh rectangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  TriMesh m;
-  m.vertices = {a, b, c, d};
-  m.triangles = {Vec3i(0, 1, 2), Vec3i(0, 2, 3)};
-  return m;
-}
-
-}  // namespace
-
 AnalyticCase makeTiltedSlabCase(int cells) {
   // Slab 60 x 44 mm, 14 mm thick, normal tilted ~27° from z and rotated about z.
   const Vec3 n = Vec3(0.35, 0.25, 1.0).normalized();
@@ -51,7 +51,7 @@ AnalyticCase makeTiltedSlabCase(int cells) {
   }
   AnalyticCase c;
   c.name = "tilted slab";
-  c.grid = makeGrid(box, box.size().maxCoeff() / cells, [=](const Vec3& p) {
+  c.grid = makeGridFromPredicate(box, box.size().maxCoeff() / cells, [=](const Vec3& p) {
     const Vec3 q = local(p);
     return std::abs(q.x()) <= A && std::abs(q.y()) <= B && q.z() >= 0 && q.z() <= T;
   });
@@ -71,7 +71,7 @@ AnalyticCase makeSphericalShellCase(int cells) {
   box.extend(centre + Vec3::Constant(r2));
   AnalyticCase c;
   c.name = "spherical shell";
-  c.grid = makeGrid(box, 2 * r2 / cells, [=](const Vec3& p) {
+  c.grid = makeGridFromPredicate(box, 2 * r2 / cells, [=](const Vec3& p) {
     const double r = (p - centre).norm();
     return r >= r1 && r <= r2;
   });
@@ -88,7 +88,7 @@ AnalyticCase makeLShapeCase(int cells) {
   box.extend(Vec3(A, B, H));
   AnalyticCase c;
   c.name = "L-shape";
-  c.grid = makeGrid(box, A / cells, [=](const Vec3& p) {
+  c.grid = makeGridFromPredicate(box, A / cells, [=](const Vec3& p) {
     if (p.z() < 0 || p.z() > H || p.x() < 0 || p.y() < 0) return false;
     return (p.x() <= A && p.y() <= W) || (p.x() <= W && p.y() <= B);
   });
@@ -108,7 +108,7 @@ AnalyticCase makeUBendCase(int cells) {
   box.extend(Vec3(ro, ro, H));
   AnalyticCase c;
   c.name = "U-bend";
-  c.grid = makeGrid(box, 2 * ro / cells, [=](const Vec3& p) {
+  c.grid = makeGridFromPredicate(box, 2 * ro / cells, [=](const Vec3& p) {
     const double r = std::hypot(p.x(), p.y());
     return p.y() >= 0 && r >= ri && r <= ro && p.z() >= 0 && p.z() <= H;
   });

@@ -11,6 +11,10 @@
 
 namespace curvedslicer::testing {
 
+/// Model-aligned grid over `box` with 2 cells of padding; inside = `inside` at each cell centre.
+VoxelGrid makeGridFromPredicate(const Aabb& box, double voxelSize,
+                                const std::function<bool(const Vec3&)>& inside);
+
 struct AnalyticCase {
   std::string name;
   VoxelGrid grid;  ///< model-aligned grid, padding 2

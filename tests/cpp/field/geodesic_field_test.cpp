@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "common/analytic_cases.hpp"
 #include "common/shapes.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/field/geodesic_field.hpp"
@@ -12,23 +13,6 @@
 
 namespace curvedslicer {
 namespace {
-
-/// Model-aligned grid over `box` (2 cells padding), inside = predicate at cell centres.
-template <class Pred>
-VoxelGrid gridFor(const Aabb& box, double L, Pred inside) {
-  VoxelGrid grid;
-  GridGeometry& g = grid.geometry;
-  g.voxelSize = L;
-  g.corner = box.min.array() - 2 * L;
-  g.dims = ((box.size().array() / L).ceil() + 4).cast<int>();
-  grid.inside.assign(g.cellCount(), 0);
-  for (std::size_t n = 0; n < g.cellCount(); ++n)
-    if (inside(g.centerInPart(n))) {
-      grid.inside[n] = 1;
-      ++grid.insideCount;
-    }
-  return grid;
-}
 
 Aabb box(const Vec3& a, const Vec3& b) {
   Aabb r;
@@ -38,7 +22,7 @@ Aabb box(const Vec3& a, const Vec3& b) {
 }
 
 VoxelGrid boxGrid(double L = 1.0) {
-  return gridFor(box(Vec3(0, 0, 0), Vec3(10, 8, 20)), L, [](const Vec3& p) {
+  return testing::makeGridFromPredicate(box(Vec3(0, 0, 0), Vec3(10, 8, 20)), L, [](const Vec3& p) {
     return p.x() >= 0 && p.x() <= 10 && p.y() >= 0 && p.y() <= 8 && p.z() >= 0 && p.z() <= 20;
   });
 }
@@ -97,7 +81,9 @@ TEST(GeodesicField, FacesOfTheModelAsStartSurface) {
   const VoxelGrid grid = boxGrid();
   const GeodesicResult r = computeGeodesicField(grid, src);
   for (std::size_t n = 0; n < grid.inside.size(); ++n)
-    if (grid.inside[n]) EXPECT_NEAR(r.field.at(n), 10.0 - grid.geometry.centerInPart(n).x(), 1e-4);
+    if (grid.inside[n]) {
+      EXPECT_NEAR(r.field.at(n), 10.0 - grid.geometry.centerInPart(n).x(), 1e-4);
+    }
 }
 
 TEST(GeodesicField, UnknownFaceIdsAreNamed) {
@@ -142,10 +128,11 @@ TEST(GeodesicField, BadPlaneNormalAndEmptySurfaces) {
 
 TEST(GeodesicField, DisconnectedPartIsReportedNotDropped) {
   // Two boxes; the start plane touches only the lower one.
-  const VoxelGrid grid = gridFor(box(Vec3(0, 0, 0), Vec3(10, 10, 30)), 1.0, [](const Vec3& p) {
-    const bool inXY = p.x() >= 0 && p.x() <= 10 && p.y() >= 0 && p.y() <= 10;
-    return inXY && ((p.z() >= 0 && p.z() <= 10) || (p.z() >= 20 && p.z() <= 30));
-  });
+  const VoxelGrid grid =
+      testing::makeGridFromPredicate(box(Vec3(0, 0, 0), Vec3(10, 10, 30)), 1.0, [](const Vec3& p) {
+        const bool inXY = p.x() >= 0 && p.x() <= 10 && p.y() >= 0 && p.y() <= 10;
+        return inXY && ((p.z() >= 0 && p.z() <= 10) || (p.z() >= 20 && p.z() <= 30));
+      });
   const TriMesh src = resolveStartSurface(boxMesh(), StartSurface::horizontalPlane(0.0));
   for (GeodesicMethod m : {GeodesicMethod::AnyAngle, GeodesicMethod::Paper}) {
     GeodesicOptions o;
@@ -161,12 +148,13 @@ TEST(GeodesicField, DisconnectedPartIsReportedNotDropped) {
 
 TEST(GeodesicField, ConcaveObstacleIsWalkedAround) {
   // A wall with a gap: from the plate at y = 0, points behind the wall go around its end.
-  const VoxelGrid grid = gridFor(box(Vec3(0, 0, 0), Vec3(40, 40, 4)), 0.5, [](const Vec3& p) {
-    const bool inBox =
-        p.x() >= 0 && p.x() <= 40 && p.y() >= 0 && p.y() <= 40 && p.z() >= 0 && p.z() <= 4;
-    const bool wall = p.y() >= 10 && p.y() <= 12 && p.x() <= 30;
-    return inBox && !wall;
-  });
+  const VoxelGrid grid =
+      testing::makeGridFromPredicate(box(Vec3(0, 0, 0), Vec3(40, 40, 4)), 0.5, [](const Vec3& p) {
+        const bool inBox =
+            p.x() >= 0 && p.x() <= 40 && p.y() >= 0 && p.y() <= 40 && p.z() >= 0 && p.z() <= 4;
+        const bool wall = p.y() >= 10 && p.y() <= 12 && p.x() <= 30;
+        return inBox && !wall;
+      });
   TriMesh src;
   src.vertices = {Vec3(0, 0, -1), Vec3(40, 0, -1), Vec3(40, 0, 5), Vec3(0, 0, 5)};
   src.triangles = {Vec3i(0, 1, 2), Vec3i(0, 2, 3)};
@@ -180,11 +168,11 @@ TEST(GeodesicField, ConcaveObstacleIsWalkedAround) {
 }
 
 TEST(GeodesicField, DeterministicAcrossRuns) {
-  const VoxelGrid grid =
-      gridFor(box(Vec3(-12, -12, -12), Vec3(12, 12, 12)), 0.5, [](const Vec3& p) {
-        const double r = p.norm();
-        return r >= 4 && r <= 12;
-      });
+  const VoxelGrid grid = testing::makeGridFromPredicate(box(Vec3(-12, -12, -12), Vec3(12, 12, 12)),
+                                                        0.5, [](const Vec3& p) {
+                                                          const double r = p.norm();
+                                                          return r >= 4 && r <= 12;
+                                                        });
   const TriMesh src = testing::makeSphere(Vec3::Zero(), 4.0, 3);
   for (GeodesicMethod m : {GeodesicMethod::AnyAngle, GeodesicMethod::Paper}) {
     GeodesicOptions o;

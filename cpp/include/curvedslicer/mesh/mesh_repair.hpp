@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstddef>
+#include <vector>
 
 #include "curvedslicer/mesh/tri_mesh.hpp"
 
@@ -33,6 +34,9 @@ struct CleanResult {
   std::size_t oppositeDuplicateTriangles = 0;  ///< opposite orientation to the kept copy
   double weldTolerance = 0.0;                  ///< mm, the absolute tolerance used
 };
+
+/// Representative of each vertex: the lowest index with the bit-identical position. O(n log n).
+std::vector<int> findExactDuplicateVertices(const std::vector<Vec3>& vertices);
 
 /// @throws InvalidInput for non-finite coordinates or out-of-range indices.
 CleanResult cleanMesh(const TriMesh& mesh, const CleanOptions& options = {});
