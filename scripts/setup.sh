@@ -12,6 +12,10 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libnanoflann-dev libcgal-dev libboost-dev
   python3-numpy python3-scikit-fmm
+  python3-dev pybind11-dev
+  libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
+  libocct-data-exchange-dev
+  freecad-python3 xvfb xauth
 )
 
 missing=()

@@ -1,0 +1,26 @@
+// Registry of the command line's subcommands. Each subcommand lives in its own
+// <name>_command.cpp / <name>_options.cpp pair and adds itself to the app here; main.cpp parses
+// and runs the one that was given.
+#pragma once
+
+#include <functional>
+#include <utility>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace curvedslicer::cli {
+
+/// A registered subcommand and the function that runs it after parsing (returns the exit code).
+using CommandList = std::vector<std::pair<CLI::App*, std::function<int()>>>;
+
+void addLayersCommand(CLI::App& app, CommandList& commands);  // layers_options.cpp
+
+/// Registers every subcommand, in the order `--help` lists them.
+inline void addAllCommands(CLI::App& app, CommandList& commands) {
+  addLayersCommand(app, commands);
+}
+
+}  // namespace curvedslicer::cli

@@ -1,0 +1,107 @@
+// Options of `curvedslicer layers` (see layers_command.hpp for what the command does).
+#include <memory>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.hpp"
+#include "layers_command.hpp"
+
+namespace curvedslicer::cli {
+
+namespace {
+
+constexpr const char* kLayersFooter = R"(
+Example:
+  curvedslicer layers part.stl --layer-thickness 1.5 --voxel 0.5 -o out/part
+  curvedslicer layers geom.obj --start mesh:base.obj --cap-holes --layer-thickness 1.5 \
+      --voxel 0.5 -o out/geom
+
+Output (all files appear together, or none on any error):
+  DIR/layer_0001.ply ...  one surface per layer (mm, model coordinates)
+  DIR/voxel_sets.ply      binary PLY point cloud of the voxel layer sets of the paper's eq. 13:
+                          x y z (voxel centre, model coordinates, mm), layer, distance (mm)
+  DIR/report.json         inputs, mesh diagnostics, grid, field, timings, per-layer statistics
+Layer files of an earlier run in DIR are replaced.
+
+Exit codes: 0 success, 2 invalid input (including usage errors), 3 file I/O error,
+4 resource limit (memory budget), 5 numerical failure, 130 interrupted (Ctrl-C), 1 other.)";
+
+void addLayersOptions(CLI::App& layers, LayersArguments& args) {
+  layers
+      .add_option("MODEL", args.model,
+                  "The part: a closed triangle mesh, STL (binary or ASCII) or OBJ,\n"
+                  "in mm.")
+      ->required()
+      ->type_name("FILE");
+  layers
+      .add_option("--start", args.start,
+                  "Start surface the layers grow from (geodesic distance 0):\n"
+                  "  plane:bottom  the build plate under the model: the plane\n"
+                  "                z = lowest z of the model (default)\n"
+                  "  plane:z=MM    the horizontal plane at height MM (mm, model\n"
+                  "                coordinates)\n"
+                  "  faces:IDS     triangles of the model by 0-based position in the\n"
+                  "                file, a comma list with ranges, e.g. faces:0-9,15\n"
+                  "  mesh:FILE     a separate surface mesh (STL or OBJ, mm, model\n"
+                  "                coordinates), e.g. a curved base plate")
+      ->type_name("SPEC");
+  layers
+      .add_option("--layer-thickness", args.layerThickness,
+                  "Layer thickness h in mm (> 0), required: layer i is the surface at\n"
+                  "geodesic distance i*h from the start surface.")
+      ->required()
+      ->type_name("MM");
+  layers
+      .add_option("--voxel", args.voxelSize,
+                  "Voxel edge length L in mm (> 0), required. Smaller is more\n"
+                  "accurate; time and memory grow as 1/L^3.")
+      ->required()
+      ->type_name("MM");
+  layers
+      .add_option("--method", args.method,
+                  "Geodesic distance method: anyangle (default; any-angle\n"
+                  "propagation with line-of-sight tests) or paper (the paper's\n"
+                  "neighbourhood search, section 2.2).")
+      ->type_name("NAME");
+  layers
+      .add_option("--grid", args.grid,
+                  "Voxel grid orientation: pca (default; principal axes of the\n"
+                  "model, paper section 2.1) or model (the model's x, y, z axes).")
+      ->type_name("NAME");
+  layers
+      .add_option("--format", args.format,
+                  "Layer file format: ply (default; binary little-endian PLY) or obj.")
+      ->type_name("NAME");
+  layers
+      .add_option("--memory-budget", args.memoryBudgetMb,
+                  "Memory the job may use, in MB (2^20 bytes); a voxel grid that\n"
+                  "would not fit is refused before it is allocated.\n"
+                  "Default 0 = 80 % of physical memory.")
+      ->type_name("MB");
+  layers.add_flag("--cap-holes", args.capHoles,
+                  "Close the holes of an open model before slicing (default: off;\n"
+                  "an open model the voxelizer cannot resolve is an error). Holes\n"
+                  "on the start surface are capped on it, e.g. where a part sits on\n"
+                  "a curved base.");
+  layers.add_flag("-q,--quiet", args.quiet,
+                  "No progress and no summary; errors still go to stderr.\n"
+                  "Default: progress on stderr, summary on stdout.");
+  layers
+      .add_option("-o,--output", args.output,
+                  "Output folder (created if missing), required; see Output below.")
+      ->required()
+      ->type_name("DIR");
+  layers.footer(kLayersFooter);
+}
+
+}  // namespace
+
+void addLayersCommand(CLI::App& app, CommandList& commands) {
+  auto args = std::make_shared<LayersArguments>();
+  CLI::App* layers = app.add_subcommand(
+      "layers", "Slice a solid into curved layers of equal thickness grown from a start surface.");
+  addLayersOptions(*layers, *args);
+  commands.push_back({layers, [args] { return runLayersCommand(*args); }});
+}
+
+}  // namespace curvedslicer::cli

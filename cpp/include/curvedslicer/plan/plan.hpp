@@ -1,0 +1,85 @@
+// The deposition plan: the hand-over between path planning (paths/, issue 3) and positioner
+// planning, kinematics and robot programs (robot/, export/, issue 4), and what the FreeCAD
+// workbench stores in a document.
+//
+// A plan is a sequence of layers, bottom to top; each layer holds its paths in deposition order.
+// A path is one weld bead: the arc is on from its first to its last point; between consecutive
+// paths (and layers) the torch travels with the arc off. Every quantity is in the part frame
+// (the model's original coordinates), lengths in mm.
+//
+// Plain data, no behaviour beyond small queries; reading and writing the versioned JSON / CSV
+// forms lives in plan/plan_io.hpp.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "curvedslicer/core/types.hpp"
+
+namespace curvedslicer {
+
+/// One robot point of a path.
+struct PathPoint {
+  Vec3 position = Vec3::Zero();  ///< mm, part frame, on the layer surface
+  /// Unit normal of the layer surface at the point, pointing in the growth direction (towards
+  /// increasing geodesic distance, away from the material already deposited).
+  Vec3 normal = Vec3::UnitZ();
+  /// Unit deposition direction V (paper §3.2): from the wire tip towards the nearest
+  /// already-deposited material (previous bead of the layer, previous layer, or the substrate).
+  /// The positioner turns the part so that V points along gravity.
+  Vec3 deposition = -Vec3::UnitZ();
+};
+
+/// One weld bead.
+struct PlanPath {
+  int layer = 0;  ///< index of the layer in Plan::layers (0 = first layer on the start surface)
+  int index = 0;  ///< deposition order within the layer, 0-based
+  bool closed = false;  ///< a ring: the last point connects back to the first with the arc on
+  std::vector<PathPoint> points;  ///< deposition order; at least 2
+  double length = 0.0;            ///< mm, arc-on length along the points (incl. closing segment)
+};
+
+/// One curved layer and its paths.
+struct PlanLayer {
+  int index = 0;        ///< 0-based, bottom to top
+  double height = 0.0;  ///< geodesic distance of the layer surface from the start surface, mm
+  std::string surface;  ///< reference to the layer surface (file name relative to the plan), or ""
+  std::vector<PlanPath> paths;        ///< in deposition order
+  std::vector<std::string> warnings;  ///< e.g. "no room for a bead", shown to the user
+};
+
+/// Parameters the plan was made with (what a user needs to reproduce it).
+struct PlanParameters {
+  double layerThickness = 0.0;  ///< h, mm
+  double voxelSize = 0.0;       ///< L, mm
+  double beadSpacing = 0.0;     ///< s, mm
+  double pointSpacing = 0.0;    ///< robot point spacing, mm
+  double fitTolerance = 0.0;    ///< spline fit tolerance, mm
+  std::string fieldMethod;      ///< volume geodesic method, e.g. "anyangle"
+  std::string surfaceMethod;    ///< surface geodesic (GDTC) method
+  std::string initialCurve;     ///< how initial curves were chosen, e.g. "boundary"
+};
+
+struct Plan {
+  static constexpr int kFormatVersion = 1;
+  std::string model;  ///< the model file or document object the plan was made from
+  std::string start;  ///< start-surface specification
+  PlanParameters parameters;
+  std::vector<PlanLayer> layers;
+
+  std::size_t pathCount() const {
+    std::size_t n = 0;
+    for (const auto& layer : layers) n += layer.paths.size();
+    return n;
+  }
+  std::size_t pointCount() const {
+    std::size_t n = 0;
+    for (const auto& layer : layers) {
+      for (const auto& path : layer.paths) n += path.points.size();
+    }
+    return n;
+  }
+};
+
+}  // namespace curvedslicer
