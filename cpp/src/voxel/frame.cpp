@@ -21,9 +21,11 @@
 #include <numeric>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "curvedslicer/core/error.hpp"
+#include "voxel/distinct_keys.hpp"
 
 namespace curvedslicer {
 namespace {
@@ -73,15 +75,9 @@ std::vector<std::size_t> uniqueTriangles(const TriMesh& mesh) {
     }
     std::sort(keys[t].begin(), keys[t].end());
   }
-  std::vector<std::size_t> order(mesh.triangles.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return keys[a] < keys[b]; });
-  order.erase(std::unique(order.begin(), order.end(),
-                          [&](std::size_t a, std::size_t b) { return keys[a] == keys[b]; }),
-              order.end());
-  std::sort(order.begin(), order.end());
-  return order;
+  std::vector<std::size_t> all(mesh.triangles.size());
+  std::iota(all.begin(), all.end(), std::size_t{0});
+  return detail::firstOfEachDistinctKey(keys, std::move(all));
 }
 
 /// Index of the first component whose magnitude is within a small tolerance of the largest.

@@ -40,9 +40,11 @@
 #include <numeric>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "curvedslicer/core/error.hpp"
+#include "voxel/distinct_keys.hpp"
 #include "voxel/grid_memory.hpp"
 #include "voxel/parallel_chunks.hpp"
 
@@ -265,12 +267,7 @@ LatticeMesh buildLatticeMesh(const TriMesh& mesh, const GridGeometry& g) {
     if (key[0] == key[1] || key[1] == key[2]) continue;
     order.push_back(t);
   }
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return keys[a] < keys[b]; });
-  order.erase(std::unique(order.begin(), order.end(),
-                          [&](std::size_t a, std::size_t b) { return keys[a] == keys[b]; }),
-              order.end());
-  std::sort(order.begin(), order.end());
+  order = detail::firstOfEachDistinctKey(keys, std::move(order));
 
   m.boxMin.fill(kInf);
   m.boxMax.fill(-kInf);

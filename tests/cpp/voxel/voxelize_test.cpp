@@ -450,12 +450,12 @@ void measureBunny(double voxelSize) {
             << omp_get_max_threads() << " threads)\n";
 }
 
-TEST(Voxelize, BunnyThroughput) {
+TEST(Voxelize, BunnyIsWatertightAndPrintsThroughput) {
   measureBunny(0.5);
 }
 
 // 400 M cells (400 MB); run with --gtest_also_run_disabled_tests.
-TEST(Voxelize, DISABLED_BunnyThroughputFine) {
+TEST(Voxelize, DISABLED_BunnyFineIsWatertightAndPrintsThroughput) {
   measureBunny(0.25);
 }
 
