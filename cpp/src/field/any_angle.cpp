@@ -1,25 +1,34 @@
 // Any-angle geodesic propagation (the accurate default).
 //
-// Dijkstra order over the 26-neighbourhood, but every cell carries a *parent*: a source triangle
-// (distance = exact point–triangle distance) or a pivot point (distance = pivot distance + straight
-// segment). A cell inherits the parent of the neighbour that reaches it best (optimistically, as in
-// Lazy Theta*, Nash et al. 2010); when the cell is popped the straight segment to its parent is
-// checked for line of sight, and only if that fails the cell takes the best of
-//   (a) the parents of its finished neighbours that it can see,
-//   (b) a new pivot on a reflex (concave) edge of the model within reach, placed at the point of
-//       the edge that minimises parent distance + segment (shortest paths inside a polyhedron bend
-//       only at reflex edges and vertices, so this pivot is where the true path bends), and
-//   (c) a finished neighbour's centre as a pivot (the fallback when no model surface is given).
+// Every cell carries a *parent*: a source triangle (distance = exact point–triangle distance) or a
+// pivot point (distance = pivot distance + straight segment). Three phases:
+//  1. parent inheritance: Dijkstra order over the 26-neighbourhood from the seeds; a cell takes
+//     the source triangle of the neighbour that reaches it best, untested (sequential, cheap);
+//  2. line of sight: every inherited segment is tested, strictly; cells that see their parent are
+//     final (their distance is a straight path inside the solid), the others are reset (parallel);
+//  3. shadow: the reset cells in Dijkstra order from the finished ones, as Lazy Theta* (Nash et
+//     al. 2010): a cell inherits the parent of the neighbour that reaches it best, the segment is
+//     tested when the cell is popped, and only if that fails the cell takes the best of
+//       (a) the parents of its finished neighbours that it can see,
+//       (b) a new pivot on a reflex (concave) edge of the model within reach, placed at the point
+//           of the edge that minimises parent distance + segment (shortest paths inside a
+//           polyhedron bend only at reflex edges and vertices, so this pivot is where the true
+//           path bends), and
+//       (c) a finished neighbour's centre as a pivot (the fallback when no model surface is given).
 // Pivots therefore appear only where shortest paths bend around concave edges; elsewhere distances
 // are exact straight-line distances, and the stencil bias of fixed-neighbour Dijkstra
-// (ACCURACY.md) never accumulates.
+// (ACCURACY.md) never accumulates. Cost: phase 1 O(N log C) with a radix heap; phase 2 one segment
+// test per cell on all cores; phase 3 a test per shadow cell plus repairs.
 //
-// Line of sight: with the model surface, an exact test of the segment against the surface
-// triangles in the bricks it passes; without it, sphere tracing through the clearance field (exact
-// EDT of the outside) far from walls and exact cell walking near walls.
+// Line of sight: sphere tracing through the clearance field (exact EDT of the outside) far from
+// walls; near walls, with the model surface, an exact test of the segment against the surface
+// triangles in the bricks it passes; without it, exact cell walking.
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -34,6 +43,8 @@ namespace {
 
 constexpr std::uint8_t kDone = 1;
 constexpr std::uint8_t kVerified = 2;
+/// The cell is inside the solid (a copy of the mask, so relaxations read one byte per neighbour).
+constexpr std::uint8_t kInside = 4;
 constexpr double kSqrt3 = 1.7320508075688772;
 /// Reflex edges considered at a line-of-sight failure lie within this many cells of the cell or
 /// of the point where its blocked segment meets the surface.
@@ -52,10 +63,66 @@ struct HeapItem {
   float d;
   std::uint32_t n;
 };
-struct HeapGreater {
-  bool operator()(const HeapItem& a, const HeapItem& b) const {
-    return a.d > b.d || (a.d == b.d && a.n > b.n);
+
+/// Monotone priority queue of (distance, cell) — a radix heap (Ahuja, Mehlhorn, Orlin & Tarjan
+/// 1990) on the bit patterns of non-negative floats, which order like the floats. Bucket b > 0
+/// holds keys whose highest bit differing from the last popped key is b − 1; a pop empties the
+/// lowest non-empty bucket into lower ones, so each item moves at most 32 times and push is O(1).
+/// Dijkstra-like propagation may offer a key below the last popped one (a neighbour that is
+/// nearer the source than the cell being finished but was reached late); it is queued at the last
+/// popped key, i.e. popped next. Deterministic: ties pop in a fixed order.
+class RadixQueue {
+ public:
+  bool empty() const { return size_ == 0; }
+  void push(float d, std::uint32_t n) {
+    std::uint32_t key = keyOf(d);
+    if (key < last_) key = last_;
+    buckets_[bucketOf(key)].push_back({key, d, n});
+    ++size_;
   }
+  HeapItem pop() {
+    settle();
+    const Entry e = buckets_[0].back();
+    buckets_[0].pop_back();
+    --size_;
+    return {e.d, e.n};
+  }
+  void clear() {
+    for (auto& b : buckets_) std::vector<Entry>().swap(b);
+    size_ = 0;
+    last_ = 0;
+  }
+
+ private:
+  /// Makes bucket 0 non-empty (precondition: not empty).
+  void settle() {
+    if (buckets_[0].empty()) {
+      int b = 1;
+      while (buckets_[b].empty()) ++b;
+      std::uint32_t lowest = UINT32_MAX;
+      for (const Entry& e : buckets_[b]) lowest = std::min(lowest, e.key);
+      last_ = lowest;
+      for (const Entry& e : buckets_[b]) buckets_[bucketOf(e.key)].push_back(e);
+      buckets_[b].clear();
+    }
+  }
+
+  struct Entry {
+    std::uint32_t key;
+    float d;
+    std::uint32_t n;
+  };
+  static std::uint32_t keyOf(float d) {
+    std::uint32_t k;
+    std::memcpy(&k, &d, sizeof k);
+    return k;  // d >= 0 (and +inf never queued): the bit patterns order like the values
+  }
+  int bucketOf(std::uint32_t key) const {
+    return key == last_ ? 0 : 32 - std::countl_zero(key ^ last_);
+  }
+  std::array<std::vector<Entry>, 33> buckets_;
+  std::uint32_t last_ = 0;
+  std::size_t size_ = 0;
 };
 
 struct Pivot {
@@ -79,6 +146,8 @@ class AnyAnglePropagator {
         boundary_(boundary),
         clearance_(std::move(clearance)),
         state_(dist.size(), 0) {
+    for (std::size_t n = 0; n < state_.size(); ++n) state_[n] = inside_[n] ? kInside : 0;
+    if (boundary_) mailbox_ = boundary_->makeMailbox();
     const auto& offs = neighbourOffsets26();
     for (int o = 0; o < 26; ++o) {
       offsets_[o] = offs[o].cast<double>();
@@ -91,17 +160,119 @@ class AnyAnglePropagator {
   MethodStats run(const std::vector<std::uint32_t>& seeds, Progress progress) {
     std::size_t insideCount = 0;
     for (std::uint8_t v : inside_) insideCount += v;
-    heap_.reserve(seeds.size() * 4);
+    inheritParents(seeds, insideCount, progress.sub(0.0, 0.45));
+    std::size_t reset = 0;
+    const std::size_t finished = checkInheritedParents(reset, progress.sub(0.45, 0.65));
+    if (reset > 0) propagateIntoShadow(finished, insideCount, progress.sub(0.65, 1.0));
+    return stats_;
+  }
+
+  std::size_t edgePivots() const { return edgePivots_; }
+
+ private:
+  /// Offers the parent of finished cell n (centre x) to its unfinished inside neighbours.
+  void relaxNeighbours(std::uint32_t n, const Vec3& x) {
+    const std::int32_t p = parent_[n];
+    for (int o = 0; o < 26; ++o) {
+      const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
+      // A neighbour with the same parent already holds exactly this candidate.
+      if ((state_[m] & (kInside | kDone)) != kInside || parent_[m] == p) continue;
+      // Compare as stored (float): an equal candidate must not count as an improvement.
+      const float cand = static_cast<float>(evaluate(p, x + offsets_[o], nullptr));
+      if (cand < dist_[m]) {
+        dist_[m] = cand;
+        parent_[m] = p;
+        state_[m] &= static_cast<std::uint8_t>(~kVerified);
+        push(dist_[m], static_cast<std::uint32_t>(m));
+      }
+    }
+  }
+
+  // ---- geodesic field: parent inheritance ------------------------------------------------
+  /// Phase 1: Dijkstra order from the seeds; every cell takes the source triangle of the
+  /// neighbour that reaches it best, without any line-of-sight test.
+  void inheritParents(const std::vector<std::uint32_t>& seeds, std::size_t insideCount,
+                      Progress progress) {
     for (std::uint32_t s : seeds) {
-      state_[s] = kVerified;
+      state_[s] |= kVerified;  // a seed's distance is exact: never tested
       push(dist_[s], s);
     }
     std::size_t finished = 0;
+    const std::size_t reportEvery = std::max<std::size_t>(insideCount / 100, 4096);
+    while (!heap_.empty()) {
+      const HeapItem item = heap_.pop();
+      const std::uint32_t n = item.n;
+      if ((state_[n] & kDone) || item.d != dist_[n]) continue;  // stale entry
+      state_[n] |= kDone;
+      if (++finished % reportEvery == 0) {
+        progress.report(static_cast<double>(finished) / static_cast<double>(insideCount),
+                        "geodesic field: parent inheritance");
+      }
+      relaxNeighbours(n, cellCentre(g_.cell(n)));
+    }
+    heap_.clear();
+  }
+
+  // ---- geodesic field: line of sight ------------------------------------------------------
+  /// Phase 2: every inherited (source-triangle) parent is tested for line of sight, strictly (no
+  /// start tolerance: a doubtful cell goes to phase 3, which decides it as before). Cells that see
+  /// their parent are finished; the others are reset. Independent per cell: parallel over x
+  /// slabs, progress reported between batches on the calling thread. Returns the finished count.
+  std::size_t checkInheritedParents(std::size_t& reset, Progress progress) {
+    const int nx = g_.dims.x(), ny = g_.dims.y(), nz = g_.dims.z();
+    const int batch = std::max(1, (nx + 7) / 8);
+    std::size_t finished = 0;
+    for (int i0 = 0; i0 < nx; i0 += batch) {
+      const int i1 = std::min(nx, i0 + batch);
+      std::size_t passed = 0, tested = 0, failed = 0;
+#pragma omp parallel reduction(+ : passed, tested, failed)
+      {
+        SolidBoundary::Mailbox mailbox;
+        if (boundary_) mailbox = boundary_->makeMailbox();
+#pragma omp for schedule(dynamic, 1) collapse(2)
+        for (int i = i0; i < i1; ++i)
+          for (int j = 0; j < ny; ++j) {
+            const std::size_t row = g_.index(i, j, 0);
+            for (int k = 0; k < nz; ++k) {
+              const std::size_t n = row + static_cast<std::size_t>(k);
+              if (!(state_[n] & kDone)) continue;
+              if (state_[n] & kVerified) {
+                ++passed;
+                continue;
+              }
+              ++tested;
+              const Vec3 x = cellCentre(Vec3i(i, j, k));
+              Vec3 target;
+              evaluate(parent_[n], x, &target);
+              if (visible(x, target, slackFor(parent_[n]), mailbox, /*strict=*/true)) {
+                state_[n] |= kVerified;
+                ++passed;
+              } else {
+                state_[n] = kInside;
+                dist_[n] = kInfF;
+                parent_[n] = kNoParent;
+                ++failed;
+              }
+            }
+          }
+      }
+      reset += failed;
+      finished += passed;
+      stats_.lineOfSightTests += tested;
+      progress.report(static_cast<double>(i1) / nx, "geodesic field: line of sight");
+    }
+    return finished;
+  }
+
+  // ---- geodesic field: any-angle propagation ------------------------------------------------
+  /// Phase 3: the cells without line of sight to their inherited parent, in Dijkstra order from
+  /// the finished cells around them, with a line-of-sight test per cell and repairs (pivots), as
+  /// in Lazy Theta*. Sequential: which pivots exist depends on the order of the repairs.
+  void propagateIntoShadow(std::size_t finished, std::size_t insideCount, Progress progress) {
+    pushShadowFrontier();
     const std::size_t reportEvery = std::max<std::size_t>(insideCount / 200, 4096);
     while (!heap_.empty()) {
-      std::pop_heap(heap_.begin(), heap_.end(), HeapGreater{});
-      const HeapItem item = heap_.back();
-      heap_.pop_back();
+      const HeapItem item = heap_.pop();
       const std::uint32_t n = item.n;
       if ((state_[n] & kDone) || item.d != dist_[n]) continue;  // stale entry
       const Vec3 x = cellCentre(g_.cell(n));
@@ -110,7 +281,7 @@ class AnyAnglePropagator {
         ++stats_.lineOfSightTests;
         Vec3 target;
         evaluate(parent_[n], x, &target);
-        if (!visible(x, target, slackFor(parent_[n]))) {
+        if (!visible(x, target, slackFor(parent_[n]), mailbox_)) {
           ++stats_.lineOfSightFailures;
           repair(n, x);
           push(dist_[n], n);  // its value grew: back into the queue, now verified
@@ -122,29 +293,26 @@ class AnyAnglePropagator {
         progress.report(static_cast<double>(finished) / static_cast<double>(insideCount),
                         "geodesic field: any-angle propagation");
       }
-      const std::int32_t p = parent_[n];
-      for (int o = 0; o < 26; ++o) {
-        const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
-        if (!inside_[m] || (state_[m] & kDone)) continue;
-        // Compare as stored (float): an equal candidate must not count as an improvement.
-        const float cand = static_cast<float>(evaluate(p, x + offsets_[o], nullptr));
-        if (cand < dist_[m]) {
-          dist_[m] = cand;
-          parent_[m] = p;
-          state_[m] &= static_cast<std::uint8_t>(~kVerified);
-          push(dist_[m], static_cast<std::uint32_t>(m));
-        }
-      }
+      relaxNeighbours(n, x);
     }
-    return stats_;
   }
 
-  std::size_t edgePivots() const { return edgePivots_; }
+  /// Unfinished inside cells next to finished ones get their finished neighbours' parents.
+  void pushShadowFrontier() {
+    const std::size_t count = inside_.size();
+    for (std::size_t n = 0; n < count; ++n) {
+      if (!(state_[n] & kDone)) continue;
+      bool frontier = false;
+      for (int o = 0; o < 26 && !frontier; ++o) {
+        const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
+        frontier = (state_[m] & (kInside | kDone)) == kInside;
+      }
+      if (frontier) relaxNeighbours(static_cast<std::uint32_t>(n), cellCentre(g_.cell(n)));
+    }
+  }
 
- private:
   void push(float d, std::uint32_t n) {
-    heap_.push_back({d, n});
-    std::push_heap(heap_.begin(), heap_.end(), HeapGreater{});
+    heap_.push(d, n);
   }
 
   /// Distance of point x (cell units) through parent `code`; the segment's far end in `target`.
@@ -161,7 +329,9 @@ class AnyAnglePropagator {
   /// The last stretch of a segment to a source triangle runs through cells cut by the start
   /// surface (which may also lie slightly off the solid); seeds within the band are taken as
   /// visible, so that stretch is not checked.
-  double slackFor(std::int32_t code) const { return code < 0 ? slack_ : 0.0; }
+  double slackFor(std::int32_t code) const {
+    return code < 0 ? slack_ : 0.0;
+  }
 
   std::int32_t addPivot(const Pivot& pivot) {
     if (pivots_.size() >= static_cast<std::size_t>(INT32_MAX)) {
@@ -247,7 +417,7 @@ class AnyAnglePropagator {
       boundary_->reflexEdgesNear(x, kEdgeReach, edges_);
       Vec3 target, hit;
       evaluate(failed, x, &target);
-      if (!boundary_->segmentClear(x, shortened(x, target, slackFor(failed)), &hit)) {
+      if (!boundary_->segmentClear(x, shortened(x, target, slackFor(failed)), mailbox_, &hit)) {
         boundary_->reflexEdgesNear(hit, kEdgeReach, moreEdges_);
         edges_.insert(edges_.end(), moreEdges_.begin(), moreEdges_.end());
         std::sort(edges_.begin(), edges_.end());
@@ -292,7 +462,7 @@ class AnyAnglePropagator {
   bool visibleVia(std::int32_t q, const Vec3& x) const {
     Vec3 target;
     evaluate(q, x, &target);
-    return visible(x, target, slackFor(q));
+    return visible(x, target, slackFor(q), mailbox_);
   }
 
   /// A pivot at point c.point of reflex edge c.edge with parent c.parent: the segments to it must
@@ -309,9 +479,9 @@ class AnyAnglePropagator {
                                                   c.point - target, kChordDepth))
         return false;
     }
-    if (!boundary_->segmentClear(x, c.point)) return false;
+    if (!boundary_->segmentClear(x, c.point, mailbox_)) return false;
     const Vec3 end = c.parent < 0 ? shortened(c.point, target, slack_) : target;
-    return boundary_->segmentClear(c.point, end);
+    return boundary_->segmentClear(c.point, end, mailbox_);
   }
 
   static Vec3 shortened(const Vec3& from, const Vec3& to, double slack) {
@@ -324,7 +494,9 @@ class AnyAnglePropagator {
   /// Line of sight from `from` (an inside cell centre) to `to`, ignoring the last `slack` cells.
   /// Sphere tracing through the clearance field accepts the part of the segment that is far from
   /// every wall; the rest is tested exactly against the surface (or by cell walking without it).
-  bool visible(const Vec3& from, const Vec3& to, double slack) const {
+  /// Thread-safe with one `mailbox` per thread.
+  bool visible(const Vec3& from, const Vec3& to, double slack, SolidBoundary::Mailbox& mailbox,
+               bool strict = false) const {
     const Vec3 end = shortened(from, to, slack);
     const Vec3 d = end - from;
     const double len = d.norm();
@@ -342,7 +514,10 @@ class AnyAnglePropagator {
       t += safe;
     }
     const Vec3 rest = from + t * dir;
-    if (boundary_) return boundary_->segmentClear(rest, end);
+    if (boundary_) {
+      return boundary_->segmentClear(rest, end, mailbox, nullptr,
+                                     strict ? 0.0 : SolidBoundary::kStartTolerance);
+    }
     return visibleThroughCells(rest, end);
   }
 
@@ -392,9 +567,10 @@ class AnyAnglePropagator {
   std::vector<float>& dist_;
   std::vector<std::int32_t>& parent_;
   const SolidBoundary* boundary_;
-  std::vector<std::uint8_t> clearance_;  // floor of the clearance in cells, saturated at 255
+  mutable SolidBoundary::Mailbox mailbox_;  // segment-query marks of the sequential phase
+  std::vector<std::uint8_t> clearance_;     // floor of the clearance in cells, saturated at 255
   std::vector<std::uint8_t> state_;
-  std::vector<HeapItem> heap_;
+  RadixQueue heap_;
   std::vector<Pivot> pivots_;
   std::vector<std::uint32_t> edges_, moreEdges_;
   std::vector<Candidate> candidates_;
@@ -407,11 +583,19 @@ class AnyAnglePropagator {
 
 }  // namespace
 
+std::vector<std::uint8_t> computeClearanceCells(const VoxelGrid& grid, Progress progress) {
+  std::vector<std::uint8_t> clearance(grid.inside.size());
+  const std::vector<float> exact = computeClearance(grid, progress);
+  for (std::size_t i = 0; i < exact.size(); ++i)
+    clearance[i] = static_cast<std::uint8_t>(std::min(255.0f, std::floor(exact[i])));
+  return clearance;
+}
+
 MethodStats propagateAnyAngle(const VoxelGrid& grid, const TriMesh* model,
                               const std::vector<Triangle>& source,
                               const std::vector<std::uint32_t>& seeds, double seedBandCells,
-                              std::vector<float>& dist, std::vector<std::int32_t>& parent,
-                              Progress progress) {
+                              std::vector<std::uint8_t> clearance, std::vector<float>& dist,
+                              std::vector<std::int32_t>& parent, Progress progress) {
   // Neighbour offsets are applied without bounds checks: computeGeodesicField has checked that
   // no inside cell touches the grid border.
   std::unique_ptr<SolidBoundary> boundary;
@@ -419,16 +603,9 @@ MethodStats propagateAnyAngle(const VoxelGrid& grid, const TriMesh* model,
     progress.report(0.0, "geodesic field: surface index");
     boundary = std::make_unique<SolidBoundary>(grid.geometry, *model);
   }
-  progress.report(0.01, "geodesic field: clearance");
-  std::vector<std::uint8_t> clearance(grid.inside.size());
-  {
-    const std::vector<float> exact = computeClearance(grid, progress.sub(0.01, 0.1));
-    for (std::size_t i = 0; i < exact.size(); ++i)
-      clearance[i] = static_cast<std::uint8_t>(std::min(255.0f, std::floor(exact[i])));
-  }
   AnyAnglePropagator propagator(grid, source, seedBandCells, dist, parent, boundary.get(),
                                 std::move(clearance));
-  MethodStats stats = propagator.run(seeds, progress.sub(0.1, 1.0));
+  MethodStats stats = propagator.run(seeds, progress.sub(0.03, 1.0));
   stats.edgePivots = propagator.edgePivots();
   return stats;
 }

@@ -179,16 +179,24 @@ GeodesicResult computeField(const VoxelGrid& grid, const TriMesh* model, const T
     throw InvalidInput("the start surface has no triangle with non-zero area; give a real surface");
   }
 
-  std::vector<float> dist(g.cellCount(), kInfF);
-  progress.report(0.0, "geodesic field: seeds");
   detail::MethodStats stats;
+  std::vector<float> dist;
   if (options.method == GeodesicMethod::AnyAngle) {
+    // The clearance first: its float transform is freed before the parent array exists, which
+    // keeps the peak at 11 bytes per grid cell (see docs/METHODS.md).
+    progress.report(0.0, "geodesic field: clearance");
+    std::vector<std::uint8_t> clearance =
+        detail::computeClearanceCells(grid, progress.sub(0.0, 0.08));
+    dist.assign(g.cellCount(), kInfF);
     std::vector<std::int32_t> parent(g.cellCount(), detail::kNoParent);
+    progress.report(0.08, "geodesic field: seeds");
     const auto seeds = detail::placeSeeds(grid, tris, band, dist, &parent, source);
     result.seedCount = seeds.size();
-    stats = detail::propagateAnyAngle(grid, model, tris, seeds, band, dist, parent,
-                                      progress.sub(0.02, 1.0));
+    stats = detail::propagateAnyAngle(grid, model, tris, seeds, band, std::move(clearance), dist,
+                                      parent, progress.sub(0.1, 1.0));
   } else {
+    dist.assign(g.cellCount(), kInfF);
+    progress.report(0.0, "geodesic field: seeds");
     const double radius =
         options.paperSearchRadius > 0 ? options.paperSearchRadius : 2.0 * std::sqrt(3.0);
     if (!std::isfinite(radius) || radius < std::sqrt(3.0)) {

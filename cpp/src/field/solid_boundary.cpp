@@ -9,8 +9,6 @@ namespace curvedslicer::detail {
 
 namespace {
 
-constexpr double kStartTolerance = 0.05;
-
 /// Builds CSR lists from (brick, item) pairs by counting (pairs of one item are unique and items
 /// arrive in increasing order, so each brick's list comes out sorted).
 void buildCsr(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs, std::size_t bricks,
@@ -23,19 +21,56 @@ void buildCsr(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs,
   for (const auto& p : pairs) list[fill[p.first]++] = p.second;
 }
 
+/// True if triangle `t` and the axis-aligned box centre `c`, half-size `h` (inflated by a tiny
+/// relative margin by the caller) overlap: separating-axis test over the box axes, the triangle's
+/// normal and the nine edge × axis directions (Akenine-Möller 2001, "Fast 3D triangle-box overlap
+/// testing"). Exact up to rounding, unlike a bounding-box test, which lists a long thin diagonal
+/// triangle in every brick of its box.
+bool triangleOverlapsBox(const Triangle& t, const Vec3& c, double h) {
+  const Vec3 v[3] = {t[0] - c, t[1] - c, t[2] - c};
+  for (int a = 0; a < 3; ++a) {
+    const double lo = std::min({v[0][a], v[1][a], v[2][a]});
+    const double hi = std::max({v[0][a], v[1][a], v[2][a]});
+    if (lo > h || hi < -h) return false;
+  }
+  const Vec3 e[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
+  const Vec3 n = e[0].cross(e[1]);
+  if (std::abs(n.dot(v[0])) > h * n.cwiseAbs().sum()) return false;
+  for (int i = 0; i < 3; ++i) {
+    for (int a = 0; a < 3; ++a) {
+      Vec3 axis = Vec3::Zero();
+      axis[a] = 1.0;
+      axis = e[i].cross(axis);
+      const double p0 = axis.dot(v[0]), p1 = axis.dot(v[1]), p2 = axis.dot(v[2]);
+      const double r = h * axis.cwiseAbs().sum();
+      if (std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r) return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 SolidBoundary::SolidBoundary(const GridGeometry& g, const TriMesh& model) {
-  bdims_ = (g.dims.array() + kBrick - 1) / kBrick;
-  const std::size_t bricks = static_cast<std::size_t>(bdims_.x()) * bdims_.y() * bdims_.z();
-
   std::vector<Vec3> v(model.vertices.size());
   for (std::size_t i = 0; i < v.size(); ++i)
     v[i] = (g.frame.toFrame(model.vertices[i]) - g.corner) / g.voxelSize;
 
-  // Triangles -> bricks (bounding-box range, then a plane-to-brick-centre test).
+  // Brick size from the mean triangle area (cells²): a few triangles per brick. Large triangles
+  // (boxes, prisms) make most bricks hold only one or two triangles whatever their size, and
+  // bigger bricks mean fewer steps per segment.
+  double area = 0.0;
+  for (const Vec3i& f : model.triangles)
+    area += 0.5 * (v[f[1]] - v[f[0]]).cross(v[f[2]] - v[f[0]]).norm();
+  const double meanArea = model.triangles.empty() ? 0.0 : area / model.triangles.size();
+  brick_ = meanArea < 16.0 ? 2 : meanArea < 64.0 ? 4 : 8;
+  bdims_ = (g.dims.array() + brick_ - 1) / brick_;
+  const std::size_t bricks = static_cast<std::size_t>(bdims_.x()) * bdims_.y() * bdims_.z();
+
+  // Triangles -> bricks (bounding-box range, then an exact triangle-box test).
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-  const double brickRadius = 0.5 * std::sqrt(3.0) * kBrick + 1e-6;
+  // Half-size of a brick, inflated so that rounding never drops a triangle touching its faces.
+  const double brickHalf = 0.5 * brick_ * (1.0 + 1e-9) + 1e-9;
   std::vector<std::uint32_t> triOfModel(model.triangles.size(), UINT32_MAX);
   for (std::size_t t = 0; t < model.triangles.size(); ++t) {
     const Vec3i& f = model.triangles[t];
@@ -50,17 +85,15 @@ SolidBoundary::SolidBoundary(const GridGeometry& g, const TriMesh& model) {
     const Vec3 lo = tri[0].cwiseMin(tri[1]).cwiseMin(tri[2]);
     const Vec3 hi = tri[0].cwiseMax(tri[1]).cwiseMax(tri[2]);
     const Vec3i b0 = brickOf(lo), b1 = brickOf(hi);
-    const Vec3 unit = n / nn;
     for (int i = b0.x(); i <= b1.x(); ++i)
       for (int j = b0.y(); j <= b1.y(); ++j)
         for (int k = b0.z(); k <= b1.z(); ++k) {
-          const Vec3 centre = (Vec3(i, j, k).array() + 0.5) * kBrick;
-          if (std::abs(unit.dot(centre - tri[0])) > brickRadius) continue;
+          const Vec3 centre = (Vec3(i, j, k).array() + 0.5) * brick_;
+          if (!triangleOverlapsBox(tri, centre, brickHalf)) continue;
           pairs.emplace_back(static_cast<std::uint32_t>(brickIndex(Vec3i(i, j, k))), id);
         }
   }
   buildCsr(pairs, bricks, triStart_, triList_);
-  stamp_.assign(tris_.size(), 0);
 
   // Reflex edges: manifold, consistently oriented edges whose neighbouring triangle's far vertex
   // lies outside (in front of) the first triangle's plane.
@@ -105,13 +138,14 @@ SolidBoundary::SolidBoundary(const GridGeometry& g, const TriMesh& model) {
 Vec3i SolidBoundary::brickOf(const Vec3& p) const {
   Vec3i b;
   for (int a = 0; a < 3; ++a) {
-    const int i = static_cast<int>(std::floor(p[a] / kBrick));
+    const int i = static_cast<int>(std::floor(p[a] / brick_));
     b[a] = std::clamp(i, 0, bdims_[a] - 1);
   }
   return b;
 }
 
-bool SolidBoundary::crossesTriangle(const Vec3& a, const Vec3& b, std::uint32_t t) const {
+bool SolidBoundary::crossesTriangle(const Vec3& a, const Vec3& b, std::uint32_t t,
+                                    double startTolerance) const {
   const Triangle& tri = tris_[t];
   const Vec3& n = normals_[t];
   const double eps = 1e-9 * n.norm();
@@ -120,9 +154,9 @@ bool SolidBoundary::crossesTriangle(const Vec3& a, const Vec3& b, std::uint32_t 
   if (std::abs(da) <= eps || std::abs(db) <= eps) return false;  // touches the plane at an end
   if ((da > 0) == (db > 0)) return false;
   const double s = da / (da - db);
-  // A start point within kStartTolerance cells outside the surface (a cell centre in the sliver
+  // A start point within startTolerance cells outside the surface (a cell centre in the sliver
   // between a curved solid and its tessellation) is not blocked by that surface.
-  if (s * (b - a).norm() < kStartTolerance) return false;
+  if (startTolerance > 0 && s * (b - a).norm() < startTolerance) return false;
   const Vec3 p = a + s * (b - a);
   // Inclusive point-in-triangle test (a crossing through an edge or vertex counts).
   const double tol = -1e-9 * n.squaredNorm();
@@ -134,16 +168,17 @@ bool SolidBoundary::crossesTriangle(const Vec3& a, const Vec3& b, std::uint32_t 
   return true;
 }
 
-bool SolidBoundary::segmentClear(const Vec3& a, const Vec3& b, Vec3* hit) const {
+bool SolidBoundary::segmentClear(const Vec3& a, const Vec3& b, Mailbox& mailbox, Vec3* hit,
+                                 double startTolerance) const {
   // 3D DDA over bricks from a to b.
   const Vec3 d = b - a;
-  const Vec3 pa = a / kBrick;
+  const Vec3 pa = a / brick_;
   Vec3i cell = brickOf(a);
   const Vec3i last = brickOf(b);
   Vec3i step;
   Vec3 tMax, tDelta;
   for (int k = 0; k < 3; ++k) {
-    const double dk = d[k] / kBrick;
+    const double dk = d[k] / brick_;
     if (dk > 0) {
       step[k] = 1;
       tMax[k] = (std::floor(pa[k]) + 1 - pa[k]) / dk;
@@ -158,19 +193,21 @@ bool SolidBoundary::segmentClear(const Vec3& a, const Vec3& b, Vec3* hit) const 
       tDelta[k] = kInf;
     }
   }
-  if (++epoch_ == 0) {  // wrapped: clear the marks
-    std::fill(stamp_.begin(), stamp_.end(), 0);
-    epoch_ = 1;
+  std::vector<std::uint32_t>& stamp = mailbox.stamp;
+  if (++mailbox.epoch == 0) {  // wrapped: clear the marks
+    std::fill(stamp.begin(), stamp.end(), 0);
+    mailbox.epoch = 1;
   }
+  const std::uint32_t epoch = mailbox.epoch;
   // Guard against rounding: at most the Manhattan brick distance + a few steps.
   int budget = (last - cell).cwiseAbs().sum() + 4;
   while (true) {
     const std::size_t bi = brickIndex(cell);
     for (std::uint32_t i = triStart_[bi]; i < triStart_[bi + 1]; ++i) {
       const std::uint32_t t = triList_[i];
-      if (stamp_[t] == epoch_) continue;
-      stamp_[t] = epoch_;
-      if (!crossesTriangle(a, b, t)) continue;
+      if (stamp[t] == epoch) continue;
+      stamp[t] = epoch;
+      if (!crossesTriangle(a, b, t, startTolerance)) continue;
       if (hit) {
         const Triangle& tri = tris_[triList_[i]];
         const Vec3& n = normals_[triList_[i]];

@@ -1,7 +1,11 @@
 // The solid's surface in cell coordinates, bucketed into bricks of cells, for the any-angle field:
 //  - exact line of sight: does a segment strictly cross any surface triangle?
 //  - reflex (concave) edges near a point: where shortest paths inside a polyhedron bend.
-// Cost: O(T · bricks per triangle) to build; a segment query walks the bricks it passes (3D DDA).
+// Triangles are listed in the bricks they overlap (exact separating-axis test), reflex edges in
+// the bricks within 3 cells of them.
+// Cost: O(T · bricks per triangle) to build; a segment query walks the bricks it passes (3D DDA)
+// and tests each listed triangle once; at most 1 byte per grid cell for the two brick indices
+// (bricks of 2 cells; 4 or 8 for meshes of large triangles).
 #pragma once
 
 #include <array>
@@ -20,11 +24,25 @@ class SolidBoundary {
   ///               exactly two consistently oriented triangles are never reflex edges.
   SolidBoundary(const GridGeometry& geometry, const TriMesh& model);
 
-  /// Not thread-safe (per-query marks). True if the open segment (a, b) crosses no triangle
-  /// strictly (touching a triangle's plane at an endpoint, or running inside a plane, is not a
-  /// crossing). Cell coordinates. When blocked and `hit` is given, it receives a crossing point
-  /// (one of the first bricks' along the segment).
-  bool segmentClear(const Vec3& a, const Vec3& b, Vec3* hit = nullptr) const;
+  /// Per-thread scratch of segment queries: marks so that a triangle spanning several bricks is
+  /// tested once per segment. One per thread; `makeMailbox` sizes it (4 bytes per triangle).
+  struct Mailbox {
+    std::vector<std::uint32_t> stamp;
+    std::uint32_t epoch = 0;
+  };
+  Mailbox makeMailbox() const { return Mailbox{std::vector<std::uint32_t>(tris_.size(), 0), 0}; }
+
+  /// A crossing this close to the start of a segment (cells) is ignored by default: the start is
+  /// then a cell centre in the sliver between a curved solid and its tessellation.
+  static constexpr double kStartTolerance = 0.05;
+
+  /// True if the open segment (a, b) crosses no triangle strictly (touching a triangle's plane at
+  /// an endpoint, or running inside a plane, is not a crossing). Cell coordinates. When blocked
+  /// and `hit` is given, it receives a crossing point (one of the first bricks' along the
+  /// segment). Crossings within `startTolerance` cells of `a` are ignored (0: none is).
+  /// Thread-safe with one `mailbox` per thread.
+  bool segmentClear(const Vec3& a, const Vec3& b, Mailbox& mailbox, Vec3* hit = nullptr,
+                    double startTolerance = kStartTolerance) const;
 
   /// Indices of reflex edges passing within `radius` cells of `x`, ascending.
   void reflexEdgesNear(const Vec3& x, double radius, std::vector<std::uint32_t>& out) const;
@@ -47,13 +65,9 @@ class SolidBoundary {
     return (static_cast<std::size_t>(b.x()) * bdims_.y() + b.y()) * bdims_.z() + b.z();
   }
   Vec3i brickOf(const Vec3& p) const;
-  bool crossesTriangle(const Vec3& a, const Vec3& b, std::uint32_t t) const;
+  bool crossesTriangle(const Vec3& a, const Vec3& b, std::uint32_t t, double startTolerance) const;
 
-  static constexpr int kBrick = 2;  // cells per brick edge
-  // Per-query marks so a triangle spanning several bricks is tested once per segment. Queries are
-  // therefore not thread-safe (the field propagation is sequential).
-  mutable std::vector<std::uint32_t> stamp_;
-  mutable std::uint32_t epoch_ = 0;
+  int brick_ = 2;  // cells per brick edge: 2, 4 or 8 (from the mean triangle area)
   Vec3i bdims_;
   std::vector<Triangle> tris_;
   std::vector<Vec3> normals_;                      // unnormalised

@@ -1,7 +1,9 @@
 // Behaviour of computeGeodesicField beyond accuracy: seeds, start surfaces, unreached voxels,
 // options, bad input, cancellation, determinism.
 #include <gtest/gtest.h>
+#include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -183,6 +185,44 @@ TEST(GeodesicField, DeterministicAcrossRuns) {
   }
 }
 
+TEST(GeodesicField, SameFieldWithOneOrTwoThreads) {
+  // The line-of-sight phase runs in parallel; the result must not depend on the thread count.
+  const int threads = omp_get_max_threads();
+  for (const auto& c : {testing::makeLShapeCase(48), testing::makeUBendCase(48)}) {
+    omp_set_num_threads(1);
+    const GeodesicResult one = computeGeodesicField(c.grid, c.model, c.source);
+    omp_set_num_threads(2);
+    const GeodesicResult two = computeGeodesicField(c.grid, c.model, c.source);
+    EXPECT_EQ(one.field.distance, two.field.distance) << c.name;
+    EXPECT_EQ(one.lineOfSightTests, two.lineOfSightTests) << c.name;
+    EXPECT_EQ(one.lineOfSightFailures, two.lineOfSightFailures) << c.name;
+    EXPECT_EQ(one.edgePivots, two.edgePivots) << c.name;
+    EXPECT_GT(one.lineOfSightFailures, 0u) << c.name;  // both have voxels in the shadow
+  }
+  omp_set_num_threads(threads);
+}
+
+TEST(GeodesicField, NoShortcutThroughTheHoleOfAUBend) {
+  // Voxels next to the inner wall see the start face straight through the hole, and both
+  // crossings of that segment lie near its ends (within the start tolerance of the voxel and the
+  // seed band of the start face). No distance may undercut the closed form (beyond the inner
+  // wall's tessellation, far below 0.05 L here). At 48 cells some voxel centres lie within the
+  // start tolerance of the wall: a lenient test there gave -10 L.
+  for (int cells : {48}) {
+    const auto c = testing::makeUBendCase(cells);
+    const GeodesicResult r = computeGeodesicField(c.grid, c.model, c.source);
+    const double L = c.grid.geometry.voxelSize;
+    double lowest = kInf;
+    for (std::size_t n = 0; n < c.grid.inside.size(); ++n) {
+      if (!c.grid.inside[n]) continue;
+      ASSERT_TRUE(r.field.reached(n));
+      const double exact = c.exact(c.grid.geometry.centerInPart(n));
+      lowest = std::min(lowest, (r.field.at(n) - exact) / L);
+    }
+    EXPECT_GE(lowest, -0.05) << cells << " cells";
+  }
+}
+
 TEST(GeodesicField, CancellationThrowsAndReportsMonotonicProgress) {
   const VoxelGrid grid = boxGrid(0.25);
   const TriMesh src = resolveStartSurface(boxMesh(), StartSurface::buildPlate());
@@ -199,6 +239,31 @@ TEST(GeodesicField, CancellationThrowsAndReportsMonotonicProgress) {
     o.method = m;
     EXPECT_THROW(computeGeodesicField(grid, src, o, progress), Cancelled) << toString(m);
     EXPECT_TRUE(monotonic);
+  }
+}
+
+TEST(GeodesicField, CancellationInEveryPhaseOfTheDefaultMethod) {
+  // With a model and a shadow (L-shape): count the progress calls of a full run, then cancel at
+  // calls spread over the run (clearance, inheritance, line of sight, shadow propagation).
+  const auto c = testing::makeLShapeCase(64);
+  int total = 0;
+  double last = -1.0;
+  bool monotonic = true;
+  computeGeodesicField(c.grid, c.model, c.source, {}, Progress([&](double f, std::string_view) {
+                         monotonic &= f >= last;
+                         last = f;
+                         ++total;
+                         return true;
+                       }));
+  EXPECT_TRUE(monotonic);
+  ASSERT_GT(total, 8);
+  for (int stop : {2, total / 4, total / 2, (3 * total) / 4, total - 1}) {
+    int calls = 0;
+    EXPECT_THROW(
+        computeGeodesicField(c.grid, c.model, c.source, {},
+                             Progress([&](double, std::string_view) { return ++calls < stop; })),
+        Cancelled)
+        << "cancelled at call " << stop << " of " << total;
   }
 }
 

@@ -10,6 +10,9 @@
 //    straight segment stays inside the solid (line-of-sight through a clearance field from an exact
 //    Euclidean distance transform, with exact voxel walking near walls). Pivots appear only where
 //    the shortest path bends around a concave edge. See docs/ACCURACY in the repository.
+//    Parents are first inherited untested, then every cell's line of sight is tested in parallel
+//    (OpenMP); only cells in the shadow of concave edges are propagated again with pivots
+//    (docs/METHODS.md). Peak memory 11 bytes per grid cell besides the inside mask.
 //
 // Seed voxels (centres within `seedBand` of the start surface) get exact point–triangle distances.
 // Inside voxels not connected to the seeds keep +inf and are reported, never dropped silently.
