@@ -1,0 +1,1 @@
+"""GUI commands of the workbench."""

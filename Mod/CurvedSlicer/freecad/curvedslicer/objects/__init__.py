@@ -1,0 +1,1 @@
+"""Document-object proxies (App side only: no FreeCADGui or PySide imports)."""

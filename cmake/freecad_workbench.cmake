@@ -1,0 +1,80 @@
+# The FreeCAD workbench: a build-tree copy of Mod/CurvedSlicer next to the compiled module (so
+# FreeCAD loads exactly what `cmake --install` would install), the install rule into the user's
+# Mod folder, and the freecadcmd / xvfb GUI tests.
+
+# ---- build-tree copy ------------------------------------------------------------------------
+set(workbench_source ${PROJECT_SOURCE_DIR}/Mod/CurvedSlicer)
+file(GLOB_RECURSE workbench_files CONFIGURE_DEPENDS
+     ${workbench_source}/*.py ${workbench_source}/*.xml ${workbench_source}/*.svg
+     ${workbench_source}/*.ui ${workbench_source}/*.md)
+set(workbench_stamp ${CMAKE_BINARY_DIR}/workbench.stamp)
+add_custom_command(
+  OUTPUT ${workbench_stamp}
+  COMMAND ${CMAKE_COMMAND} -E copy_directory ${workbench_source} ${CURVEDSLICER_WORKBENCH_BUILD_DIR}
+  COMMAND ${CMAKE_COMMAND} -E touch ${workbench_stamp}
+  DEPENDS ${workbench_files}
+  COMMENT "Copying the FreeCAD workbench into ${CURVEDSLICER_WORKBENCH_BUILD_DIR}")
+add_custom_target(curvedslicer_workbench ALL DEPENDS ${workbench_stamp} _curvedslicer)
+
+# ---- install into the user's Mod folder -------------------------------------------------------
+# `cmake --install <build> --component workbench` installs only the workbench. Destination,
+# decided at install time: CURVEDSLICER_FREECAD_MOD_DIR if set at configure time,
+# else $FREECAD_USER_HOME/Mod, else ~/.local/share/FreeCAD/Mod (FreeCAD 0.20 on Linux).
+set(CURVEDSLICER_FREECAD_MOD_DIR "" CACHE PATH
+    "FreeCAD Mod folder to install the workbench into (empty: the user's, at install time)")
+install(CODE "
+  set(mod_dir \"${CURVEDSLICER_FREECAD_MOD_DIR}\")
+  if(NOT mod_dir)
+    if(DEFINED ENV{FREECAD_USER_HOME} AND NOT \"\$ENV{FREECAD_USER_HOME}\" STREQUAL \"\")
+      set(mod_dir \"\$ENV{FREECAD_USER_HOME}/Mod\")
+    else()
+      set(mod_dir \"\$ENV{HOME}/.local/share/FreeCAD/Mod\")
+    endif()
+  endif()
+  message(STATUS \"Installing the CurvedSlicer workbench into \${mod_dir}/CurvedSlicer\")
+  file(INSTALL \"${workbench_source}/\" DESTINATION \"\${mod_dir}/CurvedSlicer\"
+       PATTERN __pycache__ EXCLUDE)
+  file(INSTALL \"$<TARGET_FILE:_curvedslicer>\"
+       DESTINATION \"\${mod_dir}/CurvedSlicer/freecad/curvedslicer\")
+" COMPONENT workbench)
+
+# ---- tests ----------------------------------------------------------------------------------
+# Each test runs in its own FREECAD_USER_HOME (under the build folder; its Mod links to the
+# build-tree workbench), so tests never touch the real user configuration and can run in
+# parallel. The driver fails on a non-zero exit, a missing success marker or any "Traceback".
+if(CURVEDSLICER_BUILD_TESTS)
+  find_program(FREECADCMD_EXECUTABLE freecadcmd)
+  find_program(FREECAD_EXECUTABLE freecad)
+  find_program(XVFB_RUN_EXECUTABLE xvfb-run)
+  set(driver ${PROJECT_SOURCE_DIR}/tests/freecad/run_in_freecad.py)
+  if(FREECADCMD_EXECUTABLE)
+    file(GLOB freecad_tests CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/tests/freecad/test_*.py)
+    foreach(test_file IN LISTS freecad_tests)
+      get_filename_component(test_name ${test_file} NAME_WE)
+      add_test(NAME freecad_${test_name}
+               COMMAND ${Python3_EXECUTABLE} ${driver} --mode headless
+                       --freecad ${FREECADCMD_EXECUTABLE}
+                       --home ${CMAKE_BINARY_DIR}/freecad-test-homes/${test_name}
+                       --mod ${CURVEDSLICER_FREECAD_HOME}/Mod --script ${test_file})
+      set_tests_properties(freecad_${test_name} PROPERTIES LABELS freecad TIMEOUT 300
+                           ENVIRONMENT "OMP_NUM_THREADS=2")
+    endforeach()
+  else()
+    message(STATUS "freecadcmd not found: FreeCAD headless tests skipped")
+  endif()
+  if(FREECAD_EXECUTABLE AND XVFB_RUN_EXECUTABLE)
+    file(GLOB gui_tests CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/tests/gui/test_*.py)
+    foreach(test_file IN LISTS gui_tests)
+      get_filename_component(test_name ${test_file} NAME_WE)
+      add_test(NAME gui_${test_name}
+               COMMAND ${Python3_EXECUTABLE} ${driver} --mode gui --freecad ${FREECAD_EXECUTABLE}
+                       --xvfb-run ${XVFB_RUN_EXECUTABLE}
+                       --home ${CMAKE_BINARY_DIR}/freecad-test-homes/gui_${test_name}
+                       --mod ${CURVEDSLICER_FREECAD_HOME}/Mod --script ${test_file})
+      set_tests_properties(gui_${test_name} PROPERTIES LABELS gui TIMEOUT 300
+                           ENVIRONMENT "OMP_NUM_THREADS=2")
+    endforeach()
+  else()
+    message(STATUS "freecad or xvfb-run not found: FreeCAD GUI tests skipped")
+  endif()
+endif()

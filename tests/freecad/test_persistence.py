@@ -1,0 +1,75 @@
+"""Persistence: save -> reopen in a new freecadcmd process -> Job, layers and report intact
+without a recompute; a recompute after reopening does not rerun the layers; a Job saved by an
+older workbench (missing properties, schema 0) is migrated on load."""
+
+import os
+import sys
+
+sys.path.insert(0, os.environ.get("CURVEDSLICER_TEST_DIR", os.path.dirname(__file__)))
+
+import cs_testing  # noqa: E402
+from freecad.curvedslicer import SCHEMA_VERSION, api  # noqa: E402
+
+CHECK = r'''
+import FreeCAD
+from freecad.curvedslicer import api
+doc = FreeCAD.openDocument(PATH)
+job = doc.getObject("Job")
+layers = api.layers(job)
+out = {
+    "is_job": api.is_job(job),
+    "touched": [o.Name for o in doc.Objects if "Touched" in o.State],
+    "layer_count": job.LayerCount,
+    "layers": [[o.Name, float(o.Height), o.Mesh.CountFacets, round(float(o.Area), 6)]
+               for o in layers],
+    "report_layers": len(api.report(job)["layers"]),
+    "digest": job.InputsDigest,
+    "run_count": job.RunCount,
+    "schema": job.SchemaVersion,
+    "has_point_spacing": "PointSpacing" in job.PropertiesList,
+    "status": job.Status,
+}
+doc.recompute()
+out["run_count_after_recompute"] = job.RunCount
+print("RESULT " + json.dumps(out))
+'''
+
+
+class TestPersistence(cs_testing.DocumentTestCase):
+    def test_saved_job_reopens_intact_without_recompute(self):
+        box = self.box(12, 10, 9)
+        job = api.make_job(self.doc, box, start=(box, ["Face5"]), layer_thickness=2.0,
+                           voxel_size=0.5)
+        api.run(job, progress=False)
+        expected = [[o.Name, float(o.Height), o.Mesh.CountFacets, round(float(o.Area), 6)]
+                    for o in api.layers(job)]
+        path = cs_testing.tmp_path("persist.FCStd")
+        self.doc.saveAs(path)
+        out = cs_testing.run_in_new_process(CHECK.replace("PATH", repr(path)))
+        self.assertNotIn("error", out, out)
+        self.assertTrue(out["is_job"])
+        self.assertEqual(out["touched"], [])
+        self.assertEqual(out["layer_count"], 4)
+        self.assertEqual(out["layers"], expected)
+        self.assertEqual(out["report_layers"], 4)
+        self.assertEqual(out["digest"], job.InputsDigest)
+        self.assertEqual(out["run_count"], 1)
+        self.assertEqual(out["run_count_after_recompute"], 1)
+
+    def test_job_of_an_older_schema_is_migrated_on_load(self):
+        box = self.box(10, 10, 5)
+        job = api.make_job(self.doc, box, layer_thickness=2.0, voxel_size=1.0)
+        api.run(job, progress=False)
+        job.removeProperty("PointSpacing")
+        job.SchemaVersion = 0
+        path = cs_testing.tmp_path("old_schema.FCStd")
+        self.doc.saveAs(path)
+        out = cs_testing.run_in_new_process(CHECK.replace("PATH", repr(path)))
+        self.assertNotIn("error", out, out)
+        self.assertTrue(out["has_point_spacing"])
+        self.assertEqual(out["schema"], SCHEMA_VERSION)
+        self.assertEqual(out["layer_count"], 2)
+        self.assertEqual(out["run_count_after_recompute"], 1)
+
+
+cs_testing.main(__name__)
