@@ -1,0 +1,185 @@
+// The robot cell: a six-axis spherical-wrist robot holding a vertical welding torch, a two-axis
+// tilt-rotate positioner carrying the part, the welding process and the export options — read
+// from a JSON cell description (schema: resources/schema/cell.schema.json, examples:
+// resources/cells/*.json). The paper's cell (§4.1: Yaskawa Motoman HP20D with a tilt-rotate
+// positioner) is `defaultCell()`.
+//
+// Frames (all lengths mm, all angles rad in C++; the JSON uses degrees where the key says `_deg`):
+//   world       the cell frame; `Cell::gravity` is expressed in it (default (0,0,-1)).
+//   robot base  `RobotDescription::base` = pose of the robot base frame in world.
+//   flange      robot flange frame; `ToolDescription::tcp` = TCP frame in the flange frame.
+//               The tool z axis is the torch axis, pointing out of the torch towards the wire tip.
+//   positioner base  `PositionerDescription::base` = pose of the positioner base in world.
+//   table       the frame turning with both positioner axes; at a1 = a2 = 0 its origin is
+//               `rotationAxisPoint`, its z axis `rotationAxisDirection` and its x axis
+//               `tiltAxisDirection` made orthogonal to z (both in positioner-base coordinates).
+//   part        the plan's frame; `PositionerDescription::tableToPart` = part frame in table frame.
+// Positioner forward kinematics (see positioner.hpp):
+//   T_world_part = base · Rot(tiltAxis, a1 | tiltAxisPoint) · Rot(rotationAxis, a2 |
+//   rotationAxisPoint)
+//                  · T_base_table0 · tableToPart
+//
+// Robot joint angles in C++ are the controller's joint angles (rad), as the pendant shows them;
+// `RobotDescription::jointSigns/jointOffsets` map them to the kinematic model of
+// robot_kinematics.hpp (θ_model = sign · θ_controller + offset).
+//
+// Validation: every field is checked on reading; a missing or invalid field throws InvalidInput
+// whose message names the JSON path (e.g. "/positioner/tilt/limits_deg") and why. Cost: trivial.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <array>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "curvedslicer/core/types.hpp"
+
+namespace curvedslicer {
+
+using Pose = Eigen::Isometry3d;  ///< rigid transform, translation in mm
+
+/// Range and speed of one joint.
+struct JointLimit {
+  double min = -3.14159265358979323846;  ///< rad (controller convention)
+  double max = 3.14159265358979323846;   ///< rad; min < max
+  double maxSpeed = 3.0;                 ///< rad/s, > 0
+  bool contains(double angle, double tolerance = 1e-9) const {
+    return angle >= min - tolerance && angle <= max + tolerance;
+  }
+};
+
+/// Geometry of a six-axis robot with an ortho-parallel arm and a spherical wrist (the usual
+/// industrial arm: Motoman, KUKA, ABB, Fanuc). Model zero pose (all θ_model = 0): upper arm
+/// vertical (+z), forearm horizontal (+x), wrist straight, flange z axis along +x, flange x axis
+/// along -z. Joint axes: 1 = +z through the origin; 2 and 3 = +y (after joint 1), through
+/// (a1, b, c1) and (a1, b, c1 + c2); 4 = forearm axis (+x) through the wrist centre
+/// (a1 + c3, b, c1 + c2 + a2); 5 = +y through the wrist centre; 6 = +x (flange axis).
+struct RobotKinematics {
+  double a1 = 0.0;  ///< mm, horizontal offset of joint 2 from joint 1 (S-L offset)
+  double a2 = 0.0;  ///< mm, offset of the forearm axis above joint 3 (U-axis offset)
+  double b = 0.0;   ///< mm, lateral offset of the arm plane from joint 1 (usually 0)
+  double c1 = 0.0;  ///< mm, height of joint 2 above the base frame
+  double c2 = 0.0;  ///< mm, upper-arm length, joint 2 to joint 3 (> 0)
+  double c3 = 0.0;  ///< mm, forearm length, joint 3 to the wrist centre along the forearm (> 0)
+  double c4 = 0.0;  ///< mm, wrist centre to flange (>= 0)
+};
+
+struct RobotDescription {
+  std::string model;             ///< e.g. "Yaskawa Motoman HP20D"
+  Pose base = Pose::Identity();  ///< robot base frame in world
+  RobotKinematics kinematics;
+  std::array<JointLimit, 6> joints;                      ///< controller convention
+  std::array<double, 6> jointSigns{1, 1, 1, 1, 1, 1};    ///< ±1: θ_model = sign·θ_ctrl + offset
+  std::array<double, 6> jointOffsets{0, 0, 0, 0, 0, 0};  ///< rad
+  /// Encoder pulses per degree of each controller joint angle (pulse = round(deg · ppd));
+  /// empty when not known — exporters must then write Cartesian robot positions.
+  std::vector<double> pulsesPerDegree;
+};
+
+struct ToolDescription {
+  std::string name;             ///< e.g. "straight torch 400 mm"
+  Pose tcp = Pose::Identity();  ///< TCP frame in the flange frame; its z axis is the torch axis
+  int number = 1;               ///< tool number in the controller (TOOL 1)
+};
+
+/// One positioner axis.
+struct PositionerAxis {
+  JointLimit limit;              ///< rad, rad/s (ignored range when endless)
+  bool endless = false;          ///< unlimited rotation (rotation axis only)
+  double pulsesPerDegree = 0.0;  ///< > 0: pulse = sign · round(deg · ppd)
+  int sign = 1;                  ///< ±1, controller direction relative to the model direction
+};
+
+struct PositionerDescription {
+  std::string model;                       ///< e.g. "two-axis tilt-rotate positioner (D500B class)"
+  Pose base = Pose::Identity();            ///< positioner base frame in world
+  Vec3 tiltAxisPoint = Vec3::Zero();       ///< mm, positioner base frame
+  Vec3 tiltAxisDirection = Vec3::UnitX();  ///< unit; a1 > 0 turns right-handed about it
+  Vec3 rotationAxisPoint = Vec3::Zero();   ///< mm, positioner base frame at a1 = 0
+  Vec3 rotationAxisDirection = Vec3::UnitZ();  ///< unit, at a1 = 0; a2 > 0 right-handed
+  Pose tableToPart = Pose::Identity();         ///< part frame in the table frame
+  PositionerAxis tilt;                         ///< a1
+  PositionerAxis rotation;                     ///< a2
+};
+
+enum class SpeedUnit { MillimetresPerSecond, CentimetresPerMinute, MillimetresPerMinute };
+enum class ArcControl { ConditionFile, Direct };
+enum class PositionType { Pulse, Base, User };
+enum class LineEnding { Crlf, Lf };
+
+struct ProcessDescription {
+  double weldSpeed = 8.0;             ///< mm/s, torch speed relative to the part with the arc on
+  double travelSpeed = 50.0;          ///< mm/s, arc-off moves between paths
+  double wireFeed = 5.0;              ///< m/min, wire feed speed
+  double wireDiameter = 1.2;          ///< mm
+  double wireDensity = 7.85;          ///< g/cm³ (steel)
+  double depositionEfficiency = 1.0;  ///< (0, 1], deposited / fed mass (spatter loss)
+  double layerDwell = 0.0;            ///< s, wait after each layer (interpass cooling)
+  double pathDwell = 0.0;             ///< s, wait after each path
+  SpeedUnit speedUnit = SpeedUnit::MillimetresPerSecond;  ///< unit the controller expects
+  ArcControl arcControl = ArcControl::ConditionFile;
+  int arcStartCondition = 1;  ///< ASF#(n) condition-file number
+  int arcEndCondition = 1;    ///< AEF#(n)
+  double current = 0.0;       ///< A, direct arc condition (ArcControl::Direct), > 0 then
+  double voltage = 0.0;       ///< V, direct arc condition
+  double arcStartTime = 0.0;  ///< s, crater / start time for direct conditions
+};
+
+struct ExportDescription {
+  bool coordinated = true;  ///< robot and positioner move together (SMOVL ... +MOVJ)
+  PositionType positionType = PositionType::Base;  ///< robot targets: Cartesian or pulses
+  int maxLinesPerJob = 2000;                       ///< split longer jobs into sub-jobs
+  LineEnding lineEnding = LineEnding::Crlf;
+  std::string jobName = "WAAM";  ///< base name of the job(s)
+  int maxNameLength = 8;         ///< 8 (NX100) or 32 (DX100 and later)
+  int userFrame = 1;             ///< user frame number for PositionType::User
+};
+
+struct Cell {
+  std::string name;
+  std::string description;        ///< free text, incl. sources of the numbers
+  Vec3 gravity = -Vec3::UnitZ();  ///< unit, world frame
+  RobotDescription robot;
+  ToolDescription tool;
+  PositionerDescription positioner;
+  ProcessDescription process;
+  ExportDescription exportOptions;
+};
+
+/// Reads and validates a cell description file (JSON). Throws IoError if the file cannot be read,
+/// InvalidInput naming the JSON path of a missing or invalid field.
+Cell readCell(const std::filesystem::path& path);
+
+/// Parses and validates a cell description from JSON text; `origin` names the source in
+/// messages (e.g. the file name).
+Cell parseCell(std::string_view json, std::string_view origin = "cell");
+
+/// Checks a cell built in code (the same rules as parseCell); throws InvalidInput naming the
+/// field (as its JSON path).
+void validateCell(const Cell& cell);
+
+/// Serialises a cell to the JSON form parseCell reads (numbers rounded to 9 significant digits,
+/// so a round trip reproduces the same text).
+std::string writeCellJson(const Cell& cell);
+
+/// The paper's cell: Yaskawa Motoman HP20D, a D500B-class tilt-rotate positioner, straight torch;
+/// sources of the numbers in resources/cells/README.md. Equal to
+/// parseCell(resources/cells/motoman_hp20d_tilt_rotate.json).
+Cell defaultCell();
+
+/// Names used in the JSON form, for messages and exporters.
+std::string_view toString(SpeedUnit unit);
+std::string_view toString(ArcControl control);
+std::string_view toString(PositionType type);
+std::string_view toString(LineEnding ending);
+
+/// Pose from translation (mm) and fixed-axis roll/pitch/yaw (rad): R = Rz(yaw)·Ry(pitch)·Rx(roll).
+Pose makePose(const Vec3& translation, const Vec3& rollPitchYaw);
+
+/// Inverse of makePose's rotation part: roll, pitch, yaw (rad), pitch in [-π/2, π/2].
+Vec3 rollPitchYaw(const Mat3& rotation);
+
+}  // namespace curvedslicer

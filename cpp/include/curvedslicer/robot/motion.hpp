@@ -1,0 +1,155 @@
+// Motion planning for a plan in a cell: per path point the positioner angles that turn the
+// deposition direction V onto gravity (paper §3.2, eq. 16), the world pose of the point through
+// the positioner's forward kinematics, a vertical torch pose (tool z along gravity, tool x along
+// the travel direction), the robot joint angles from closed-form inverse kinematics, and the
+// process estimates per layer and in total. This is what the exporters (export/) consume.
+//
+// Method (details in docs/METHODS.md, "Positioner and robot"):
+//   1. optional smoothing of V along each path (Gaussian in arc length), bounded so that the
+//      smoothed V stays within `maxSmoothingDeviation` of the original V;
+//   2. eq. 16 in closed form with both branches (positioner.hpp), a2 unwrapped to the value
+//      nearest the previous point, the branch chosen for continuity within joint limits; in the
+//      singular zone (V within `singularZone` of the rotation axis) a2 is interpolated between
+//      the values before and after the zone with at most `maxSingularA2Step` per point and a1
+//      re-optimised for it; where joint limits make gravity alignment impossible, the feasible
+//      pose of least residual and a warning;
+//   3. per point the TCP pose in world and in the robot base, inverse kinematics (up to 8
+//      solutions), the configuration of the path's first point kept along the path, joints
+//      continuous along a path; the arc-off move to a path start may turn R or T by a full turn
+//      when that keeps the path inside the joint limits; unreachable points and joint-limit
+//      crossings are named (which point, by how much / which joint).
+// Preconditions: every path has >= 2 points, unit normals and deposition directions. Cost:
+// O(points), a few microseconds per point (IK dominates).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "curvedslicer/core/progress.hpp"
+#include "curvedslicer/core/types.hpp"
+#include "curvedslicer/plan/plan.hpp"
+#include "curvedslicer/robot/cell.hpp"
+
+namespace curvedslicer {
+
+using JointVector = std::array<double, 6>;  ///< robot joints, rad, controller convention
+
+/// Bits of MotionPoint::flags.
+enum MotionFlag : std::uint32_t {
+  kMotionSingular = 1u << 0,         ///< V inside the singular zone: a2 held / interpolated
+  kMotionTiltLimited = 1u << 1,      ///< a1 clamped to its limit: V not on gravity (see residual)
+  kMotionRotationLimited = 1u << 2,  ///< a2 clamped to its limit
+  kMotionA2RateLimited = 1u << 3,    ///< a2 lags its exact value after a singular zone
+  kMotionSmoothed = 1u << 4,         ///< V was smoothed (usedDeposition != deposition)
+  kMotionConfigurationChange = 1u << 5,  ///< robot configuration differs from the path start
+  kMotionWristSingular = 1u << 6,        ///< joint 5 near 0: joints 4/6 split kept continuous
+  kMotionRobotLimit = 1u << 7,           ///< no IK solution within the robot's joint limits
+};
+
+/// One robot/positioner target. Points of a path follow each other; the first point of a path
+/// is reached by an arc-off travel move, every further point by a welding move.
+struct MotionPoint {
+  int layer = 0;  ///< Plan::layers index
+  int path = 0;   ///< index of the path within the layer
+  int index = 0;  ///< index of the point in the path; a closed path repeats point 0 at the end
+                  ///< with index == points.size() (the closing weld move)
+  Vec3 position = Vec3::Zero();          ///< mm, part frame
+  Vec3 normal = Vec3::UnitZ();           ///< part frame, unit
+  Vec3 deposition = -Vec3::UnitZ();      ///< V from the plan, part frame, unit
+  Vec3 usedDeposition = -Vec3::UnitZ();  ///< V after optional smoothing (what a1/a2 align)
+  double a1 = 0.0;  ///< rad, positioner tilt, model convention (PositionerAxis::sign for ctrl)
+  double a2 = 0.0;  ///< rad, positioner rotation, unwrapped (may exceed ±π when endless)
+  /// rad, robot joints, controller convention, continuous along a path (no 2π jumps); with
+  /// UnreachablePolicy::Warn and no IK solution: the previous point's joints (flagged)
+  JointVector joints{};
+  int configuration = 0;  ///< IK branch bits: 1 = back (shoulder), 2 = elbow down, 4 = wrist flip
+  Pose toolInWorld = Pose::Identity();      ///< TCP pose in world
+  Pose toolInRobotBase = Pose::Identity();  ///< TCP pose in the robot base frame (Cartesian target)
+  Pose toolInTable = Pose::Identity();      ///< TCP pose in the positioner table frame
+  Pose toolInPart = Pose::Identity();       ///< TCP pose in the part frame
+  double speed = 0.0;       ///< mm/s of the move arriving here: weld speed (relative to the part)
+                            ///< or travel speed for the first point of a path
+  bool arcOn = false;       ///< the move arriving at this point is welded
+  bool pathStart = false;   ///< first point of a path (ARCON after reaching it)
+  bool pathEnd = false;     ///< last point of a path (ARCOF after reaching it)
+  double residual = 0.0;    ///< rad, angle between the transformed plan V and gravity
+  std::uint32_t flags = 0;  ///< MotionFlag bits
+};
+
+/// Where a path lies in MotionPlan::points.
+struct MotionPathSpan {
+  int layer = 0;
+  int path = 0;
+  std::size_t begin = 0;  ///< first point
+  std::size_t end = 0;    ///< one past the last point
+};
+
+/// Process estimates (paper §4.1 process parameters from the cell).
+struct MotionEstimate {
+  double beadLength = 0.0;       ///< mm, arc-on length
+  double arcTime = 0.0;          ///< s, beadLength / weld speed
+  double travelLength = 0.0;     ///< mm, arc-off moves between paths (straight, part frame)
+  double travelTime = 0.0;       ///< s, arc-off moves (the slower of robot and positioner)
+  double dwellTime = 0.0;        ///< s, path and layer dwells
+  double totalTime = 0.0;        ///< s, arc + travel + dwell
+  double wireLength = 0.0;       ///< mm, wire feed · arc time
+  double depositedVolume = 0.0;  ///< mm³, wire cross-section · wire length · efficiency
+  double depositedMass = 0.0;    ///< g
+  std::size_t paths = 0;
+  std::size_t points = 0;
+};
+
+enum class UnreachablePolicy {
+  Throw,  ///< InvalidInput naming the first unreachable points and by how much (default)
+  Warn,   ///< keep the closest pose, flag kMotionRobotLimit and add a warning
+};
+
+struct MotionOptions {
+  double singularZone = 0.0349065850398866;  ///< rad (2°): V within this of ±rotation axis
+  /// rad (2°) per point: a2 change limit in and around the singular zone. a2 follows a linear
+  /// ramp over a window that covers the zone and the neighbouring points whose exact a2 moves
+  /// faster than this; points outside the zone in that window get kMotionA2RateLimited.
+  double maxSingularA2Step = 0.0349065850398866;
+  double initialA2 = 0.0;          ///< rad, a2 held when the first points of the plan are singular
+  bool preferPositiveTilt = true;  ///< branch at the first point: a1 >= 0 if feasible
+  double smoothingLength = 0.0;    ///< mm, Gaussian sigma along the path for V; 0 = no smoothing
+  double maxSmoothingDeviation = 0.0872664625997165;  ///< rad (5°), smoothed V vs plan V
+  bool toolAlongTravel = true;  ///< tool x along the travel direction (else fixed world x)
+  UnreachablePolicy unreachable = UnreachablePolicy::Throw;
+  double residualWarning = 0.0174532925199433;  ///< rad (1°): warn above this residual
+};
+
+struct MotionPlan {
+  std::vector<MotionPoint> points;     ///< in execution order
+  std::vector<MotionPathSpan> paths;   ///< in execution order
+  std::vector<MotionEstimate> layers;  ///< per Plan layer
+  MotionEstimate total;
+  std::vector<std::string> warnings;  ///< aggregated, readable, at most a few per cause
+  double maxResidual = 0.0;           ///< rad, over points outside the singular zone
+  std::size_t singularPoints = 0;
+  std::size_t limitedPoints = 0;  ///< points with a positioner limit active
+};
+
+/// Plans positioner angles, robot joints and estimates for every point of `plan` in `cell`.
+/// Throws InvalidInput for an invalid cell or plan (names the layer/path/point) and, with
+/// UnreachablePolicy::Throw, for points the robot cannot reach (which point, by how much);
+/// Cancelled when `progress` asks. Deterministic.
+MotionPlan planMotion(const Plan& plan, const Cell& cell, const MotionOptions& options = {},
+                      const Progress& progress = {});
+
+/// Estimates only (no kinematics): bead length, times, wire, mass per layer and total.
+/// `layers` has one entry per plan layer. Cost: O(points).
+MotionEstimate estimatePlan(const Plan& plan, const ProcessDescription& process,
+                            std::vector<MotionEstimate>* layers = nullptr);
+
+/// Controller pulses of a positioner angle (model convention, rad): sign · round(deg · ppd).
+long long positionerPulses(const PositionerAxis& axis, double angle);
+
+/// Controller pulses of robot joints (controller convention, rad); throws InvalidInput if the
+/// cell has no pulsesPerDegree.
+std::array<long long, 6> robotPulses(const RobotDescription& robot, const JointVector& joints);
+
+}  // namespace curvedslicer

@@ -1,0 +1,52 @@
+// Forward and closed-form inverse kinematics of a six-axis robot with an ortho-parallel arm and a
+// spherical wrist (RobotKinematics in cell.hpp: parameters a1, a2, b, c1..c4, the usual
+// industrial geometry; method after Brandstötter, Angerer, Hofbaur 2014, "An analytical solution
+// of the inverse kinematics problem of industrial serial manipulators with an ortho-parallel
+// basis and a spherical wrist", derived and written here for this model's zero pose).
+//
+// Inverse kinematics: the wrist centre is the flange origin minus c4 along the flange axis;
+// joint 1 from its azimuth (front/back), joint 3 from the law of cosines (elbow up/down), joint 2
+// from the angle of the wrist centre in the arm plane, joints 4-6 as X-Y-X Euler angles of the
+// wrist rotation (flip / no flip) — up to 8 solutions. Joint angles in and out are controller
+// angles (rad), converted through RobotDescription::jointSigns/jointOffsets.
+// Preconditions: validated cell. Cost: about a microsecond per call.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "curvedslicer/core/types.hpp"
+#include "curvedslicer/robot/cell.hpp"
+#include "curvedslicer/robot/motion.hpp"
+
+namespace curvedslicer {
+
+/// Flange pose in the robot base frame for controller joint angles (rad).
+Pose computeFlangePose(const RobotDescription& robot, const JointVector& joints);
+
+/// One inverse-kinematics solution.
+struct IkSolution {
+  JointVector joints{};   ///< rad, controller convention, each in (-π, π] before unwrapping
+  int configuration = 0;  ///< bits: 1 = back (over the shoulder), 2 = elbow down, 4 = wrist flip
+  bool withinLimits = false;   ///< all joints (possibly after ±2π) within RobotDescription limits
+  bool wristSingular = false;  ///< |joint 5| ~ 0: only joint 4 + joint 6 determined
+};
+
+/// Result of inverse kinematics for one flange pose.
+struct IkResult {
+  std::vector<IkSolution> solutions;  ///< up to 8, ordered by configuration bits
+  /// mm the wrist centre lies beyond the arm's reach (0 when reachable): outside the annulus the
+  /// upper arm and forearm can reach, or inside the cylinder of radius |b| about joint 1.
+  double reachShortfall = 0.0;
+};
+
+/// All closed-form solutions for a flange pose (robot base frame). `wristReference` (controller
+/// joint 4, rad) fixes the split of joint 4 / joint 6 at a wrist singularity.
+IkResult solveInverseKinematics(const RobotDescription& robot, const Pose& flangeInBase,
+                                double wristReference = 0.0);
+
+/// Moves each joint by multiples of 2π to the value nearest `reference` that lies within its
+/// limits (or nearest the range if none does); returns false if some joint is out of limits.
+bool unwrapJoints(const RobotDescription& robot, JointVector& joints, const JointVector& reference);
+
+}  // namespace curvedslicer

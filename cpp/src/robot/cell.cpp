@@ -1,0 +1,623 @@
+// Cell description: JSON reading with per-field validation, writing, and the default cell.
+#include "curvedslicer/robot/cell.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "curvedslicer/core/error.hpp"
+
+namespace curvedslicer {
+namespace {
+
+using Json = nlohmann::json;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+
+std::string formatNumber(double value) {
+  std::ostringstream out;
+  out.precision(12);
+  out << value;
+  return out.str();
+}
+
+/// A JSON object being read: remembers its JSON path for messages and which keys were used.
+class Field {
+ public:
+  Field(const Json& json, std::string path, std::string_view origin)
+      : json_(json), path_(std::move(path)), origin_(origin) {}
+
+  const std::string& path() const { return path_; }
+  std::string childPath(std::string_view key) const { return path_ + "/" + std::string(key); }
+
+  [[noreturn]] void fail(std::string_view key, std::string_view problem, std::string_view value,
+                         std::string_view hint) const {
+    std::string where = key.empty() ? path_ : childPath(key);
+    if (where.empty()) where = "/";
+    throw InvalidInput(std::string(origin_) + ": field " + where + " " + std::string(problem) +
+                       ": " + std::string(value) + "; " + std::string(hint));
+  }
+
+  bool has(std::string_view key) const {
+    return json_.is_object() && json_.contains(std::string(key));
+  }
+
+  const Json& require(std::string_view key, std::string_view hint) {
+    if (!json_.is_object() || !json_.contains(std::string(key))) {
+      fail(key, "is missing", "(absent)", hint);
+    }
+    used_.insert(std::string(key));
+    return json_.at(std::string(key));
+  }
+
+  Field object(std::string_view key, std::string_view hint) {
+    const Json& j = require(key, hint);
+    if (!j.is_object()) fail(key, "must be an object", j.dump(), hint);
+    return Field(j, childPath(key), origin_);
+  }
+
+  double number(std::string_view key, std::string_view hint) {
+    const Json& j = require(key, hint);
+    if (!j.is_number()) fail(key, "must be a number", j.dump(), hint);
+    const double v = j.get<double>();
+    if (!std::isfinite(v)) fail(key, "must be finite", j.dump(), hint);
+    return v;
+  }
+  double number(std::string_view key, double fallback, std::string_view hint) {
+    return has(key) ? number(key, hint) : fallback;
+  }
+  double positive(std::string_view key, std::string_view hint) {
+    const double v = number(key, hint);
+    if (!(v > 0.0)) fail(key, "must be positive", formatNumber(v), hint);
+    return v;
+  }
+  double nonNegative(std::string_view key, double fallback, std::string_view hint) {
+    const double v = number(key, fallback, hint);
+    if (v < 0.0) fail(key, "must not be negative", formatNumber(v), hint);
+    return v;
+  }
+  int integer(std::string_view key, int lo, int hi, std::string_view hint) {
+    const Json& j = require(key, hint);
+    if (!j.is_number_integer()) fail(key, "must be an integer", j.dump(), hint);
+    const long long v = j.get<long long>();
+    if (v < lo || v > hi) {
+      fail(key, "must be between " + std::to_string(lo) + " and " + std::to_string(hi),
+           std::to_string(v), hint);
+    }
+    return static_cast<int>(v);
+  }
+  int integer(std::string_view key, int fallback, int lo, int hi, std::string_view hint) {
+    return has(key) ? integer(key, lo, hi, hint) : fallback;
+  }
+  int sign(std::string_view key, std::string_view hint) {
+    if (!has(key)) return 1;
+    const Json& j = require(key, hint);
+    if (!j.is_number_integer() || (j.get<long long>() != 1 && j.get<long long>() != -1)) {
+      fail(key, "must be 1 or -1", j.dump(), hint);
+    }
+    return static_cast<int>(j.get<long long>());
+  }
+  bool boolean(std::string_view key, std::string_view hint) {
+    const Json& j = require(key, hint);
+    if (!j.is_boolean()) fail(key, "must be true or false", j.dump(), hint);
+    return j.get<bool>();
+  }
+  bool boolean(std::string_view key, bool fallback, std::string_view hint) {
+    return has(key) ? boolean(key, hint) : fallback;
+  }
+  std::string string(std::string_view key, std::string_view hint) {
+    const Json& j = require(key, hint);
+    if (!j.is_string()) fail(key, "must be a string", j.dump(), hint);
+    return j.get<std::string>();
+  }
+  std::string string(std::string_view key, std::string fallback, std::string_view hint) {
+    return has(key) ? string(key, hint) : fallback;
+  }
+  std::vector<double> numbers(std::string_view key, std::size_t count, std::string_view hint) {
+    const Json& j = require(key, hint);
+    if (!j.is_array() || j.size() != count) {
+      fail(key, "must be an array of " + std::to_string(count) + " numbers", j.dump(), hint);
+    }
+    std::vector<double> out;
+    for (const auto& e : j) {
+      if (!e.is_number() || !std::isfinite(e.get<double>())) {
+        fail(key, "must be an array of " + std::to_string(count) + " finite numbers", j.dump(),
+             hint);
+      }
+      out.push_back(e.get<double>());
+    }
+    return out;
+  }
+  Vec3 vec3(std::string_view key, std::string_view hint) {
+    const auto v = numbers(key, 3, hint);
+    return Vec3(v[0], v[1], v[2]);
+  }
+  Vec3 direction(std::string_view key, std::string_view hint) {
+    const Vec3 v = vec3(key, hint);
+    if (!(v.norm() > 1e-12))
+      fail(key, "must be a non-zero vector", require(key, hint).dump(), hint);
+    return v.normalized();
+  }
+  template <class Enum>
+  Enum choice(std::string_view key, std::initializer_list<std::pair<const char*, Enum>> options,
+              std::string_view hint) {
+    const std::string s = string(key, hint);
+    std::string allowed;
+    for (const auto& [name, value] : options) {
+      if (s == name) return value;
+      allowed += (allowed.empty() ? "" : ", ") + std::string(name);
+    }
+    fail(key, "must be one of " + allowed, "\"" + s + "\"", hint);
+  }
+  /// Rejects keys that were not read (typos); "comment" and "sources" are documentation.
+  void rejectUnknown() const {
+    if (!json_.is_object()) return;
+    for (const auto& item : json_.items()) {
+      const std::string& key = item.key();
+      if (used_.count(key) || key == "comment" || key == "sources" || key == "$schema") continue;
+      fail(key, "is not a known field", "\"" + key + "\"",
+           "check its spelling against resources/schema/cell.schema.json");
+    }
+  }
+  void markUsed(std::string_view key) { used_.insert(std::string(key)); }
+
+ private:
+  const Json& json_;
+  std::string path_;
+  std::string_view origin_;
+  std::set<std::string> used_;
+};
+
+Pose readPose(Field& parent, std::string_view key, std::string_view hint) {
+  Field f = parent.object(key, hint);
+  const Vec3 xyz = f.vec3("xyz_mm", "give the translation in mm as [x, y, z]");
+  const Vec3 rpy = f.vec3("rpy_deg", "give roll, pitch, yaw in degrees as [rx, ry, rz]");
+  f.rejectUnknown();
+  return makePose(xyz, rpy * kDeg);
+}
+
+JointLimit readLimit(Field& f, std::string_view what) {
+  JointLimit limit;
+  const auto range = f.numbers("limits_deg", 2, "give [min, max] in degrees");
+  if (!(range[0] < range[1])) {
+    f.fail("limits_deg", "minimum must be below maximum",
+           "[" + formatNumber(range[0]) + ", " + formatNumber(range[1]) + "]",
+           "give [min, max] in degrees of " + std::string(what));
+  }
+  limit.min = range[0] * kDeg;
+  limit.max = range[1] * kDeg;
+  limit.maxSpeed = f.positive("max_speed_deg_s", "give the maximum joint speed in deg/s") * kDeg;
+  return limit;
+}
+
+PositionerAxis readAxis(Field& parent, std::string_view key, bool mayBeEndless) {
+  Field f = parent.object(key, "describe the positioner axis");
+  PositionerAxis axis;
+  axis.limit = readLimit(f, key);
+  axis.endless = f.boolean("endless", false, "true for unlimited rotation");
+  if (axis.endless && !mayBeEndless) {
+    f.fail("endless", "is only allowed for the rotation axis", "true", "set it to false");
+  }
+  axis.pulsesPerDegree = f.positive("pulses_per_degree", "give the encoder pulses per degree");
+  axis.sign = f.sign("sign", "1 if the controller turns the same way as the model axis, else -1");
+  f.rejectUnknown();
+  return axis;
+}
+
+/// Rounds away the last-digit noise of degree/radian conversions (1e-9 relative) and -0.
+double clean(double v) {
+  const double scale = std::pow(10.0, 9 - std::ceil(std::log10(std::max(std::abs(v), 1e-300))));
+  const double r = std::abs(v) < 1e-12 ? 0.0 : std::round(v * scale) / scale;
+  return r == 0.0 ? 0.0 : r;
+}
+
+Json poseJson(const Pose& pose) {
+  const Vec3 t = pose.translation();
+  const Vec3 rpy = rollPitchYaw(pose.rotation()) / kDeg;
+  return Json{{"xyz_mm", {clean(t.x()), clean(t.y()), clean(t.z())}},
+              {"rpy_deg", {clean(rpy.x()), clean(rpy.y()), clean(rpy.z())}}};
+}
+
+Json vecJson(const Vec3& v) {
+  return Json::array({clean(v.x()), clean(v.y()), clean(v.z())});
+}
+
+Json limitJson(const JointLimit& limit) {
+  return Json{{"limits_deg", {clean(limit.min / kDeg), clean(limit.max / kDeg)}},
+              {"max_speed_deg_s", clean(limit.maxSpeed / kDeg)}};
+}
+
+Json axisJson(const PositionerAxis& axis) {
+  Json j = limitJson(axis.limit);
+  j["endless"] = axis.endless;
+  j["pulses_per_degree"] = axis.pulsesPerDegree;
+  j["sign"] = axis.sign;
+  return j;
+}
+
+constexpr const char* kJointNames[6] = {"S", "L", "U", "R", "B", "T"};
+
+}  // namespace
+
+Pose makePose(const Vec3& translation, const Vec3& rpy) {
+  Pose pose = Pose::Identity();
+  pose.linear() =
+      (Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) *
+       Eigen::AngleAxisd(rpy.x(), Vec3::UnitX()))
+          .toRotationMatrix();
+  pose.translation() = translation;
+  return pose;
+}
+
+Vec3 rollPitchYaw(const Mat3& r) {
+  const double pitch = std::atan2(-r(2, 0), std::hypot(r(0, 0), r(1, 0)));
+  double roll, yaw;
+  if (std::hypot(r(0, 0), r(1, 0)) < 1e-12) {  // gimbal lock: put everything in yaw
+    roll = 0.0;
+    yaw = std::atan2(-r(0, 1), r(1, 1));
+  } else {
+    roll = std::atan2(r(2, 1), r(2, 2));
+    yaw = std::atan2(r(1, 0), r(0, 0));
+  }
+  return Vec3(roll, pitch, yaw);
+}
+
+std::string_view toString(SpeedUnit unit) {
+  switch (unit) {
+    case SpeedUnit::MillimetresPerSecond:
+      return "mm/s";
+    case SpeedUnit::CentimetresPerMinute:
+      return "cm/min";
+    case SpeedUnit::MillimetresPerMinute:
+      return "mm/min";
+  }
+  return "mm/s";
+}
+std::string_view toString(ArcControl control) {
+  return control == ArcControl::Direct ? "direct" : "condition_file";
+}
+std::string_view toString(PositionType type) {
+  switch (type) {
+    case PositionType::Pulse:
+      return "pulse";
+    case PositionType::Base:
+      return "base";
+    case PositionType::User:
+      return "user";
+  }
+  return "base";
+}
+std::string_view toString(LineEnding ending) {
+  return ending == LineEnding::Lf ? "lf" : "crlf";
+}
+
+Cell parseCell(std::string_view text, std::string_view origin) {
+  Json root;
+  try {
+    root = Json::parse(text.begin(), text.end());
+  } catch (const Json::parse_error& e) {
+    throw InvalidInput(std::string(origin) + ": not valid JSON: " + e.what() +
+                       "; fix the syntax of the cell file");
+  }
+  if (!root.is_object()) {
+    throw InvalidInput(std::string(origin) + ": the cell description must be a JSON object: " +
+                       std::string(root.type_name()) + "; see resources/cells/ for examples");
+  }
+  Field top(root, "", origin);
+  Cell cell;
+  if (top.has("format") &&
+      top.string("format", "must be \"curvedslicer-cell\"") != "curvedslicer-cell") {
+    top.fail("format", "must be \"curvedslicer-cell\"", root["format"].dump(),
+             "this is not a cell description");
+  }
+  if (top.has("version")) top.integer("version", 1, 1, "version 1 is the only cell format");
+  cell.name = top.string("name", "give the cell a name");
+  cell.description = top.string("description", "", "free text");
+  cell.gravity = top.direction("gravity", "give gravity as a direction in world, e.g. [0, 0, -1]");
+
+  {  // robot
+    Field r = top.object("robot", "describe the robot");
+    RobotDescription& robot = cell.robot;
+    robot.model = r.string("model", "name the robot model");
+    robot.base = readPose(r, "base", "give the robot base frame in world");
+    Field k = r.object("kinematics_mm", "give a1, a2, b, c1, c2, c3, c4 in mm");
+    RobotKinematics& kin = robot.kinematics;
+    kin.a1 = k.number("a1", "S-L offset in mm");
+    kin.a2 = k.number("a2", "U-axis offset in mm");
+    kin.b = k.number("b", 0.0, "lateral offset in mm");
+    kin.c1 = k.number("c1", "height of the L axis in mm");
+    kin.c2 = k.positive("c2", "upper-arm length (L to U) in mm");
+    kin.c3 = k.positive("c3", "forearm length (U to wrist centre) in mm");
+    kin.c4 = k.nonNegative("c4", 0.0, "wrist centre to flange in mm");
+    k.rejectUnknown();
+    const Json& joints = r.require("joints", "give six joints S, L, U, R, B, T");
+    if (!joints.is_array() || joints.size() != 6) {
+      r.fail("joints", "must be an array of 6 joint objects", joints.dump().substr(0, 80),
+             "give six joints S, L, U, R, B, T");
+    }
+    for (int i = 0; i < 6; ++i) {
+      const Json& jj = joints[static_cast<std::size_t>(i)];
+      Field jf(jj, r.childPath("joints") + "/" + std::to_string(i), origin);
+      if (!jj.is_object()) jf.fail("", "must be an object", jj.dump(), "describe the joint");
+      jf.string("name", kJointNames[i], "joint name");
+      robot.joints[i] = readLimit(jf, kJointNames[i]);
+      robot.jointSigns[i] = jf.sign("sign", "1 or -1: controller direction vs model direction");
+      robot.jointOffsets[i] = jf.number("offset_deg", 0.0, "model angle at controller zero") * kDeg;
+      jf.rejectUnknown();
+    }
+    if (r.has("pulses_per_degree")) {
+      const auto ppd = r.numbers("pulses_per_degree", 6, "give six pulses-per-degree values");
+      for (double v : ppd) {
+        if (!(v > 0.0)) {
+          r.fail("pulses_per_degree", "must be positive", formatNumber(v),
+                 "copy them from the controller's parameters");
+        }
+      }
+      robot.pulsesPerDegree = ppd;
+    }
+    r.rejectUnknown();
+  }
+  {  // tool
+    Field t = top.object("tool", "describe the torch");
+    cell.tool.name = t.string("name", "", "tool name");
+    cell.tool.number = t.integer("number", 1, 0, 63, "tool number in the controller (0..63)");
+    cell.tool.tcp = readPose(t, "tcp", "give the TCP in the flange frame (z along the torch)");
+    t.rejectUnknown();
+  }
+  {  // positioner
+    Field p = top.object("positioner", "describe the tilt-rotate positioner");
+    PositionerDescription& pos = cell.positioner;
+    pos.model = p.string("model", "name the positioner model");
+    pos.base = readPose(p, "base", "give the positioner base frame in world");
+    Field tilt = p.object("tilt_axis", "give the tilt axis point_mm and direction");
+    pos.tiltAxisPoint = tilt.vec3("point_mm", "a point on the tilt axis, positioner base frame");
+    pos.tiltAxisDirection = tilt.direction("direction", "tilt axis direction, base frame");
+    tilt.rejectUnknown();
+    Field rot = p.object("rotation_axis", "give the rotation axis point_mm and direction");
+    pos.rotationAxisPoint = rot.vec3("point_mm", "table centre on the rotation axis at tilt 0");
+    pos.rotationAxisDirection = rot.direction("direction", "rotation axis direction at tilt 0");
+    const double cross = pos.tiltAxisDirection.cross(pos.rotationAxisDirection).norm();
+    if (cross < std::sin(1.0 * kDeg)) {
+      rot.fail("direction", "must not be parallel to the tilt axis",
+               "angle " + formatNumber(std::asin(std::min(1.0, cross)) / kDeg) + " deg",
+               "the axes must differ by at least 1 degree");
+    }
+    rot.rejectUnknown();
+    pos.tableToPart = readPose(p, "table_to_part", "give the part frame in the table frame");
+    pos.tilt = readAxis(p, "tilt", false);
+    pos.rotation = readAxis(p, "rotation", true);
+    p.rejectUnknown();
+  }
+  {  // process
+    Field pr = top.object("process", "describe the welding process");
+    ProcessDescription& proc = cell.process;
+    proc.weldSpeed = pr.positive("weld_speed_mm_s", "give the welding speed in mm/s");
+    proc.travelSpeed = pr.positive("travel_speed_mm_s", "give the arc-off travel speed in mm/s");
+    proc.wireFeed = pr.positive("wire_feed_m_min", "give the wire feed speed in m/min");
+    proc.wireDiameter = pr.positive("wire_diameter_mm", "give the wire diameter in mm");
+    proc.wireDensity = pr.positive("wire_density_g_cm3", "give the wire density in g/cm3");
+    proc.depositionEfficiency =
+        pr.number("deposition_efficiency", 1.0, "fraction of the wire deposited, in (0, 1]");
+    if (!(proc.depositionEfficiency > 0.0 && proc.depositionEfficiency <= 1.0)) {
+      pr.fail("deposition_efficiency", "must be in (0, 1]", formatNumber(proc.depositionEfficiency),
+              "use e.g. 0.95");
+    }
+    proc.layerDwell = pr.nonNegative("layer_dwell_s", 0.0, "interlayer dwell in s");
+    proc.pathDwell = pr.nonNegative("path_dwell_s", 0.0, "dwell after each path in s");
+    proc.speedUnit = pr.choice<SpeedUnit>("speed_unit",
+                                          {{"mm/s", SpeedUnit::MillimetresPerSecond},
+                                           {"cm/min", SpeedUnit::CentimetresPerMinute},
+                                           {"mm/min", SpeedUnit::MillimetresPerMinute}},
+                                          "the speed unit set in the controller");
+    Field arc = pr.object("arc", "give the arc conditions");
+    proc.arcControl = arc.choice<ArcControl>(
+        "control", {{"condition_file", ArcControl::ConditionFile}, {"direct", ArcControl::Direct}},
+        "condition_file (ASF#/AEF#) or direct (AC=, AV=)");
+    if (proc.arcControl == ArcControl::ConditionFile) {
+      proc.arcStartCondition = arc.integer("start_condition", 1, 48, "arc start file number");
+      proc.arcEndCondition = arc.integer("end_condition", 1, 12, "arc end file number");
+      proc.current = arc.nonNegative("current_a", 0.0, "welding current in A");
+      proc.voltage = arc.nonNegative("voltage_v", 0.0, "welding voltage in V");
+    } else {
+      proc.arcStartCondition = arc.integer("start_condition", 1, 1, 48, "arc start file number");
+      proc.arcEndCondition = arc.integer("end_condition", 1, 1, 12, "arc end file number");
+      proc.current = arc.positive("current_a", "welding current in A");
+      proc.voltage = arc.positive("voltage_v", "welding voltage in V");
+    }
+    proc.arcStartTime = arc.nonNegative("start_time_s", 0.0, "arc start time in s");
+    arc.rejectUnknown();
+    pr.rejectUnknown();
+  }
+  {  // export
+    Field e = top.object("export", "give the export options");
+    ExportDescription& ex = cell.exportOptions;
+    ex.coordinated = e.boolean("coordinated", "true: robot and positioner move together");
+    ex.positionType = e.choice<PositionType>("position_type",
+                                             {{"pulse", PositionType::Pulse},
+                                              {"base", PositionType::Base},
+                                              {"user", PositionType::User}},
+                                             "how robot targets are written");
+    ex.maxLinesPerJob = e.integer("max_lines_per_job", 20, 1000000, "lines per job before split");
+    ex.lineEnding =
+        e.choice<LineEnding>("line_ending", {{"crlf", LineEnding::Crlf}, {"lf", LineEnding::Lf}},
+                             "crlf for Yaskawa controllers");
+    ex.maxNameLength = e.integer("max_name_length", 8, 32, "8 on NX100, 32 on DX100 and later");
+    ex.jobName = e.string("job_name", "base name of the jobs");
+    if (ex.jobName.empty() || static_cast<int>(ex.jobName.size()) > ex.maxNameLength) {
+      e.fail("job_name", "must have 1 to max_name_length characters", "\"" + ex.jobName + "\"",
+             "use a shorter name");
+    }
+    for (char c : ex.jobName) {
+      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-')) {
+        e.fail("job_name", "may only contain letters, digits, '_' and '-'",
+               "\"" + ex.jobName + "\"", "rename the job");
+      }
+    }
+    ex.userFrame = e.integer("user_frame", 1, 1, 63, "user frame number (1..63)");
+    e.rejectUnknown();
+  }
+  if (cell.exportOptions.positionType == PositionType::Pulse &&
+      cell.robot.pulsesPerDegree.empty()) {
+    top.fail("robot/pulses_per_degree", "is missing but export position_type is \"pulse\"",
+             "(absent)", "add the six pulses-per-degree values or use position_type \"base\"");
+  }
+  top.rejectUnknown();
+  return cell;
+}
+
+Cell readCell(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw IoError("cannot open the cell file: " + path.string() +
+                  "; check the path (examples are in resources/cells/)");
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw IoError("cannot read the cell file: " + path.string() + "; check the file");
+  return parseCell(text.str(), path.filename().string());
+}
+
+std::string writeCellJson(const Cell& cell) {
+  Json j;
+  j["format"] = "curvedslicer-cell";
+  j["version"] = 1;
+  j["name"] = cell.name;
+  j["description"] = cell.description;
+  j["gravity"] = vecJson(cell.gravity);
+  const RobotDescription& r = cell.robot;
+  Json joints = Json::array();
+  for (int i = 0; i < 6; ++i) {
+    Json jj = limitJson(r.joints[i]);
+    jj["name"] = kJointNames[i];
+    jj["sign"] = static_cast<int>(r.jointSigns[i]);
+    jj["offset_deg"] = clean(r.jointOffsets[i] / kDeg);
+    joints.push_back(jj);
+  }
+  const RobotKinematics& k = r.kinematics;
+  j["robot"] = Json{{"model", r.model},
+                    {"base", poseJson(r.base)},
+                    {"kinematics_mm",
+                     {{"a1", k.a1},
+                      {"a2", k.a2},
+                      {"b", k.b},
+                      {"c1", k.c1},
+                      {"c2", k.c2},
+                      {"c3", k.c3},
+                      {"c4", k.c4}}},
+                    {"joints", joints}};
+  if (!r.pulsesPerDegree.empty()) j["robot"]["pulses_per_degree"] = r.pulsesPerDegree;
+  j["tool"] = Json{
+      {"name", cell.tool.name}, {"number", cell.tool.number}, {"tcp", poseJson(cell.tool.tcp)}};
+  const PositionerDescription& p = cell.positioner;
+  j["positioner"] =
+      Json{{"model", p.model},
+           {"base", poseJson(p.base)},
+           {"tilt_axis",
+            {{"point_mm", vecJson(p.tiltAxisPoint)}, {"direction", vecJson(p.tiltAxisDirection)}}},
+           {"rotation_axis",
+            {{"point_mm", vecJson(p.rotationAxisPoint)},
+             {"direction", vecJson(p.rotationAxisDirection)}}},
+           {"table_to_part", poseJson(p.tableToPart)},
+           {"tilt", axisJson(p.tilt)},
+           {"rotation", axisJson(p.rotation)}};
+  const ProcessDescription& pr = cell.process;
+  Json arc{{"control", std::string(toString(pr.arcControl))},
+           {"start_condition", pr.arcStartCondition},
+           {"end_condition", pr.arcEndCondition},
+           {"current_a", pr.current},
+           {"voltage_v", pr.voltage},
+           {"start_time_s", pr.arcStartTime}};
+  j["process"] = Json{{"weld_speed_mm_s", pr.weldSpeed},
+                      {"travel_speed_mm_s", pr.travelSpeed},
+                      {"wire_feed_m_min", pr.wireFeed},
+                      {"wire_diameter_mm", pr.wireDiameter},
+                      {"wire_density_g_cm3", pr.wireDensity},
+                      {"deposition_efficiency", pr.depositionEfficiency},
+                      {"layer_dwell_s", pr.layerDwell},
+                      {"path_dwell_s", pr.pathDwell},
+                      {"speed_unit", std::string(toString(pr.speedUnit))},
+                      {"arc", arc}};
+  const ExportDescription& e = cell.exportOptions;
+  j["export"] = Json{{"coordinated", e.coordinated},
+                     {"position_type", std::string(toString(e.positionType))},
+                     {"max_lines_per_job", e.maxLinesPerJob},
+                     {"line_ending", std::string(toString(e.lineEnding))},
+                     {"job_name", e.jobName},
+                     {"max_name_length", e.maxNameLength},
+                     {"user_frame", e.userFrame}};
+  return j.dump(2) + "\n";
+}
+
+void validateCell(const Cell& cell) {
+  parseCell(writeCellJson(cell), "cell");
+}
+
+Cell defaultCell() {
+  // Numbers and their sources: resources/cells/README.md. Keep equal to
+  // resources/cells/motoman_hp20d_tilt_rotate.json (a test checks it).
+  Cell cell;
+  cell.name = "Motoman HP20D with two-axis tilt-rotate positioner";
+  cell.description =
+      "The paper's cell (section 4.1). Robot dimensions from the HP20D datasheet; positioner "
+      "after the D500B-class numbers in resources/cells/README.md; placement is an example.";
+  cell.gravity = -Vec3::UnitZ();
+  RobotDescription& r = cell.robot;
+  r.model = "Yaskawa Motoman HP20D";
+  r.base = Pose::Identity();
+  r.kinematics = RobotKinematics{150.0, 140.0, 0.0, 505.0, 760.0, 795.0, 100.0};
+  const double limits[6][2] = {{-180, 180}, {-110, 155}, {-165, 255},
+                               {-200, 200}, {-125, 125}, {-360, 360}};
+  const double speeds[6] = {197, 197, 210, 410, 410, 610};
+  for (int i = 0; i < 6; ++i) {
+    r.joints[i] = JointLimit{limits[i][0] * kDeg, limits[i][1] * kDeg, speeds[i] * kDeg};
+  }
+  // Controller angles: U positive = forearm up, B positive = wrist up, which turn about -y in the
+  // model (see docs/METHODS.md); R and T positive about the forearm / flange axis.
+  r.jointSigns = {1, 1, -1, -1, -1, -1};
+  r.jointOffsets = {0, 0, 0, 0, 0, 0};
+  cell.tool.name = "straight WAAM torch, TCP 400 mm along the flange axis";
+  cell.tool.number = 1;
+  cell.tool.tcp = makePose(Vec3(0, 0, 400), Vec3::Zero());
+  PositionerDescription& p = cell.positioner;
+  p.model = "two-axis tilt-rotate positioner (Yaskawa D500B class)";
+  p.base = makePose(Vec3(1100, 0, 0), Vec3::Zero());
+  p.tiltAxisPoint = Vec3(0, 0, 380);
+  p.tiltAxisDirection = Vec3::UnitX();
+  p.rotationAxisPoint = Vec3(0, 0, 530);
+  p.rotationAxisDirection = Vec3::UnitZ();
+  p.tableToPart = Pose::Identity();
+  p.tilt = PositionerAxis{JointLimit{-95 * kDeg, 95 * kDeg, 120 * kDeg}, false, 1994.3, 1};
+  p.rotation = PositionerAxis{JointLimit{-360 * kDeg, 360 * kDeg, 180 * kDeg}, true, 1376.7, 1};
+  ProcessDescription& pr = cell.process;
+  pr.weldSpeed = 8.0;
+  pr.travelSpeed = 50.0;
+  pr.wireFeed = 5.0;
+  pr.wireDiameter = 1.2;
+  pr.wireDensity = 7.85;
+  pr.depositionEfficiency = 1.0;
+  pr.layerDwell = 60.0;
+  pr.pathDwell = 0.0;
+  pr.speedUnit = SpeedUnit::MillimetresPerSecond;
+  pr.arcControl = ArcControl::ConditionFile;
+  pr.arcStartCondition = 1;
+  pr.arcEndCondition = 1;
+  pr.current = 0.0;
+  pr.voltage = 0.0;
+  pr.arcStartTime = 0.0;
+  ExportDescription& e = cell.exportOptions;
+  e.coordinated = true;
+  e.positionType = PositionType::Base;
+  e.maxLinesPerJob = 2000;
+  e.lineEnding = LineEnding::Crlf;
+  e.jobName = "WAAM";
+  e.maxNameLength = 8;
+  e.userFrame = 1;
+  return cell;
+}
+
+}  // namespace curvedslicer
