@@ -1,10 +1,12 @@
 #include "layers_command.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <fstream>
 #include <new>
 #include <string>
 #include <vector>
@@ -66,6 +68,83 @@ void printUnreachedWarning(const GeodesicResult& field) {
                u.example.z());
 }
 
+/// Writes each layer surface into the staging folder as soon as the extraction finishes it, and
+/// the eq. 13 voxel sets into voxel_sets.ply as they arrive, so that no more than one batch of
+/// layers is ever held in memory.
+class StagingLayerSink final : public LayerSink {
+ public:
+  StagingLayerSink(OutputStaging& staging, LayerFileFormat format)
+      : staging_(staging), format_(format) {}
+
+  void begin(int layerCount, const std::vector<std::size_t>& voxelSetSizes,
+             const GridGeometry& geometry) override {
+    const auto start = Clock::now();
+    count_ = static_cast<std::size_t>(layerCount);
+    geometry_ = geometry;
+    std::size_t points = 0;
+    for (std::size_t size : voxelSetSizes) points += size;
+    voxelSetsPath_ = staging_.reserve(kVoxelSetsFile);
+    voxelSets_.open(voxelSetsPath_, std::ios::binary | std::ios::trunc);
+    writeVoxelSetsPlyHeader(voxelSets_, points);
+    checkVoxelSets();
+    seconds_ += secondsSince(start);
+  }
+
+  void acceptSurface(LayerSurface&& surface) override {
+    const auto start = Clock::now();
+    const std::string name = layerFileName(surface.index, count_, format_);
+    const MeshFormat meshFormat =
+        format_ == LayerFileFormat::Ply ? MeshFormat::Ply : MeshFormat::Obj;
+    staging_.stage(name, [&](const fs::path& path) { writeMesh(path, surface.mesh, meshFormat); });
+    names_.push_back(name);
+    surface.mesh = TriMesh{};
+    seconds_ += secondsSince(start);
+  }
+
+  void acceptVoxelSet(VoxelLayerSet&& set, const std::vector<float>& distance) override {
+    const auto start = Clock::now();
+    appendVoxelSetPly(voxelSets_, set, geometry_, distance);
+    checkVoxelSets();
+    seconds_ += secondsSince(start);
+  }
+
+  /// Completes voxel_sets.ply. @throws IoError if it could not be written.
+  void finish() {
+    const auto start = Clock::now();
+    if (voxelSets_.is_open()) {
+      voxelSets_.close();
+      if (voxelSets_.fail()) fail();
+    }
+    seconds_ += secondsSince(start);
+  }
+
+  const std::vector<std::string>& layerFiles() const { return names_; }
+  /// Wall time spent writing so far, s.
+  double seconds() const { return seconds_; }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  static double secondsSince(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+  }
+  void checkVoxelSets() {
+    if (!voxelSets_) fail();
+  }
+  [[noreturn]] void fail() const {
+    throw IoError("cannot write '" + voxelSetsPath_.string() +
+                  "'; check the free space and permissions of the output folder");
+  }
+
+  OutputStaging& staging_;
+  LayerFileFormat format_;
+  std::size_t count_ = 0;
+  GridGeometry geometry_;
+  fs::path voxelSetsPath_;
+  std::ofstream voxelSets_;
+  std::vector<std::string> names_;
+  double seconds_ = 0.0;
+};
+
 int failure(TerminalProgress& progress, int code, const std::string& message) {
   progress.finishLine();
   std::fprintf(stderr, "curvedslicer: error: %s\n", message.c_str());
@@ -93,30 +172,26 @@ int runLayersCommand(const LayersArguments& args) {
     const TriMesh model = readMesh(fs::path(args.model));
     job.options.start = loadStartSurface(job.start);
     const double readSeconds = std::chrono::duration<double>(Clock::now() - readBegin).count();
+    const std::size_t readPeak = peakResidentMemoryBytes();
 
-    LayerJobResult result = runLayerJob(model, job.options, progress.sub(0.0, 0.95));
-    result.stageTimes.insert(result.stageTimes.begin(), StageTime{"read", readSeconds});
+    // Layers go straight into the staging folder while they are extracted (nothing appears in
+    // the output folder before the final commit).
+    OutputStaging staging(outputDir);
+    StagingLayerSink sink(staging, job.format);
+    LayerJobResult result = runLayerJob(model, job.options, sink, progress.sub(0.0, 0.95));
+    sink.finish();
+    result.stageTimes.insert(result.stageTimes.begin(), StageTime{"read", readSeconds, readPeak});
     result.totalSeconds += readSeconds;
 
     // ---- write ---------------------------------------------------------------------------------
+    // The layer stage's time includes the sink's writing; that part is reported as "write".
+    const auto writeBegin = Clock::now();
+    for (StageTime& st : result.stageTimes) {
+      if (st.name == "layers") st.seconds = std::max(0.0, st.seconds - sink.seconds());
+    }
     const Progress writeProgress = progress.sub(0.95, 1.0);
     writeProgress.report(0.0, "write");
-    const std::vector<std::string> layerFiles = layerFileNames(result.layers, job.format);
-    const MeshFormat meshFormat =
-        job.format == LayerFileFormat::Ply ? MeshFormat::Ply : MeshFormat::Obj;
-    OutputStaging staging(outputDir);
-    const auto& surfaces = result.layers.surfaces;
-    for (std::size_t k = 0; k < surfaces.size(); ++k) {
-      staging.stage(layerFiles[k],
-                    [&](const fs::path& path) { writeMesh(path, surfaces[k].mesh, meshFormat); });
-      writeProgress.report(0.9 * static_cast<double>(k + 1) / surfaces.size(), "write");
-    }
-    staging.stage(kVoxelSetsFile, [&](const fs::path& path) {
-      writeFileAtomically(
-          path,
-          [&](std::ostream& out) { writeVoxelSetsPly(out, result.layers, result.field.field); },
-          /*binary=*/true);
-    });
+    const std::vector<std::string>& layerFiles = sink.layerFiles();
     LayerReportInputs reportInputs;
     reportInputs.modelPath = args.model;
     reportInputs.modelFileTriangles = model.triangleCount();
@@ -125,6 +200,9 @@ int runLayersCommand(const LayersArguments& args) {
     reportInputs.layerFiles = layerFiles;
     reportInputs.voxelSetsFile = kVoxelSetsFile;
     result.peakMemoryBytes = peakResidentMemoryBytes();
+    const double writeSeconds =
+        sink.seconds() + std::chrono::duration<double>(Clock::now() - writeBegin).count();
+    result.stageTimes.push_back(StageTime{"write", writeSeconds, result.peakMemoryBytes});
     const std::string report =
         formatLayerReport(makeLayerReport(reportInputs, job.options, result));
     staging.stage(kReportFile,
@@ -135,7 +213,7 @@ int runLayersCommand(const LayersArguments& args) {
 
     if (!args.quiet) {
       printUnreachedWarning(result.field);
-      std::printf("curvedslicer: wrote %zu layers to %s (%s ... %s, %s, %s)\n", surfaces.size(),
+      std::printf("curvedslicer: wrote %zu layers to %s (%s ... %s, %s, %s)\n", layerFiles.size(),
                   outputDir.string().c_str(), layerFiles.front().c_str(), layerFiles.back().c_str(),
                   kVoxelSetsFile, kReportFile);
     }

@@ -5,7 +5,9 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <vector>
 
 #include "layers/layer_internal.hpp"
 
@@ -112,19 +114,20 @@ double fitValue(const std::vector<float>& d, const GridGeometry& g, int i, int j
 
 }  // namespace
 
-std::vector<float> extendField(const DistanceField& field, const VoxelGrid& grid,
-                               FieldExtensionStats& stats, const Progress& progress) {
-  const GridGeometry& g = field.geometry;
-  const std::vector<float>& d = field.distance;
-  std::vector<float> out = d;
+std::vector<std::size_t> extendFieldInPlace(std::vector<float>& values, const VoxelGrid& grid,
+                                            FieldExtensionStats& stats, const Progress& progress) {
+  const GridGeometry& g = grid.geometry;
+  const std::vector<float>& d = values;  // read-only until the final write-back
   const int nx = g.dims.x(), ny = g.dims.y(), nz = g.dims.z();
-  const float kMark = std::numeric_limits<float>::quiet_NaN();
   std::array<std::ptrdiff_t, 26> linearOffsets{};
   for (std::size_t q = 0; q < 26; ++q) {
     const Vec3i& o = neighbourOffsets26()[q];
     linearOffsets[q] = o.x() * static_cast<std::ptrdiff_t>(g.strideX()) +
                        o.y() * static_cast<std::ptrdiff_t>(g.strideY()) + o.z();
   }
+  // One bit per cell: the cell gets an extended value.
+  std::vector<std::uint64_t> marks((g.cellCount() + 63) / 64, 0);
+  auto isMarked = [&](std::size_t n) { return ((marks[n >> 6] >> (n & 63)) & 1u) != 0; };
 
   // ---- extending field: mark ----
   // Every outside, unreached cell within Chebyshev distance kExtensionBand of a reached cell is
@@ -155,7 +158,8 @@ std::vector<float> extendField(const DistanceField& field, const VoxelGrid& grid
                        for (int c = std::max(0, k - e); c <= std::min(nz - 1, k + e); ++c) {
                          const std::size_t m = g.index(a, b, c);
                          if (isReached(d[m]) || grid.inside[m] != 0) continue;
-                         std::atomic_ref<float>(out[m]).store(kMark, std::memory_order_relaxed);
+                         std::atomic_ref<std::uint64_t>(marks[m >> 6])
+                             .fetch_or(std::uint64_t{1} << (m & 63), std::memory_order_relaxed);
                        }
                      }
                    }
@@ -164,29 +168,49 @@ std::vector<float> extendField(const DistanceField& field, const VoxelGrid& grid
              });
 
   // ---- extending field: fit ----
-  std::vector<std::size_t> extended(static_cast<std::size_t>(nx), 0),
-      partial(static_cast<std::size_t>(nx), 0), nearest(static_cast<std::size_t>(nx), 0);
+  struct PlaneFits {
+    std::vector<std::size_t> cells;
+    std::vector<float> values;
+    std::size_t partial = 0, nearest = 0;
+  };
+  std::vector<PlaneFits> fits(static_cast<std::size_t>(nx));
   runChunked(static_cast<std::size_t>(nx), progress.sub(0.3, 1.0), "extending field",
              [&](std::size_t plane) {
                const int i = static_cast<int>(plane);
+               PlaneFits& out = fits[plane];
                for (int j = 0; j < ny; ++j) {
                  for (int k = 0; k < nz; ++k) {
                    const std::size_t n = g.index(i, j, k);
-                   if (!std::isnan(out[n])) continue;
+                   if (!isMarked(n)) continue;
                    FitKind kind = FitKind::Full;
-                   out[n] = static_cast<float>(fitValue(d, g, i, j, k, kind));
-                   ++extended[plane];
-                   if (kind == FitKind::Partial) ++partial[plane];
-                   if (kind == FitKind::Nearest) ++nearest[plane];
+                   out.cells.push_back(n);
+                   out.values.push_back(static_cast<float>(fitValue(d, g, i, j, k, kind)));
+                   if (kind == FitKind::Partial) ++out.partial;
+                   if (kind == FitKind::Nearest) ++out.nearest;
                  }
                }
              });
-  for (int i = 0; i < nx; ++i) {
-    stats.extendedCells += extended[i];
-    stats.partialFits += partial[i];
-    stats.nearestFallbacks += nearest[i];
+  std::vector<std::uint64_t>().swap(marks);
+  std::size_t total = 0;
+  for (const PlaneFits& f : fits) total += f.cells.size();
+  std::vector<std::size_t> extended;
+  extended.reserve(total);
+  for (PlaneFits& f : fits) {
+    for (std::size_t q = 0; q < f.cells.size(); ++q) values[f.cells[q]] = f.values[q];
+    extended.insert(extended.end(), f.cells.begin(), f.cells.end());
+    stats.extendedCells += f.cells.size();
+    stats.partialFits += f.partial;
+    stats.nearestFallbacks += f.nearest;
+    f = PlaneFits{};
   }
-  return out;
+  return extended;
+}
+
+std::vector<float> extendField(const DistanceField& field, const VoxelGrid& grid,
+                               FieldExtensionStats& stats, const Progress& progress) {
+  std::vector<float> values = field.distance;
+  (void)extendFieldInPlace(values, grid, stats, progress);
+  return values;
 }
 
 }  // namespace curvedslicer::layers_detail

@@ -9,6 +9,8 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/geom/triangle_bvh.hpp"
@@ -148,49 +150,278 @@ ThicknessStats measureThickness(const TriMesh& layer, const TriangleBvh& referen
   return stats;
 }
 
-/// Eq. 13: S_i = {P : i·h − L/2 ≤ t_P ≤ i·h + L/2}, i = 1..layerCount.
-std::vector<VoxelLayerSet> collectVoxelSets(const DistanceField& field, double h, int layerCount,
-                                            const Progress& progress) {
-  const GridGeometry& g = field.geometry;
+/// Candidate levels of eq. 13 for a value t: [lo, hi] (widened by one against rounding; the test
+/// in `inSet` is the definition).
+struct LevelRange {
+  int lo = 1, hi = 0;
+};
+LevelRange candidateLevels(double t, double h, double halfL, int layerCount) {
+  const double levels = layerCount;
+  return {static_cast<int>(std::clamp(std::ceil((t - halfL) / h) - 1.0, 1.0, levels + 1)),
+          static_cast<int>(std::clamp(std::floor((t + halfL) / h) + 1.0, 0.0, levels))};
+}
+bool inSet(double t, int i, double h, double halfL) {
+  const double level = i * h;
+  return level - halfL <= t && t <= level + halfL;
+}
+
+constexpr std::size_t kSetBlock = 8;  // x planes per block of the eq. 13 scans (fixed)
+
+/// |S_i| for i = 1..layerCount from the field before its extension (cells with a value).
+std::vector<std::size_t> countVoxelSets(const std::vector<float>& values, const GridGeometry& g,
+                                        double h, int layerCount, const Progress& progress) {
   const double halfL = 0.5 * g.voxelSize;
   const auto planes = static_cast<std::size_t>(g.dims.x());
-  constexpr std::size_t kBlock = 8;  // x planes per block (fixed: deterministic order)
-  const std::size_t blocks = (planes + kBlock - 1) / kBlock;
+  const std::size_t blocks = (planes + kSetBlock - 1) / kSetBlock;
   const auto count = static_cast<std::size_t>(layerCount);
+  std::vector<std::vector<std::size_t>> perBlock(blocks);
+  runChunked(blocks, progress, "voxel sets", [&](std::size_t b) {
+    std::vector<std::size_t>& sizes = perBlock[b];
+    sizes.assign(count, 0);
+    const std::size_t begin = b * kSetBlock * g.strideX();
+    const std::size_t end = std::min(planes, (b + 1) * kSetBlock) * g.strideX();
+    for (std::size_t n = begin; n < end; ++n) {
+      const float value = values[n];
+      if (!(value < kInfF)) continue;
+      const double t = value;
+      const LevelRange r = candidateLevels(t, h, halfL, layerCount);
+      for (int i = r.lo; i <= r.hi; ++i) {
+        if (inSet(t, i, h, halfL)) ++sizes[static_cast<std::size_t>(i - 1)];
+      }
+    }
+  });
+  std::vector<std::size_t> sizes(count, 0);
+  for (const auto& block : perBlock) {
+    for (std::size_t i = 0; i < count; ++i) sizes[i] += block[i];
+  }
+  return sizes;
+}
+
+/// Eq. 13: S_i = {P : i·h − L/2 ≤ t_P ≤ i·h + L/2}, i = levelBegin..levelEnd, cells in increasing
+/// order. `values` is the extended field; the cells listed in `extended` (increasing) had no
+/// value before the extension and belong to no set.
+std::vector<VoxelLayerSet> collectVoxelSets(const std::vector<float>& values,
+                                            const std::vector<std::size_t>& extended,
+                                            const GridGeometry& g, double h, int layerCount,
+                                            int levelBegin, int levelEnd,
+                                            const Progress& progress) {
+  const double halfL = 0.5 * g.voxelSize;
+  const auto planes = static_cast<std::size_t>(g.dims.x());
+  const std::size_t blocks = (planes + kSetBlock - 1) / kSetBlock;
+  const auto count = static_cast<std::size_t>(levelEnd - levelBegin + 1);
+  const double lowest = levelBegin * h - halfL, highest = levelEnd * h + halfL;
   std::vector<std::vector<std::vector<std::size_t>>> perBlock(blocks);
   runChunked(blocks, progress, "voxel sets", [&](std::size_t b) {
     auto& lists = perBlock[b];
     lists.resize(count);
-    const std::size_t begin = b * kBlock * g.strideX();
-    const std::size_t end = std::min(planes, (b + 1) * kBlock) * g.strideX();
-    const double levels = layerCount;
+    const std::size_t begin = b * kSetBlock * g.strideX();
+    const std::size_t end = std::min(planes, (b + 1) * kSetBlock) * g.strideX();
+    auto skip = std::lower_bound(extended.begin(), extended.end(), begin);
     for (std::size_t n = begin; n < end; ++n) {
-      const float value = field.distance[n];
+      const float value = values[n];
       if (!(value < kInfF)) continue;
       const double t = value;
-      // Candidates widened by one against rounding; the test below is the definition.
-      const auto lo =
-          static_cast<int>(std::clamp(std::ceil((t - halfL) / h) - 1.0, 1.0, levels + 1));
-      const auto hi = static_cast<int>(std::clamp(std::floor((t + halfL) / h) + 1.0, 0.0, levels));
-      for (int i = lo; i <= hi; ++i) {
-        const double level = i * h;
-        if (level - halfL <= t && t <= level + halfL) lists[i - 1].push_back(n);
+      if (t < lowest - h || t > highest + h) continue;  // no level of this batch is near
+      while (skip != extended.end() && *skip < n) ++skip;
+      if (skip != extended.end() && *skip == n) continue;
+      const LevelRange r = candidateLevels(t, h, halfL, layerCount);
+      for (int i = std::max(r.lo, levelBegin); i <= std::min(r.hi, levelEnd); ++i) {
+        if (inSet(t, i, h, halfL)) lists[static_cast<std::size_t>(i - levelBegin)].push_back(n);
       }
     }
   });
   std::vector<VoxelLayerSet> sets(count);
-  for (std::size_t i = 0; i < count; ++i) {
-    sets[i].index = static_cast<int>(i) + 1;
-    sets[i].level = static_cast<double>(i + 1) * h;
+  for (std::size_t q = 0; q < count; ++q) {
+    sets[q].index = levelBegin + static_cast<int>(q);
+    sets[q].level = static_cast<double>(sets[q].index) * h;
     std::size_t total = 0;
-    for (const auto& lists : perBlock) total += lists[i].size();
-    sets[i].cells.reserve(total);
+    for (const auto& lists : perBlock) total += lists[q].size();
+    sets[q].cells.reserve(total);
     for (auto& lists : perBlock) {
-      sets[i].cells.insert(sets[i].cells.end(), lists[i].begin(), lists[i].end());
-      std::vector<std::size_t>().swap(lists[i]);
+      sets[q].cells.insert(sets[q].cells.end(), lists[q].begin(), lists[q].end());
+      std::vector<std::size_t>().swap(lists[q]);
     }
   }
   return sets;
+}
+
+/// Consecutive level ranges [first, last] whose crossed cubes add up to at most `budget` (a level
+/// above it alone is a batch of its own).
+std::vector<std::pair<int, int>> planBatches(const std::vector<std::uint64_t>& crossings,
+                                             std::size_t budget) {
+  std::vector<std::pair<int, int>> batches;
+  std::uint64_t sum = 0;
+  for (std::size_t q = 0; q < crossings.size(); ++q) {
+    const int level = static_cast<int>(q) + 1;
+    if (batches.empty() || sum + crossings[q] > budget) {
+      batches.emplace_back(level, level);
+      sum = crossings[q];
+    } else {
+      batches.back().second = level;
+      sum += crossings[q];
+    }
+  }
+  return batches;
+}
+
+LayerSummary summarizeLayer(const LayerSurface& layer, std::size_t voxelSetSize) {
+  LayerSummary s;
+  s.index = layer.index;
+  s.level = layer.level;
+  s.vertices = layer.mesh.vertexCount();
+  s.triangles = layer.mesh.triangleCount();
+  s.area = layer.area;
+  s.components = layer.components;
+  s.thicknessToPrevious = layer.thicknessToPrevious;
+  s.voxelSetSize = voxelSetSize;
+  return s;
+}
+
+/// Collects everything (extractLayers).
+class CollectingSink final : public LayerSink {
+ public:
+  explicit CollectingSink(LayersResult& result) : result_(result) {}
+  void begin(int layerCount, const std::vector<std::size_t>&, const GridGeometry&) override {
+    result_.surfaces.reserve(static_cast<std::size_t>(layerCount));
+    result_.voxelSets.reserve(static_cast<std::size_t>(layerCount));
+  }
+  void acceptSurface(LayerSurface&& surface) override {
+    result_.surfaces.push_back(std::move(surface));
+  }
+  void acceptVoxelSet(VoxelLayerSet&& set, const std::vector<float>&) override {
+    result_.voxelSets.push_back(std::move(set));
+  }
+
+ private:
+  LayersResult& result_;
+};
+
+/// The work shared by extractLayers and streamLayers, on the field's values (extended in place).
+/// Inputs are checked; `layerCount` ≥ 1.
+void extractInBatches(std::vector<float>& values, const VoxelGrid& grid, const TriMesh& model,
+                      const TriMesh& source, LayerSink& sink, const LayerOptions& options,
+                      int layerCount, const Progress& progress, LayersResult& result) {
+  const GridGeometry& geometry = grid.geometry;
+  const double h = options.layerThickness;
+  LayerExtractionStats& stats = result.stats;
+  const auto count = static_cast<std::size_t>(layerCount);
+
+  // ---- voxel sets (sizes) ----
+  const std::vector<std::size_t> setSizes =
+      countVoxelSets(values, geometry, h, layerCount, progress.sub(0.0, 0.02));
+
+  // ---- extending field ----
+  FieldExtensionStats extension;
+  const std::vector<std::size_t> extended =
+      extendFieldInPlace(values, grid, extension, progress.sub(0.02, 0.12));
+  stats.extendedCells = extension.extendedCells;
+  stats.partialFits = extension.partialFits;
+  stats.nearestFallbacks = extension.nearestFallbacks;
+
+  // ---- counting crossings ----
+  const IsoSurfacePlan plan =
+      planIsoSurfaces(values, geometry, h, layerCount, progress.sub(0.12, 0.17));
+  const std::size_t budget =
+      options.batchCrossings > 0
+          ? options.batchCrossings
+          : std::max(kMinBatchCrossings, static_cast<std::size_t>(geometry.cellCount() / 64));
+  const std::vector<std::pair<int, int>> batches = planBatches(plan.crossingCubes, budget);
+  std::uint64_t totalCrossings = 0;
+  for (std::uint64_t c : plan.crossingCubes) totalCrossings += c;
+  result.batches = batches.size();
+
+  sink.begin(layerCount, setSizes, geometry);
+  result.summaries.reserve(count);
+
+  const TriangleBvh modelBvh = options.clipToSolid ? TriangleBvh(model) : TriangleBvh();
+  const std::vector<std::uint8_t> surfaceCells =
+      options.clipToSolid ? markSurfaceCells(model, geometry) : std::vector<std::uint8_t>{};
+  const bool measure = options.thicknessSamples >= 0;
+  const TriangleBvh sourceBvh = measure ? TriangleBvh(source) : TriangleBvh();
+  TriMesh previous;  // the last layer of the previous batch (thickness reference)
+
+  // Each batch gets a share of [0.17, 1] in proportion to its levels and crossings.
+  const double weightPerLevel =
+      totalCrossings > 0 ? static_cast<double>(totalCrossings) / static_cast<double>(count) : 1.0;
+  const double totalWeight = static_cast<double>(totalCrossings) + weightPerLevel * count;
+  double done = 0.0;
+  for (const auto& [first, last] : batches) {
+    std::uint64_t crossings = 0;
+    for (int level = first; level <= last; ++level) {
+      crossings += plan.crossingCubes[static_cast<std::size_t>(level - 1)];
+    }
+    result.largestBatchCrossings =
+        std::max(result.largestBatchCrossings, static_cast<std::size_t>(crossings));
+    const double weight = static_cast<double>(crossings) + weightPerLevel * (last - first + 1);
+    const Progress batch =
+        progress.sub(0.17 + 0.83 * done / totalWeight, 0.17 + 0.83 * (done + weight) / totalWeight);
+    done += weight;
+    const auto size = static_cast<std::size_t>(last - first + 1);
+
+    // ---- marching tetrahedra / merging layers ----
+    std::vector<TriMesh> surfaces =
+        extractIsoSurfaces(values, geometry, plan, first, last, batch.sub(0.0, 0.5));
+
+    // ---- clipping layers ----
+    std::vector<LayerSurface> layers(size);
+    std::vector<ClipStats> clipStats(size);
+    runChunked(size, batch.sub(0.5, 0.8), "clipping layers", [&](std::size_t q) {
+      LayerSurface& layer = layers[q];
+      layer.index = first + static_cast<int>(q);
+      layer.level = static_cast<double>(layer.index) * h;
+      if (options.clipToSolid) {
+        layer.mesh = clipSurfaceToSolid(surfaces[q], modelBvh, grid, surfaceCells, clipStats[q]);
+      } else {
+        layer.mesh = std::move(surfaces[q]);
+        removeDegenerateAndUnused(layer.mesh);
+      }
+      surfaces[q] = TriMesh{};  // release the unclipped surface
+      layer.area = surfaceArea(layer.mesh);
+      layer.components = countEdgeComponents(layer.mesh);
+    });
+    std::vector<TriMesh>().swap(surfaces);
+    for (const ClipStats& c : clipStats) {
+      stats.exactDistanceQueries += c.exactQueries;
+      stats.rimVertices += c.rimVertices;
+    }
+
+    // ---- measuring thickness ----
+    if (measure) {
+      runChunked(size, batch.sub(0.8, 0.95), "measuring thickness", [&](std::size_t q) {
+        LayerSurface& layer = layers[q];
+        if (layer.mesh.vertices.empty()) return;
+        if (layer.index == 1) {
+          layer.thicknessToPrevious =
+              measureThickness(layer.mesh, sourceBvh, options.thicknessSamples);
+        } else {
+          // Queries come with hints, so the k-d tree would not pay for itself.
+          const TriMesh& before = q == 0 ? previous : layers[q - 1].mesh;
+          const TriangleBvh reference(before, TriangleBvhOptions{false});
+          layer.thicknessToPrevious =
+              measureThickness(layer.mesh, reference, options.thicknessSamples);
+        }
+      });
+      if (last < layerCount) previous = layers.back().mesh;
+    }
+
+    // Hand the surfaces over in order.
+    for (LayerSurface& layer : layers) {
+      result.summaries.push_back(
+          summarizeLayer(layer, setSizes[static_cast<std::size_t>(layer.index - 1)]));
+      sink.acceptSurface(std::move(layer));
+    }
+    std::vector<LayerSurface>().swap(layers);
+
+    // ---- voxel sets ----
+    std::vector<VoxelLayerSet> sets = collectVoxelSets(values, extended, geometry, h, layerCount,
+                                                       first, last, batch.sub(0.95, 1.0));
+    for (VoxelLayerSet& set : sets) sink.acceptVoxelSet(std::move(set), values);
+  }
+  progress.report(1.0, "voxel sets");
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace
@@ -199,84 +430,43 @@ LayersResult extractLayers(const DistanceField& field, const VoxelGrid& grid, co
                            const TriMesh& source, const LayerOptions& options, Progress progress) {
   const auto start = std::chrono::steady_clock::now();
   checkInputs(field, grid, model, options);
-  const double h = options.layerThickness;
   const FieldSummary summary = summarise(field);
   const int layerCount = countLayers(summary.maxDistance, options);
   progress.check();
 
   LayersResult result;
-  LayerExtractionStats& stats = result.stats;
   if (layerCount == 0) {  // the solid is thinner than one layer
     progress.report(1.0, "voxel sets");
-    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.stats.seconds = secondsSince(start);
     return result;
   }
+  std::vector<float> values = field.distance;
+  CollectingSink sink(result);
+  extractInBatches(values, grid, model, source, sink, options, layerCount, progress, result);
+  result.stats.seconds = secondsSince(start);
+  return result;
+}
 
-  // ---- extending field ----
-  FieldExtensionStats extension;
-  std::vector<TriMesh> surfaces;
-  {
-    const std::vector<float> extended =
-        extendField(field, grid, extension, progress.sub(0.0, 0.15));
-    stats.extendedCells = extension.extendedCells;
-    stats.partialFits = extension.partialFits;
-    stats.nearestFallbacks = extension.nearestFallbacks;
+LayersResult streamLayers(DistanceField&& field, const VoxelGrid& grid, const TriMesh& model,
+                          const TriMesh& source, LayerSink& sink, const LayerOptions& options,
+                          Progress progress) {
+  const auto start = std::chrono::steady_clock::now();
+  checkInputs(field, grid, model, options);
+  const FieldSummary summary = summarise(field);
+  const int layerCount = countLayers(summary.maxDistance, options);
+  progress.check();
 
-    // ---- marching tetrahedra / merging layers ----
-    surfaces =
-        extractIsoSurfaces(extended, field.geometry, h, layerCount, progress.sub(0.15, 0.55));
+  LayersResult result;
+  std::vector<float> values = std::move(field.distance);
+  field.distance = {};
+  if (layerCount == 0) {
+    sink.begin(0, {}, grid.geometry);
+    progress.report(1.0, "voxel sets");
+    result.stats.seconds = secondsSince(start);
+    return result;
   }
-
-  // ---- clipping layers ----
-  const auto count = static_cast<std::size_t>(layerCount);
-  result.surfaces.resize(count);
-  {
-    const TriangleBvh modelBvh = options.clipToSolid ? TriangleBvh(model) : TriangleBvh();
-    const std::vector<std::uint8_t> surfaceCells =
-        options.clipToSolid ? markSurfaceCells(model, grid.geometry) : std::vector<std::uint8_t>{};
-    std::vector<ClipStats> clipStats(count);
-    runChunked(count, progress.sub(0.55, 0.8), "clipping layers", [&](std::size_t i) {
-      LayerSurface& layer = result.surfaces[i];
-      layer.index = static_cast<int>(i) + 1;
-      layer.level = static_cast<double>(i + 1) * h;
-      if (options.clipToSolid) {
-        layer.mesh = clipSurfaceToSolid(surfaces[i], modelBvh, grid, surfaceCells, clipStats[i]);
-      } else {
-        layer.mesh = std::move(surfaces[i]);
-        removeDegenerateAndUnused(layer.mesh);
-      }
-      surfaces[i] = TriMesh{};  // release the unclipped surface
-      layer.area = surfaceArea(layer.mesh);
-      layer.components = countEdgeComponents(layer.mesh);
-    });
-    for (const ClipStats& c : clipStats) {
-      stats.exactDistanceQueries += c.exactQueries;
-      stats.rimVertices += c.rimVertices;
-    }
-  }
-
-  // ---- measuring thickness ----
-  if (options.thicknessSamples >= 0) {
-    const TriangleBvh sourceBvh(source);
-    runChunked(count, progress.sub(0.8, 0.95), "measuring thickness", [&](std::size_t i) {
-      LayerSurface& layer = result.surfaces[i];
-      if (layer.mesh.vertices.empty()) return;
-      if (i == 0) {
-        layer.thicknessToPrevious =
-            measureThickness(layer.mesh, sourceBvh, options.thicknessSamples);
-      } else {
-        // Queries come with hints, so the k-d tree would not pay for itself.
-        const TriangleBvh previous(result.surfaces[i - 1].mesh, TriangleBvhOptions{false});
-        layer.thicknessToPrevious =
-            measureThickness(layer.mesh, previous, options.thicknessSamples);
-      }
-    });
-  }
-
-  // ---- voxel sets ----
-  result.voxelSets = collectVoxelSets(field, h, layerCount, progress.sub(0.95, 1.0));
-  progress.report(1.0, "voxel sets");
-  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  extractInBatches(values, grid, model, source, sink, options, layerCount, progress, result);
+  result.stats.seconds = secondsSince(start);
   return result;
 }
 

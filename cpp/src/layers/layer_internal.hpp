@@ -42,29 +42,59 @@ struct FieldExtensionStats {
   std::size_t nearestFallbacks = 0;  ///< of those, given the nearest reached value
 };
 
-/// The field with values added in outside cells (grid.inside == 0) within Chebyshev distance
-/// `kExtensionBand` cells of a reached cell, by a weighted least-squares linear fit
+/// Adds values in outside cells (grid.inside == 0) within Chebyshev distance `kExtensionBand`
+/// cells of a reached cell (value < +inf), in place: a weighted least-squares linear fit
 /// d ≈ a + g·(x − x0) over the reached cells in the (2·kFitRadius + 1)³ box around the cell x0
 /// (weights 1/|x − x0|²). Directions in which the samples' weighted variance is below
 /// kMinVariance (cells²) get no gradient component (truncated eigen-solve); if no direction is
 /// determined, the nearest reached value is used. A linear field is reproduced exactly whenever
-/// the samples span 3D. Other cells keep their values (+inf if not reached).
+/// the samples span 3D. Every fit reads the values as they were before the call; other cells keep
+/// their values (+inf if not reached). Extra memory: one bit per cell plus 12 bytes per extended
+/// cell.
+/// @return the extended cells, increasing linear index
 inline constexpr int kExtensionBand = 2;
 inline constexpr int kFitRadius = 3;
 inline constexpr double kMinVariance = 0.04;
+std::vector<std::size_t> extendFieldInPlace(std::vector<float>& values, const VoxelGrid& grid,
+                                            FieldExtensionStats& stats, const Progress& progress);
+
+/// The same on a copy of the field.
 std::vector<float> extendField(const DistanceField& field, const VoxelGrid& grid,
                                FieldExtensionStats& stats, const Progress& progress);
 
 // ---- marching tetrahedra (marching_tetrahedra.cpp) ------------------------------------------
 
-/// Iso-surfaces values = i·h for i = 1..layerCount of the piecewise-linear
-/// interpolant of `values` (one per cell, +inf = no value) on the Kuhn (Freudenthal)
-/// tetrahedralisation of the dual grid, in one pass over the cubes. Result[i − 1] is level i, part
-/// frame, indexed (vertices shared through the grid edge they lie on), triangles oriented with
-/// normals towards increasing values; triangles with repeated vertices are dropped.
+/// What one scan of the dual grid learns before any surface is built: for every level i·h
+/// (i = 1..layerCount) the number of cubes it crosses (a proxy for its triangle count: the Kuhn
+/// split gives at most 12 triangles per cube and level), and per fixed x slab of cubes the levels
+/// it meets, so that later passes for a range of levels skip slabs that meet none of them.
+struct IsoSurfacePlan {
+  struct SlabLevels {
+    int x0 = 0, x1 = 0;  ///< cubes with min-corner x in [x0, x1)
+    int firstLevel = 0,
+        lastLevel = -1;  ///< levels crossing a cube of the slab (empty if last < first)
+  };
+  double h = 1.0;
+  int layerCount = 0;
+  int layerBits = 1;
+  std::vector<SlabLevels> slabs;
+  std::vector<std::uint64_t> crossingCubes;  ///< [i − 1]: cubes crossed by level i
+};
+
+/// Scans `values` (one per cell, +inf = no value) once for the plan above.
+/// @throws InvalidInput if grid keys and level numbers do not fit 64 bits together.
+IsoSurfacePlan planIsoSurfaces(const std::vector<float>& values, const GridGeometry& geometry,
+                               double h, int layerCount, const Progress& progress);
+
+/// Iso-surfaces values = i·h for i = levelBegin..levelEnd (1-based, within the plan) of the
+/// piecewise-linear interpolant of `values` on the Kuhn (Freudenthal) tetrahedralisation of the
+/// dual grid, in one pass over the cubes of the slabs that meet those levels. Result[i −
+/// levelBegin] is level i, part frame, indexed (vertices shared through the grid edge they lie
+/// on), triangles oriented with normals towards increasing values; triangles with repeated
+/// vertices are dropped. A level's surface does not depend on the range it is extracted with.
 std::vector<TriMesh> extractIsoSurfaces(const std::vector<float>& values,
-                                        const GridGeometry& geometry, double h, int layerCount,
-                                        const Progress& progress);
+                                        const GridGeometry& geometry, const IsoSurfacePlan& plan,
+                                        int levelBegin, int levelEnd, const Progress& progress);
 
 // ---- clipping and clean-up (surface_clipping.cpp) -------------------------------------------
 

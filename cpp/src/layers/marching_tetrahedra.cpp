@@ -187,16 +187,19 @@ int bitsFor(std::uint64_t n) {
   return bits;
 }
 
+/// Marches the cubes of `slab` for levels [levelBegin, levelEnd] (1-based, within 1..layerCount);
+/// slab.layers[level − levelBegin] receives level `level`.
 void marchSlab(Slab& slab, const std::vector<float>& values, const GridGeometry& g, double h,
-               int layerCount, int layerBits, bool flip) {
+               int layerCount, int levelBegin, int levelEnd, int layerBits, bool flip) {
   const int ny = g.dims.y(), nz = g.dims.z();
   const std::size_t sx = g.strideX(), sy = g.strideY();
   std::array<std::size_t, 8> offset{};
   for (int c = 0; c < 8; ++c) offset[c] = (c & 1) * sx + ((c >> 1) & 1) * sy + ((c >> 2) & 1);
   const auto& tets = kuhnTetrahedra();
   const auto& cases = tetCases();
-  slab.layers.assign(static_cast<std::size_t>(layerCount), {});
+  slab.layers.assign(static_cast<std::size_t>(levelEnd - levelBegin + 1), {});
   KeyIndexMap map;
+  const double lowest = levelBegin * h, highest = levelEnd * h;
 
   std::array<double, 8> v{};
   std::array<Vec3, 8> centre{};  // grid frame
@@ -217,10 +220,13 @@ void marchSlab(Slab& slab, const std::vector<float>& values, const GridGeometry&
           hi = std::max(hi, v[c]);
         }
         if (!complete) continue;
+        // Cubes entirely above or below the levels of this pass (the exact test is below).
+        if (!(lo < highest + h && hi >= lowest - h)) continue;
         // Candidate levels (one extra on each side against rounding), clamped before the cast.
-        const double count = layerCount;
-        const int first = static_cast<int>(std::clamp(std::floor(lo / h), 1.0, count + 1.0));
-        const int last = static_cast<int>(std::clamp(std::floor(hi / h) + 1.0, 0.0, count));
+        const int first = static_cast<int>(
+            std::clamp(std::floor(lo / h), static_cast<double>(levelBegin), levelEnd + 1.0));
+        const int last = static_cast<int>(
+            std::clamp(std::floor(hi / h) + 1.0, levelBegin - 1.0, static_cast<double>(levelEnd)));
         bool centresReady = false;
         for (int level = first; level <= last; ++level) {
           const double lambda = level * h;
@@ -232,7 +238,7 @@ void marchSlab(Slab& slab, const std::vector<float>& values, const GridGeometry&
             }
             centresReady = true;
           }
-          LayerPiece& piece = slab.layers[static_cast<std::size_t>(level - 1)];
+          LayerPiece& piece = slab.layers[static_cast<std::size_t>(level - levelBegin)];
           // Vertices already looked up in this cube for this level, by corner pair.
           std::array<int, 64> cached;
           cached.fill(-1);
@@ -328,35 +334,132 @@ TriMesh mergeLevel(std::vector<Slab>& slabs, std::size_t level, std::size_t stri
 
 }  // namespace
 
-std::vector<TriMesh> extractIsoSurfaces(const std::vector<float>& values,
-                                        const GridGeometry& geometry, double h, int layerCount,
-                                        const Progress& progress) {
-  std::vector<TriMesh> result(static_cast<std::size_t>(std::max(0, layerCount)));
+IsoSurfacePlan planIsoSurfaces(const std::vector<float>& values, const GridGeometry& geometry,
+                               double h, int layerCount, const Progress& progress) {
+  IsoSurfacePlan plan;
+  plan.h = h;
+  plan.layerCount = std::max(0, layerCount);
+  plan.crossingCubes.assign(static_cast<std::size_t>(plan.layerCount), 0);
   const int cubesX = geometry.dims.x() - 1;
-  if (layerCount <= 0 || cubesX < 1 || geometry.dims.y() < 2 || geometry.dims.z() < 2) {
-    progress.report(1.0, "marching tetrahedra");
-    return result;
+  if (plan.layerCount == 0 || cubesX < 1 || geometry.dims.y() < 2 || geometry.dims.z() < 2) {
+    progress.report(1.0, "counting crossings");
+    return plan;
   }
-  const int layerBits = std::max(1, bitsFor(static_cast<std::uint64_t>(layerCount - 1)));
+  plan.layerBits = std::max(1, bitsFor(static_cast<std::uint64_t>(plan.layerCount - 1)));
   const int keyBits = bitsFor(static_cast<std::uint64_t>(geometry.cellCount())) + 3;
-  if (keyBits + layerBits > 64) {
+  if (keyBits + plan.layerBits > 64) {
     throw InvalidInput(
         "grid too large for layer extraction: " + std::to_string(geometry.cellCount()) +
         " cells with " + std::to_string(layerCount) + " layers; use a coarser voxel size");
   }
+  const int slabWidth = std::max(1, (cubesX + 127) / 128);
+  for (int x0 = 0; x0 < cubesX; x0 += slabWidth) {
+    plan.slabs.push_back({x0, std::min(cubesX, x0 + slabWidth), 0, -1});
+  }
+  // Per slab: crossings of the levels [firstLevel, lastLevel] it meets (a window, so the counts
+  // take memory in proportion to the levels each slab spans).
+  struct Counts {
+    int first = 0;
+    std::vector<std::uint64_t> perLevel;
+  };
+  std::vector<Counts> counts(plan.slabs.size());
+  const int ny = geometry.dims.y(), nz = geometry.dims.z();
+  const std::size_t sx = geometry.strideX(), sy = geometry.strideY();
+  std::array<std::size_t, 8> offset{};
+  for (int c = 0; c < 8; ++c) offset[c] = (c & 1) * sx + ((c >> 1) & 1) * sy + ((c >> 2) & 1);
+  runChunked(plan.slabs.size(), progress, "counting crossings", [&](std::size_t s) {
+    IsoSurfacePlan::SlabLevels& slab = plan.slabs[s];
+    // Pass 1: the range of values over the slab's complete cubes; pass 2: crossings per level.
+    double slabLo = kInf, slabHi = -kInf;
+    std::vector<std::uint64_t>& perLevel = counts[s].perLevel;
+    for (int pass = 0; pass < 2; ++pass) {
+      for (int i = slab.x0; i < slab.x1; ++i) {
+        for (int j = 0; j + 1 < ny; ++j) {
+          for (int k = 0; k + 1 < nz; ++k) {
+            const std::size_t n = geometry.index(i, j, k);
+            bool complete = true;
+            double lo = kInf, hi = -kInf;
+            for (int c = 0; c < 8; ++c) {
+              const float f = values[n + offset[c]];
+              if (!(f < kInfF)) {
+                complete = false;
+                break;
+              }
+              lo = std::min(lo, static_cast<double>(f));
+              hi = std::max(hi, static_cast<double>(f));
+            }
+            if (!complete) continue;
+            if (pass == 0) {
+              slabLo = std::min(slabLo, lo);
+              slabHi = std::max(slabHi, hi);
+              continue;
+            }
+            // The same candidate levels and test as marchSlab.
+            const double count = plan.layerCount;
+            const int first = static_cast<int>(std::clamp(std::floor(lo / h), 1.0, count + 1.0));
+            const int last = static_cast<int>(std::clamp(std::floor(hi / h) + 1.0, 0.0, count));
+            for (int level = first; level <= last; ++level) {
+              const double lambda = level * h;
+              if (!(lo < lambda && lambda <= hi)) continue;
+              ++perLevel[static_cast<std::size_t>(level - counts[s].first)];
+              slab.firstLevel = std::min(slab.firstLevel, level);
+              slab.lastLevel = std::max(slab.lastLevel, level);
+            }
+          }
+        }
+      }
+      if (pass == 0) {
+        if (!(slabLo <= slabHi)) break;  // no complete cube
+        const double count = plan.layerCount;
+        counts[s].first = static_cast<int>(std::clamp(std::floor(slabLo / h), 1.0, count + 1.0));
+        const int last = static_cast<int>(std::clamp(std::floor(slabHi / h) + 1.0, 0.0, count));
+        if (last < counts[s].first) break;
+        perLevel.assign(static_cast<std::size_t>(last - counts[s].first + 1), 0);
+        slab.firstLevel = plan.layerCount + 1;
+        slab.lastLevel = 0;
+      }
+    }
+    if (slab.lastLevel < slab.firstLevel) {
+      slab.firstLevel = 0;
+      slab.lastLevel = -1;
+    }
+  });
+  for (const Counts& c : counts) {
+    for (std::size_t q = 0; q < c.perLevel.size(); ++q) {
+      plan.crossingCubes[static_cast<std::size_t>(c.first - 1) + q] += c.perLevel[q];
+    }
+  }
+  return plan;
+}
+
+std::vector<TriMesh> extractIsoSurfaces(const std::vector<float>& values,
+                                        const GridGeometry& geometry, const IsoSurfacePlan& plan,
+                                        int levelBegin, int levelEnd, const Progress& progress) {
+  if (levelBegin < 1 || levelEnd > plan.layerCount || levelEnd < levelBegin) {
+    throw InvalidInput("level range outside the planned layers: " + std::to_string(levelBegin) +
+                       ".." + std::to_string(levelEnd) + " of 1.." +
+                       std::to_string(plan.layerCount) + "; pass a range within the plan");
+  }
+  std::vector<TriMesh> result(static_cast<std::size_t>(levelEnd - levelBegin + 1));
+  if (plan.slabs.empty()) {
+    progress.report(1.0, "merging layers");
+    return result;
+  }
   const bool flip = geometry.frame.rotation.determinant() < 0.0;
 
   // ---- marching tetrahedra ----
-  const int slabWidth = std::max(1, (cubesX + 127) / 128);
+  // Only the slabs that meet a level of the range; the others contribute nothing to it.
   std::vector<Slab> slabs;
-  for (int x0 = 0; x0 < cubesX; x0 += slabWidth) {
-    Slab s;
-    s.x0 = x0;
-    s.x1 = std::min(cubesX, x0 + slabWidth);
-    slabs.push_back(std::move(s));
+  for (const IsoSurfacePlan::SlabLevels& s : plan.slabs) {
+    if (s.lastLevel < levelBegin || s.firstLevel > levelEnd) continue;
+    Slab slab;
+    slab.x0 = s.x0;
+    slab.x1 = s.x1;
+    slabs.push_back(std::move(slab));
   }
   runChunked(slabs.size(), progress.sub(0.0, 0.85), "marching tetrahedra", [&](std::size_t s) {
-    marchSlab(slabs[s], values, geometry, h, layerCount, layerBits, flip);
+    marchSlab(slabs[s], values, geometry, plan.h, plan.layerCount, levelBegin, levelEnd,
+              plan.layerBits, flip);
   });
 
   // ---- merging layers ----

@@ -67,9 +67,7 @@ bool isLayerFileName(const std::string& name) {
          std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
-void writeVoxelSetsPly(std::ostream& out, const LayersResult& layers, const DistanceField& field) {
-  std::size_t points = 0;
-  for (const VoxelLayerSet& set : layers.voxelSets) points += set.cells.size();
+void writeVoxelSetsPlyHeader(std::ostream& out, std::size_t points) {
   out << "ply\n"
       << "format binary_little_endian 1.0\n"
       << "comment curvedslicer voxel layer sets S_i (paper eq. 13): voxel centres in the part "
@@ -81,25 +79,36 @@ void writeVoxelSetsPly(std::ostream& out, const LayersResult& layers, const Dist
       << "property int layer\n"
       << "property float distance\n"
       << "end_header\n";
+}
+
+void appendVoxelSetPly(std::ostream& out, const VoxelLayerSet& set, const GridGeometry& geometry,
+                       const std::vector<float>& distance) {
   std::string buffer;
   constexpr std::size_t kRecord = 20;
   constexpr std::size_t kFlushBytes = std::size_t{1} << 20;
-  buffer.reserve(kFlushBytes + kRecord);
-  for (const VoxelLayerSet& set : layers.voxelSets) {
-    for (std::size_t n : set.cells) {
-      const Vec3 p = field.geometry.centerInPart(n);
-      appendLittleEndian(buffer, static_cast<float>(p.x()));
-      appendLittleEndian(buffer, static_cast<float>(p.y()));
-      appendLittleEndian(buffer, static_cast<float>(p.z()));
-      appendLittleEndian(buffer, static_cast<std::int32_t>(set.index));
-      appendLittleEndian(buffer, field.distance[n]);
-      if (buffer.size() >= kFlushBytes) {
-        out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-        buffer.clear();
-      }
+  buffer.reserve(std::min(kFlushBytes, set.cells.size() * kRecord) + kRecord);
+  for (std::size_t n : set.cells) {
+    const Vec3 p = geometry.centerInPart(n);
+    appendLittleEndian(buffer, static_cast<float>(p.x()));
+    appendLittleEndian(buffer, static_cast<float>(p.y()));
+    appendLittleEndian(buffer, static_cast<float>(p.z()));
+    appendLittleEndian(buffer, static_cast<std::int32_t>(set.index));
+    appendLittleEndian(buffer, distance[n]);
+    if (buffer.size() >= kFlushBytes) {
+      out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+      buffer.clear();
     }
   }
   out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+}
+
+void writeVoxelSetsPly(std::ostream& out, const LayersResult& layers, const DistanceField& field) {
+  std::size_t points = 0;
+  for (const VoxelLayerSet& set : layers.voxelSets) points += set.cells.size();
+  writeVoxelSetsPlyHeader(out, points);
+  for (const VoxelLayerSet& set : layers.voxelSets) {
+    appendVoxelSetPly(out, set, field.geometry, field.distance);
+  }
 }
 
 // ---- OutputStaging ----------------------------------------------------------------------------
@@ -144,6 +153,12 @@ void OutputStaging::stage(const std::string& name,
   prepare();
   write(staging_ / name);
   names_.push_back(name);
+}
+
+fs::path OutputStaging::reserve(const std::string& name) {
+  prepare();
+  names_.push_back(name);
+  return staging_ / name;
 }
 
 void OutputStaging::commit(const std::function<bool(const std::string&)>& isStale) {

@@ -40,8 +40,9 @@ class StageClock {
     begin_ = Clock::now();
   }
   void stop() {
-    times_.push_back(
-        {std::move(name_), std::chrono::duration<double>(Clock::now() - begin_).count()});
+    times_.push_back({std::move(name_),
+                      std::chrono::duration<double>(Clock::now() - begin_).count(),
+                      peakResidentMemoryBytes()});
   }
 
  private:
@@ -141,16 +142,15 @@ void validateLayerJobOptions(const LayerJobOptions& options) {
   }
 }
 
-LayerJobResult runLayerJob(const TriMesh& rawModel, const LayerJobOptions& options,
-                           Progress progress) {
-  const auto jobBegin = Clock::now();
+namespace {
+
+/// The stages up to and including the field (shared by both forms of runLayerJob).
+void runStagesUpToField(const TriMesh& rawModel, const LayerJobOptions& options,
+                        const Progress& progress, LayerJobResult& result, StageClock& clock) {
   validateLayerJobOptions(options);
   if (rawModel.empty()) {
     throw InvalidInput("model has no triangles: 0; pass a closed triangle mesh of the part");
   }
-
-  LayerJobResult result;
-  StageClock clock(result.stageTimes);
 
   // ---- clean ---------------------------------------------------------------------------------
   progress.report(0.0, "clean");
@@ -207,18 +207,63 @@ LayerJobResult runLayerJob(const TriMesh& rawModel, const LayerJobOptions& optio
         " mm, largest distance " + formatNumber(result.field.maxDistance) +
         " mm; use a layer thickness below the largest distance");
   }
+}
+
+void requireLayers(const LayersResult& layers, const LayerJobResult& result,
+                   const LayerJobOptions& options) {
+  if (layers.summaries.empty()) {
+    throw InvalidInput("no layer surface lies inside the part: 0 layers at h = " +
+                       formatNumber(options.layers.layerThickness) + " mm (largest distance " +
+                       formatNumber(result.field.maxDistance) +
+                       " mm); use a smaller layer thickness or voxel size");
+  }
+}
+
+}  // namespace
+
+LayerJobResult runLayerJob(const TriMesh& rawModel, const LayerJobOptions& options,
+                           Progress progress) {
+  const auto jobBegin = Clock::now();
+  LayerJobResult result;
+  StageClock clock(result.stageTimes);
+  runStagesUpToField(rawModel, options, progress, result, clock);
 
   // ---- layers --------------------------------------------------------------------------------
   progress.report(0.8, "layers");
   clock.start("layers");
-  result.layers = extractLayers(result.field.field, result.voxelization.grid, model, result.source,
-                                options.layers, progress.sub(0.8, 1.0));
+  result.layers = extractLayers(result.field.field, result.voxelization.grid, result.clean.mesh,
+                                result.source, options.layers, progress.sub(0.8, 1.0));
   clock.stop();
-  if (result.layers.surfaces.empty()) {
-    throw InvalidInput("no layer surface lies inside the part: 0 layers at h = " + formatNumber(h) +
-                       " mm (largest distance " + formatNumber(result.field.maxDistance) +
-                       " mm); use a smaller layer thickness or voxel size");
+  requireLayers(result.layers, result, options);
+  progress.report(1.0, "layers");
+
+  result.totalSeconds = std::chrono::duration<double>(Clock::now() - jobBegin).count();
+  result.peakMemoryBytes = peakResidentMemoryBytes();
+  return result;
+}
+
+LayerJobResult runLayerJob(const TriMesh& rawModel, const LayerJobOptions& options, LayerSink& sink,
+                           Progress progress) {
+  const auto jobBegin = Clock::now();
+  LayerJobResult result;
+  StageClock clock(result.stageTimes);
+  runStagesUpToField(rawModel, options, progress, result, clock);
+
+  // ---- layers --------------------------------------------------------------------------------
+  progress.report(0.8, "layers");
+  clock.start("layers");
+  {
+    // The field moves into the extraction, which extends it in place and frees it at the end.
+    DistanceField field = std::move(result.field.field);
+    result.field.field = DistanceField{};
+    result.field.field.geometry = field.geometry;
+    result.layers = streamLayers(std::move(field), result.voxelization.grid, result.clean.mesh,
+                                 result.source, sink, options.layers, progress.sub(0.8, 1.0));
   }
+  // No later stage needs the inside mask.
+  std::vector<std::uint8_t>().swap(result.voxelization.grid.inside);
+  clock.stop();
+  requireLayers(result.layers, result, options);
   progress.report(1.0, "layers");
 
   result.totalSeconds = std::chrono::duration<double>(Clock::now() - jobBegin).count();

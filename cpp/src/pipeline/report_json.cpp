@@ -114,29 +114,49 @@ Json fieldJson(const LayerJobResult& result) {
   return j;
 }
 
-Json layersJson(const LayerReportInputs& inputs, const LayerJobResult& result) {
+/// The per-layer summaries of the result; derived from its surfaces and voxel sets when the
+/// result was put together without them.
+std::vector<LayerSummary> layerSummaries(const LayersResult& layers) {
+  if (!layers.summaries.empty() || layers.surfaces.empty()) return layers.summaries;
   std::map<int, std::size_t> setSizes;
-  for (const VoxelLayerSet& set : result.layers.voxelSets) setSizes[set.index] = set.cells.size();
+  for (const VoxelLayerSet& set : layers.voxelSets) setSizes[set.index] = set.cells.size();
+  std::vector<LayerSummary> summaries;
+  summaries.reserve(layers.surfaces.size());
+  for (const LayerSurface& s : layers.surfaces) {
+    LayerSummary m;
+    m.index = s.index;
+    m.level = s.level;
+    m.vertices = s.mesh.vertexCount();
+    m.triangles = s.mesh.triangleCount();
+    m.area = s.area;
+    m.components = s.components;
+    m.thicknessToPrevious = s.thicknessToPrevious;
+    const auto it = setSizes.find(s.index);
+    m.voxelSetSize = it == setSizes.end() ? std::size_t{0} : it->second;
+    summaries.push_back(m);
+  }
+  return summaries;
+}
+
+Json layersJson(const LayerReportInputs& inputs, const std::vector<LayerSummary>& summaries) {
   Json layers = Json::array();
-  const auto& surfaces = result.layers.surfaces;
-  for (std::size_t k = 0; k < surfaces.size(); ++k) {
-    const LayerSurface& s = surfaces[k];
+  for (std::size_t k = 0; k < summaries.size(); ++k) {
+    const LayerSummary& s = summaries[k];
     const ThicknessStats& t = s.thicknessToPrevious;
     const bool measured = t.samples > 0;
     Json j;
     j["index"] = s.index;
     j["level_mm"] = number(s.level);
     j["file"] = inputs.layerFiles.empty() ? Json(nullptr) : Json(inputs.layerFiles[k]);
-    j["vertices"] = s.mesh.vertexCount();
-    j["triangles"] = s.mesh.triangleCount();
+    j["vertices"] = s.vertices;
+    j["triangles"] = s.triangles;
     j["area_mm2"] = number(s.area);
     j["components"] = s.components;
     j["thickness_mm"] = Json{{"min", measured ? number(t.min) : Json(nullptr)},
                              {"mean", measured ? number(t.mean) : Json(nullptr)},
                              {"max", measured ? number(t.max) : Json(nullptr)},
                              {"samples", t.samples}};
-    const auto it = setSizes.find(s.index);
-    j["voxel_set_size"] = it == setSizes.end() ? std::size_t{0} : it->second;
+    j["voxel_set_size"] = s.voxelSetSize;
     layers.push_back(std::move(j));
   }
   return layers;
@@ -146,10 +166,11 @@ Json layersJson(const LayerReportInputs& inputs, const LayerJobResult& result) {
 
 Json makeLayerReport(const LayerReportInputs& inputs, const LayerJobOptions& options,
                      const LayerJobResult& result) {
-  if (!inputs.layerFiles.empty() && inputs.layerFiles.size() != result.layers.surfaces.size()) {
+  const std::vector<LayerSummary> summaries = layerSummaries(result.layers);
+  if (!inputs.layerFiles.empty() && inputs.layerFiles.size() != summaries.size()) {
     throw InvalidInput(
         "layer file names do not match the layers: " + std::to_string(inputs.layerFiles.size()) +
-        " names for " + std::to_string(result.layers.surfaces.size()) +
+        " names for " + std::to_string(summaries.size()) +
         " layers; pass one name per layer surface");
   }
   Json report;
@@ -163,17 +184,26 @@ Json makeLayerReport(const LayerReportInputs& inputs, const LayerJobOptions& opt
   report["field"] = fieldJson(result);
   Json stages = Json::object();
   for (const StageTime& st : result.stageTimes) stages[st.name] = number(st.seconds);
-  report["timing"] =
-      Json{{"stage_seconds", stages}, {"total_seconds", number(result.totalSeconds)}};
+  Json stagePeaks = Json::object();
+  for (const StageTime& st : result.stageTimes) stagePeaks[st.name] = st.peakMemoryBytes;
+  report["timing"] = Json{{"stage_seconds", stages},
+                          {"total_seconds", number(result.totalSeconds)},
+                          {"stage_peak_memory_bytes", stagePeaks}};
   report["peak_memory_bytes"] = result.peakMemoryBytes;
+  const std::size_t cells = result.voxelization.grid.geometry.cellCount();
+  report["peak_memory_bytes_per_cell"] =
+      cells > 0 ? number(static_cast<double>(result.peakMemoryBytes) / static_cast<double>(cells))
+                : Json(nullptr);
   std::size_t voxelSetPoints = 0;
-  for (const VoxelLayerSet& set : result.layers.voxelSets) voxelSetPoints += set.cells.size();
+  for (const LayerSummary& s : summaries) voxelSetPoints += s.voxelSetSize;
   report["outputs"] =
-      Json{{"layer_count", result.layers.surfaces.size()},
+      Json{{"layer_count", summaries.size()},
            {"voxel_sets_file",
             inputs.voxelSetsFile.empty() ? Json(nullptr) : Json(inputs.voxelSetsFile)},
-           {"voxel_set_points", voxelSetPoints}};
-  report["layers"] = layersJson(inputs, result);
+           {"voxel_set_points", voxelSetPoints},
+           {"layer_batches", result.layers.batches},
+           {"largest_layer_batch_crossed_cubes", result.layers.largestBatchCrossings}};
+  report["layers"] = layersJson(inputs, summaries);
   return report;
 }
 

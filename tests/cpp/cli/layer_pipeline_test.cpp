@@ -126,6 +126,55 @@ TEST(LayerPipeline, IsDeterministic) {
   }
 }
 
+/// Keeps the surfaces and voxel sets a streaming job hands over.
+class KeepingSink final : public LayerSink {
+ public:
+  int layerCount = -1;
+  std::vector<LayerSurface> surfaces;
+  std::vector<VoxelLayerSet> sets;
+  void begin(int count, const std::vector<std::size_t>&, const GridGeometry&) override {
+    layerCount = count;
+  }
+  void acceptSurface(LayerSurface&& surface) override { surfaces.push_back(std::move(surface)); }
+  void acceptVoxelSet(VoxelLayerSet&& set, const std::vector<float>&) override {
+    sets.push_back(std::move(set));
+  }
+};
+
+TEST(LayerPipeline, StreamingJobHandsOverTheSameLayersAndReleasesTheVolumes) {
+  const TriMesh sphere = testing::makeSphere(Vec3(1, 2, 3), 5.0, 3);
+  LayerJobOptions o = boxOptions();
+  o.layers.layerThickness = 1.3;
+  const LayerJobResult inMemory = runLayerJob(sphere, o);  // automatic batches: one here
+  o.layers.batchCrossings = 400;                           // several batches
+  KeepingSink sink;
+  const LayerJobResult streamed = runLayerJob(sphere, o, sink);
+
+  ASSERT_EQ(sink.layerCount, static_cast<int>(inMemory.layers.surfaces.size()));
+  ASSERT_EQ(sink.surfaces.size(), inMemory.layers.surfaces.size());
+  ASSERT_EQ(sink.sets.size(), inMemory.layers.voxelSets.size());
+  for (std::size_t k = 0; k < sink.surfaces.size(); ++k) {
+    EXPECT_EQ(sink.surfaces[k].mesh.vertices, inMemory.layers.surfaces[k].mesh.vertices);
+    EXPECT_EQ(sink.surfaces[k].mesh.triangles, inMemory.layers.surfaces[k].mesh.triangles);
+    EXPECT_EQ(sink.sets[k].cells, inMemory.layers.voxelSets[k].cells);
+    EXPECT_EQ(streamed.layers.summaries[k].triangles, inMemory.layers.summaries[k].triangles);
+    EXPECT_EQ(streamed.layers.summaries[k].voxelSetSize, inMemory.layers.summaries[k].voxelSetSize);
+  }
+  EXPECT_GT(streamed.layers.batches, 1u);
+  EXPECT_EQ(inMemory.layers.batches, 1u);
+  // The streaming form keeps summaries only and has released the volume arrays.
+  EXPECT_TRUE(streamed.layers.surfaces.empty());
+  EXPECT_TRUE(streamed.layers.voxelSets.empty());
+  EXPECT_TRUE(streamed.field.field.distance.empty());
+  EXPECT_TRUE(streamed.voxelization.grid.inside.empty());
+  EXPECT_EQ(streamed.field.field.geometry.dims, inMemory.field.field.geometry.dims);
+  EXPECT_EQ(streamed.voxelization.grid.insideCount, inMemory.voxelization.grid.insideCount);
+  EXPECT_EQ(streamed.field.maxDistance, inMemory.field.maxDistance);
+  // The in-memory form keeps everything.
+  EXPECT_EQ(inMemory.field.field.distance.size(), inMemory.field.field.geometry.cellCount());
+  EXPECT_EQ(inMemory.voxelization.grid.inside.size(), inMemory.field.field.geometry.cellCount());
+}
+
 TEST(LayerPipeline, CancelsFromTheProgressCallback) {
   const TriMesh box = makeBox(Vec3(0, 0, 0), Vec3(10, 10, 10));
   for (const char* stopAt : {"voxelize", "field", "layers"}) {

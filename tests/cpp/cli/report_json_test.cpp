@@ -89,9 +89,9 @@ LayerJobOptions makeOptions() {
 
 TEST(LayerReport, TopLevelKeysInAStableOrder) {
   const Json report = makeLayerReport(makeInputs(), makeOptions(), makeResult());
-  EXPECT_EQ(keysOf(report),
-            (Names{"report", "format_version", "inputs", "mesh", "start_surface", "grid", "field",
-                   "timing", "peak_memory_bytes", "outputs", "layers"}));
+  EXPECT_EQ(keysOf(report), (Names{"report", "format_version", "inputs", "mesh", "start_surface",
+                                   "grid", "field", "timing", "peak_memory_bytes",
+                                   "peak_memory_bytes_per_cell", "outputs", "layers"}));
   EXPECT_EQ(
       keysOf(report["inputs"]),
       (Names{"model", "start_surface", "layer_thickness_mm", "voxel_size_mm", "method",
@@ -130,6 +130,8 @@ TEST(LayerReport, CarriesInputsMeshGridAndField) {
   EXPECT_EQ(report["field"]["diagnostics"]["line_of_sight_tests"], 12345);
   EXPECT_EQ(keysOf(report["timing"]["stage_seconds"]), (Names{"clean", "voxelize", "field"}));
   EXPECT_EQ(report["peak_memory_bytes"], 123456789);
+  EXPECT_DOUBLE_EQ(report["peak_memory_bytes_per_cell"].get<double>(),
+                   123456789.0 / (24 * 24 * 24));
   EXPECT_EQ(report["outputs"]["layer_count"], 2);
   EXPECT_EQ(report["outputs"]["voxel_set_points"], 300);
 }

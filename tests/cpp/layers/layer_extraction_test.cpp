@@ -484,3 +484,192 @@ TEST(LayerExtraction, DeterministicAcrossThreadCounts) {
 
 }  // namespace
 }  // namespace curvedslicer
+
+// ---- streaming (streamLayers and LayerSink) ----
+
+namespace curvedslicer {
+namespace {
+
+/// Records everything a sink receives and the order of the calls.
+class RecordingSink final : public LayerSink {
+ public:
+  int beginCalls = 0;
+  int layerCount = -1;
+  std::vector<std::size_t> announcedSizes;
+  std::vector<LayerSurface> surfaces;
+  std::vector<VoxelLayerSet> sets;
+  std::vector<std::vector<float>> setDistances;  // distance[n] at each set's cells
+  std::string calls;                             // 'b', 's' (surface), 'v' (voxel set)
+  int throwAtSurface = 0;                        // 1-based surface index that throws IoError
+
+  void begin(int count, const std::vector<std::size_t>& sizes, const GridGeometry&) override {
+    ++beginCalls;
+    layerCount = count;
+    announcedSizes = sizes;
+    calls += 'b';
+  }
+  void acceptSurface(LayerSurface&& surface) override {
+    if (surface.index == throwAtSurface) throw IoError("disk full: test; free some space");
+    calls += 's';
+    surfaces.push_back(std::move(surface));
+  }
+  void acceptVoxelSet(VoxelLayerSet&& set, const std::vector<float>& distance) override {
+    calls += 'v';
+    std::vector<float> d;
+    for (std::size_t n : set.cells) d.push_back(distance[n]);
+    setDistances.push_back(std::move(d));
+    sets.push_back(std::move(set));
+  }
+};
+
+void expectSameLayers(const LayersResult& expected, const RecordingSink& sink,
+                      const LayersResult& streamed) {
+  ASSERT_EQ(sink.surfaces.size(), expected.surfaces.size());
+  ASSERT_EQ(sink.sets.size(), expected.voxelSets.size());
+  ASSERT_EQ(streamed.summaries.size(), expected.surfaces.size());
+  for (std::size_t i = 0; i < expected.surfaces.size(); ++i) {
+    const LayerSurface& a = expected.surfaces[i];
+    const LayerSurface& b = sink.surfaces[i];
+    EXPECT_EQ(a.index, b.index);
+    EXPECT_EQ(a.level, b.level);
+    EXPECT_EQ(a.mesh.vertices, b.mesh.vertices) << "layer " << a.index;
+    EXPECT_EQ(a.mesh.triangles, b.mesh.triangles) << "layer " << a.index;
+    EXPECT_EQ(a.area, b.area);
+    EXPECT_EQ(a.components, b.components);
+    EXPECT_EQ(a.thicknessToPrevious.samples, b.thicknessToPrevious.samples);
+    EXPECT_EQ(a.thicknessToPrevious.min, b.thicknessToPrevious.min);
+    EXPECT_EQ(a.thicknessToPrevious.mean, b.thicknessToPrevious.mean);
+    EXPECT_EQ(a.thicknessToPrevious.max, b.thicknessToPrevious.max);
+    EXPECT_EQ(expected.voxelSets[i].index, sink.sets[i].index);
+    EXPECT_EQ(expected.voxelSets[i].cells, sink.sets[i].cells) << "set " << i + 1;
+    const LayerSummary& s = streamed.summaries[i];
+    EXPECT_EQ(s.index, a.index);
+    EXPECT_EQ(s.vertices, a.mesh.vertexCount());
+    EXPECT_EQ(s.triangles, a.mesh.triangleCount());
+    EXPECT_EQ(s.area, a.area);
+    EXPECT_EQ(s.voxelSetSize, expected.voxelSets[i].cells.size());
+  }
+  EXPECT_EQ(streamed.stats.extendedCells, expected.stats.extendedCells);
+  EXPECT_EQ(streamed.stats.exactDistanceQueries, expected.stats.exactDistanceQueries);
+  EXPECT_EQ(streamed.stats.rimVertices, expected.stats.rimVertices);
+}
+
+TEST(LayerStreaming, SameLayersInAnyBatchingAsInMemory) {
+  const HandCase c = makeShellCase(0.4);
+  const TriMesh model = testing::makeSphericalShell(kCentre, kR1, kR2, 3);
+  const TriMesh source = testing::makeSphere(kCentre, kR1, 3);  // the start surface
+  LayerOptions options;
+  options.layerThickness = 0.9;
+  options.thicknessSamples = 300;
+  const LayersResult expected = extractLayers(c.field, c.grid, model, source, options);
+  ASSERT_GT(expected.surfaces.size(), 4u);
+  EXPECT_EQ(expected.batches, 1u) << "the default budget fits this small case in one batch";
+  ASSERT_EQ(expected.summaries.size(), expected.surfaces.size());
+
+  std::size_t previousBatches = 0;
+  for (std::size_t budget : {std::size_t{100000}, std::size_t{3000}, std::size_t{1}}) {
+    LayerOptions o = options;
+    o.batchCrossings = budget;
+    DistanceField field = c.field;
+    RecordingSink sink;
+    const LayersResult streamed = streamLayers(std::move(field), c.grid, model, source, sink, o);
+    SCOPED_TRACE("batch budget " + std::to_string(budget));
+    EXPECT_TRUE(field.distance.empty()) << "the field is consumed";
+    EXPECT_TRUE(streamed.surfaces.empty());
+    EXPECT_TRUE(streamed.voxelSets.empty());
+    EXPECT_EQ(sink.beginCalls, 1);
+    EXPECT_EQ(sink.layerCount, static_cast<int>(expected.surfaces.size()));
+    for (std::size_t i = 0; i < expected.voxelSets.size(); ++i) {
+      EXPECT_EQ(sink.announcedSizes.at(i), expected.voxelSets[i].cells.size());
+    }
+    expectSameLayers(expected, sink, streamed);
+    // Distances handed with the sets are the field's.
+    for (std::size_t i = 0; i < sink.sets.size(); ++i) {
+      for (std::size_t q = 0; q < sink.sets[i].cells.size(); ++q) {
+        ASSERT_EQ(sink.setDistances[i][q], c.field.distance[sink.sets[i].cells[q]]);
+      }
+    }
+    // begin, then per batch its surfaces before its sets; indices increase.
+    EXPECT_EQ(sink.calls.front(), 'b');
+    EXPECT_GE(streamed.batches, previousBatches);
+    previousBatches = streamed.batches;
+    if (budget == 1) {
+      EXPECT_EQ(streamed.batches, expected.surfaces.size()) << "one level per batch";
+      std::string alternating = "b";
+      for (std::size_t i = 0; i < expected.surfaces.size(); ++i) alternating += "sv";
+      EXPECT_EQ(sink.calls, alternating);
+    }
+  }
+  EXPECT_GT(previousBatches, 1u);
+}
+
+TEST(LayerStreaming, UnclippedLayersMatchToo) {
+  const HandCase c = makeShellCase(0.5);
+  LayerOptions options;
+  options.layerThickness = 1.1;
+  options.clipToSolid = false;
+  options.thicknessSamples = 0;
+  const LayersResult expected = extractLayers(c.field, c.grid, TriMesh{}, TriMesh{}, options);
+  options.batchCrossings = 2000;
+  DistanceField field = c.field;
+  RecordingSink sink;
+  const LayersResult streamed =
+      streamLayers(std::move(field), c.grid, TriMesh{}, TriMesh{}, sink, options);
+  EXPECT_GT(streamed.batches, 1u);
+  expectSameLayers(expected, sink, streamed);
+}
+
+TEST(LayerStreaming, SinkErrorsAndCancellationStopTheExtraction) {
+  const HandCase c = makeShellCase(0.5);
+  const TriMesh model = testing::makeSphericalShell(kCentre, kR1, kR2, 3);
+  LayerOptions options;
+  options.layerThickness = 0.9;
+  options.batchCrossings = 1;
+  {
+    RecordingSink sink;
+    sink.throwAtSurface = 3;
+    DistanceField field = c.field;
+    EXPECT_THROW(streamLayers(std::move(field), c.grid, model, TriMesh{}, sink, options), IoError);
+    EXPECT_EQ(sink.surfaces.size(), 2u);
+  }
+  {
+    RecordingSink sink;
+    DistanceField field = c.field;
+    std::size_t calls = 0;
+    const Progress cancel([&](double, std::string_view) { return ++calls < 40; });
+    EXPECT_THROW(streamLayers(std::move(field), c.grid, model, TriMesh{}, sink, options, cancel),
+                 Cancelled);
+    EXPECT_LT(sink.surfaces.size(), 9u) << "cancelled before the end";
+  }
+  {  // Bad input is rejected before the sink hears anything.
+    RecordingSink sink;
+    DistanceField field = c.field;
+    LayerOptions bad = options;
+    bad.layerThickness = -1.0;
+    EXPECT_THROW(streamLayers(std::move(field), c.grid, model, TriMesh{}, sink, bad), InvalidInput);
+    EXPECT_EQ(sink.beginCalls, 0);
+  }
+}
+
+TEST(LayerStreaming, ProgressNeverGoesBackwardsAcrossBatches) {
+  const HandCase c = makeShellCase(0.5);
+  const TriMesh model = testing::makeSphericalShell(kCentre, kR1, kR2, 3);
+  LayerOptions options;
+  options.layerThickness = 0.9;
+  options.batchCrossings = 500;
+  std::vector<double> fractions;
+  const Progress watch([&](double f, std::string_view) {
+    fractions.push_back(f);
+    return true;
+  });
+  RecordingSink sink;
+  DistanceField field = c.field;
+  const LayersResult streamed =
+      streamLayers(std::move(field), c.grid, model, TriMesh{}, sink, options, watch);
+  EXPECT_GT(streamed.batches, 2u);
+  EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+  EXPECT_DOUBLE_EQ(fractions.back(), 1.0);
+}
+
+}  // namespace
+}  // namespace curvedslicer

@@ -27,14 +27,23 @@
 //       the previous layer: distances from this layer's vertices (or a sample of them, see
 //       `LayerOptions::thicknessSamples`) to the previous layer's surface — for layer 1 to the
 //       start surface.
+// Layers are built in batches of consecutive levels (one marching pass over the slabs that meet
+// them per batch, sized from a first scan that counts the cubes each level crosses) and handed
+// over layer by layer: `extractLayers` collects them all in memory; `streamLayers` gives each to
+// a `LayerSink` as soon as it is finished and keeps only its statistics, so that big jobs hold one
+// batch of layers at a time. A layer's surface does not depend on the batching.
 // Preconditions: `field` computed on `grid` (same geometry); `model` the closed, outward-oriented
 // surface the grid was voxelized from (only when clipping).
-// Cost: O(cells) for the extension scan and the marching pass, closest-point queries for vertices
-// in cells the model surface passes through and for the thickness samples, and one hierarchy per
-// layer for the thickness. Measured (2 cores, Release): 400×300×400 cells (21 M inside), analytic
-// field, 101 layers, 21–26 M output vertices and 42–51 M triangles: 18 s (flat layers) to 21 s
-// (curved layers), half of it for the thickness statistics; peak memory about 3× the output
-// meshes (which take ~24 bytes per triangle).
+// Cost: O(cells) for the extension scan, the crossing count and each batch's marching and eq. 13
+// passes, closest-point queries for vertices in cells the model surface passes through and for
+// the thickness samples, and one hierarchy per layer for the thickness. Memory besides the inputs:
+// the extended field (4 bytes per cell; in place of the field with `streamLayers`), one byte per
+// cell marking cells the model surface passes through, the surfaces of one batch (see
+// `LayerOptions::batchCrossings`) and one set of eq. 13 cells per layer of the batch. Measured (2
+// cores, Release): 400×300×400 cells (21 M inside), analytic field, 101 layers, 21–26 M output
+// vertices and 42–51 M triangles: 18 s (flat layers) to 21 s (curved layers), half of it for the
+// thickness statistics, before batching (one batch held all surfaces: peak memory about 3× the
+// output meshes, which take ~24 bytes per triangle). Bunny end to end: tests/bench/README.md §3.
 #pragma once
 
 #include <cstddef>
@@ -56,7 +65,17 @@ struct LayerOptions {
   /// layer builds a hierarchy over the previous one (~0.4 µs per triangle) and costs one
   /// closest-point query per sample (~3 µs on flat, ~25 µs on curved layers).
   int thicknessSamples = 4096;
+  /// Layers are built in batches of consecutive levels that together cross at most this many
+  /// cubes of the dual grid (a level crossing more is a batch of its own; a crossed cube gives
+  /// about 4–5 triangles; a batch holds its unclipped and clipped surfaces at once; with the
+  /// automatic size the bunny's layer stage stays below the field stage's peak memory,
+  /// tests/bench/README.md §3). 0: automatic, max(kMinBatchCrossings, cells / 64). Results do not
+  /// depend on it.
+  std::size_t batchCrossings = 0;
 };
+
+/// Smallest automatic batch, in crossed cubes.
+inline constexpr std::size_t kMinBatchCrossings = std::size_t{1} << 18;
 
 struct ThicknessStats {
   std::size_t samples = 0;  ///< vertices measured (0 if there is no previous surface)
@@ -81,6 +100,17 @@ struct VoxelLayerSet {
   std::vector<std::size_t> cells;  ///< linear cell indices into the grid
 };
 
+/// Everything about a layer but its geometry (what `streamLayers` keeps).
+struct LayerSummary {
+  int index = 0;       ///< i, 1-based
+  double level = 0.0;  ///< i·h, mm
+  std::size_t vertices = 0, triangles = 0;
+  double area = 0.0;  ///< mm²
+  std::size_t components = 0;
+  ThicknessStats thicknessToPrevious;
+  std::size_t voxelSetSize = 0;  ///< cells of S_i
+};
+
 /// Diagnostics of one `extractLayers` call.
 struct LayerExtractionStats {
   std::size_t extendedCells = 0;         ///< outside cells given extrapolated field values
@@ -95,6 +125,30 @@ struct LayersResult {
   std::vector<LayerSurface> surfaces;    ///< layers 1..n, in order (a layer may be empty)
   std::vector<VoxelLayerSet> voxelSets;  ///< S_1..S_n, in order
   LayerExtractionStats stats;
+  /// Per layer, in order: counts, area, components, thickness, |S_i|. Filled by extractLayers and
+  /// by runLayerJob in both forms (the streaming one leaves `surfaces` and `voxelSets` empty).
+  std::vector<LayerSummary> summaries;
+  /// Grid cross-checks of the batching: the number of batches and the most cubes one crossed.
+  std::size_t batches = 0, largestBatchCrossings = 0;
+};
+
+/// Receives the layers of `streamLayers` as they are finished, on the calling thread, in this
+/// order: `begin` once, then for each batch the surfaces of its levels (increasing index) followed
+/// by their voxel sets (increasing index), so all surfaces and all sets each arrive in order
+/// 1..n. Whatever a method throws ends the extraction with that exception.
+class LayerSink {
+ public:
+  virtual ~LayerSink() = default;
+  /// @param layerCount      n, the number of layers that will follow (may be 0)
+  /// @param voxelSetSizes   |S_i| for i = 1..n (what `acceptVoxelSet` will receive)
+  /// @param geometry        the grid the voxel sets' cell indices refer to
+  virtual void begin(int layerCount, const std::vector<std::size_t>& voxelSetSizes,
+                     const GridGeometry& geometry) = 0;
+  /// Layer i with its statistics; the sink may keep or drop it.
+  virtual void acceptSurface(LayerSurface&& surface) = 0;
+  /// S_i. `distance[n]` is the geodesic distance (mm) of every cell n of the set; the reference
+  /// is valid during the call only.
+  virtual void acceptVoxelSet(VoxelLayerSet&& set, const std::vector<float>& distance) = 0;
 };
 
 /// Extracts layers 1..n (see the file comment). Progress stages: "extending field", "marching
@@ -112,5 +166,16 @@ struct LayersResult {
 LayersResult extractLayers(const DistanceField& field, const VoxelGrid& grid, const TriMesh& model,
                            const TriMesh& source, const LayerOptions& options = {},
                            Progress progress = {});
+
+/// The same, handing every layer surface and voxel set to `sink` as soon as it is finished
+/// instead of collecting them: memory holds the field (extended in place, so `field` is
+/// consumed), the marks of the surface cells and one batch of layers. Progress stages as above
+/// plus "counting crossings"; the batch stages repeat per batch with the overall fraction
+/// increasing. Exceptions as above and whatever `sink` throws; after an exception the sink may
+/// have received some layers (it must discard them).
+/// @return the per-layer summaries and statistics (`surfaces` and `voxelSets` are empty)
+LayersResult streamLayers(DistanceField&& field, const VoxelGrid& grid, const TriMesh& model,
+                          const TriMesh& source, LayerSink& sink, const LayerOptions& options = {},
+                          Progress progress = {});
 
 }  // namespace curvedslicer

@@ -36,6 +36,15 @@ bool isLayerFileName(const std::string& name);
 /// @param field  the field the sets were taken from (cell centres and distances)
 void writeVoxelSetsPly(std::ostream& out, const LayersResult& layers, const DistanceField& field);
 
+/// The same in pieces, for sets that arrive one at a time: the header for `points` records in
+/// all, then each set's records (20 bytes per cell: centre x y z in the part frame, layer index,
+/// distance).
+/// @param geometry  the grid the sets' cell indices refer to
+/// @param distance  per-cell distances, mm, valid at the set's cells
+void writeVoxelSetsPlyHeader(std::ostream& out, std::size_t points);
+void appendVoxelSetPly(std::ostream& out, const VoxelLayerSet& set, const GridGeometry& geometry,
+                       const std::vector<float>& distance);
+
 /// A set of files staged inside `dir` and published together. Nothing touches the disk until the
 /// first `stage` call. Destroying an uncommitted staging removes everything it created.
 class OutputStaging {
@@ -50,6 +59,11 @@ class OutputStaging {
   /// @throws IoError if the folders cannot be created; whatever `write` throws.
   void stage(const std::string& name,
              const std::function<void(const std::filesystem::path&)>& write);
+
+  /// Registers the file `name` and returns its path in the staging folder, for a file the caller
+  /// writes itself over time (it must be complete before `commit`).
+  /// @throws IoError if the folders cannot be created.
+  std::filesystem::path reserve(const std::string& name);
 
   /// Moves every staged file into `dir` (in staging order), removes files for which
   /// `isStale(name)` holds and that were not just written, then deletes the staging folder.

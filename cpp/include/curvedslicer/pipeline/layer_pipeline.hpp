@@ -17,7 +17,9 @@
 // checked before any heavy work. Cost: dominated by the field (O(V log V) for V inside voxels)
 // and the layer extraction (see layers/layer_extraction.hpp); memory about
 // VoxelizeOptions::bytesPerCell per grid cell (checked against the budget up front) plus the
-// layer surfaces.
+// layer surfaces — all of them for the in-memory form, one batch for the streaming form (the one
+// with a LayerSink), which also hands the field to the extraction (extended there in place and
+// freed) and frees the inside mask once the layers are done.
 #pragma once
 
 #include <cstddef>
@@ -57,6 +59,9 @@ struct LayerJobOptions {
 struct StageTime {
   std::string name;  ///< the progress stage name ("clean", "voxelize", …)
   double seconds = 0.0;
+  /// Peak resident set size of the process when the stage ended, bytes (the maximum so far, so
+  /// a stage that raised it shows by a larger value than the stage before).
+  std::size_t peakMemoryBytes = 0;
 };
 
 struct LayerJobResult {
@@ -67,9 +72,20 @@ struct LayerJobResult {
   TriMesh source;                ///< start-surface triangles, part frame
   VoxelizeResult voxelization;   ///< grid (inside mask) and voxelizer statistics
   GeodesicResult field;          ///< distance field and its diagnostics
-  LayersResult layers;           ///< surfaces and the eq. 13 voxel sets, by increasing index
+  /// Surfaces, eq. 13 voxel sets and per-layer summaries, by increasing index. The streaming
+  /// form keeps only the summaries (the sink received the rest), and leaves `field.field` with
+  /// its geometry but no distances and `voxelization.grid` without its inside mask.
+  LayersResult layers;
   std::vector<StageTime> stageTimes;  ///< in execution order
   double totalSeconds = 0.0;
+  /// The same for big jobs: every layer surface and voxel set goes to `sink` as soon as it is
+  /// finished (see streamLayers in layers/layer_extraction.hpp) and is not kept; `result.layers`
+  /// holds the per-layer summaries. The field and the inside mask are released on the way (see
+  /// LayerJobResult::layers). Same errors; after an exception the sink may have received some
+  /// layers and must discard them.
+  LayerJobResult runLayerJob(const TriMesh& rawModel, const LayerJobOptions& options,
+                             LayerSink& sink, Progress progress = {});
+
   /// Peak resident set size of the whole process so far (getrusage ru_maxrss), bytes. In a
   /// process that runs several jobs it is the maximum over all of them.
   std::size_t peakMemoryBytes = 0;
@@ -91,6 +107,14 @@ void validateLayerJobOptions(const LayerJobOptions& options);
 ///         NumericalFailure — from the stages; Cancelled — when `progress` asks to stop.
 ///         No partial result is ever returned.
 LayerJobResult runLayerJob(const TriMesh& rawModel, const LayerJobOptions& options = {},
+                           Progress progress = {});
+
+/// The same for big jobs: every layer surface and voxel set goes to `sink` as soon as it is
+/// finished (see streamLayers in layers/layer_extraction.hpp) and is not kept; `result.layers`
+/// holds the per-layer summaries. The field and the inside mask are released on the way (see
+/// LayerJobResult::layers). Same errors; after an exception the sink may have received some
+/// layers and must discard them.
+LayerJobResult runLayerJob(const TriMesh& rawModel, const LayerJobOptions& options, LayerSink& sink,
                            Progress progress = {});
 
 /// Peak resident set size of this process so far, bytes (0 where the OS does not tell).
