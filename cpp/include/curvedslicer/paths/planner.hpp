@@ -1,0 +1,142 @@
+// The deposition plan (paper §3.1 and the first part of §3.2; issue 3): equidistant bead paths on
+// every curved layer, ordered, with seams staggered and a deposition direction per point.
+//
+// Per layer (`planLayers`), bottom to top:
+//   1. initial curve ("initial curves"): (a) Boundary — the layer's boundary loops (the paper's
+//      blade case), paths at GDTC = (k + ½)·s so the outer bead's edge sits on the part edge;
+//      (b) Plane / Surface — the section of the layer with a user plane or surface mesh (the
+//      paper's "intersection of a user-input surface and the STL model"), paths at k·s on both
+//      sides, k = 0 being the section itself;
+//   2. GDTC ("surface geodesic"): paths/surface_geodesic.hpp, the curve inserted into the mesh;
+//   3. iso-lines ("iso-lines"): paths/iso_lines.hpp; pieces shorter than `minPathLength` are
+//      dropped (counted in the layer's warnings);
+//   4. fit ("fit"): paths/path_fit.hpp (smoothing cubic B-spline within `fitTolerance`, resampled
+//      at `pointSpacing`); the points are then projected onto the layer surface and get its
+//      normal (area-weighted vertex normals interpolated on the closest triangle);
+//   5. order ("order"): paths/ordering.hpp, from where the previous layer ended, seams at least
+//      `seamSeparation` (default 2·s) from the previous layer's seams;
+//   6. deposition ("deposition"): paths/deposition.hpp — first layer: the start surface and the
+//      earlier beads of the layer; later layers: the previous layer surface.
+// `planThinWall` (the paper's turbine base): a wall surface and one of its boundary loops (the
+// edge on the substrate); curves at GDTC = k·s, k = 1, 2, …, each one bead and one plan layer;
+// the normal of a point is the surface direction of increasing GDTC (the wall's growth
+// direction); V points to the nearest point of the previous bead (bead 1: of the edge).
+//
+// Problems of one layer (no boundary, an initial curve that misses it, no room for a bead) are
+// written into PlanLayer::warnings and the layer keeps no paths; when no layer gets a path at all
+// the call throws InvalidInput naming the reason (e.g. the spacing is wider than every layer).
+// Preconditions: layer surfaces as extractLayers returns them (indexed, oriented towards
+// increasing distance), part frame, mm. Cost: per layer O(V log V) for GDTC plus the fits
+// (paths/path_fit.hpp) and one closest-point query per path point.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "curvedslicer/core/progress.hpp"
+#include "curvedslicer/layers/layer_extraction.hpp"
+#include "curvedslicer/mesh/tri_mesh.hpp"
+#include "curvedslicer/paths/deposition.hpp"
+#include "curvedslicer/paths/ordering.hpp"
+#include "curvedslicer/paths/surface_geodesic.hpp"
+#include "curvedslicer/plan/plan.hpp"
+
+namespace curvedslicer {
+
+/// How the initial curve of every layer is chosen.
+enum class InitialCurveKind {
+  Boundary,  ///< the layer's boundary loops; contour-parallel paths inward at (k + ½)·s
+  Plane,     ///< the section with a plane; parallel paths on both sides at k·s
+  Surface,   ///< the section with a user surface mesh; parallel paths on both sides at k·s
+};
+
+struct InitialCurve {
+  InitialCurveKind kind = InitialCurveKind::Boundary;
+  Vec3 planePoint = Vec3::Zero();    ///< Plane: a point of the plane, part frame, mm
+  Vec3 planeNormal = Vec3::UnitX();  ///< Plane: its normal (need not be unit length)
+  TriMesh surface;                   ///< Surface: the user surface, part frame, mm
+  std::string describe() const;      ///< e.g. "boundary", "plane:0,0,0,1,0,0", "surface"
+};
+
+struct PlannerOptions {
+  double beadSpacing = 3.7;    ///< s, mm, distance between neighbouring bead centre lines (> 0)
+  double pointSpacing = 2.0;   ///< mm, largest distance between robot points (> 0)
+  double fitTolerance = 0.05;  ///< mm, spline fit tolerance (> 0)
+  InitialCurve initialCurve;   ///< default: the layer boundary
+  SurfaceGeodesicOptions geodesic;  ///< GDTC method (default: accurate) and curve tolerance
+  /// mm; iso-line pieces shorter than this are not deposited; < 0 means s (one bead width).
+  double minPathLength = -1.0;
+  /// mm; smallest distance between seams of consecutive layers; < 0 means 2·s.
+  double seamSeparation = -1.0;
+  int improvementPasses = 4;  ///< 2-opt passes of the ordering (paths/ordering.hpp)
+  DepositionOptions deposition;
+};
+
+/// Which boundary loop of a wall surface is the edge it grows from.
+enum class WallEdgeKind {
+  LowestAlongAxis,  ///< the loop whose lowest point along `axis` is lowest (e.g. on the plate)
+  NearestToPoint,   ///< the loop nearest to `point`
+};
+
+struct ThinWallOptions {
+  double beadSpacing = 1.65;   ///< mm, distance between beads along the surface (bead height)
+  double pointSpacing = 2.0;   ///< mm (> 0)
+  double fitTolerance = 0.05;  ///< mm (> 0)
+  WallEdgeKind edge = WallEdgeKind::LowestAlongAxis;
+  Vec3 axis = Vec3::UnitZ();  ///< LowestAlongAxis: the "up" direction, part frame
+  Vec3 point = Vec3::Zero();  ///< NearestToPoint: part frame, mm
+  SurfaceGeodesicOptions geodesic;
+  double minPathLength = -1.0;   ///< mm; < 0 means s
+  double seamSeparation = -1.0;  ///< mm; < 0 means 2·s
+  int improvementPasses = 4;
+  DepositionOptions deposition;
+};
+
+/// Wall time of one planner stage, summed over layers.
+struct PlanStageTime {
+  std::string name;  ///< "initial curves", "surface geodesic", "iso-lines", "fit", "order",
+                     ///< "deposition"
+  double seconds = 0.0;
+};
+
+struct PlanStats {
+  std::vector<PlanStageTime> stageTimes;
+  DepositionStats deposition;
+  std::size_t droppedFragments = 0;  ///< iso-line pieces shorter than minPathLength
+  std::size_t seamsTooClose = 0;     ///< rings whose seam could not keep the separation
+  double travel = 0.0;               ///< mm, straight-line travel over the whole plan
+  double arcLength = 0.0;            ///< mm, deposited length
+  double maxFitDeviation = 0.0;      ///< mm, largest spline-to-iso-line deviation
+  std::size_t layersWithoutPaths = 0;
+};
+
+struct PlanResult {
+  /// parameters.beadSpacing, pointSpacing, fitTolerance, surfaceMethod and initialCurve are set;
+  /// model, start, layerThickness, voxelSize, fieldMethod and PlanLayer::surface are left to the
+  /// caller.
+  Plan plan;
+  PlanStats stats;
+};
+
+/// Checks the options without touching geometry. @throws InvalidInput naming the parameter.
+void validatePlannerOptions(const PlannerOptions& options);
+void validateThinWallOptions(const ThinWallOptions& options);
+
+/// Plans every layer (see the file comment). Progress stages as the step names above.
+/// @param layers        the layer surfaces, bottom to top (extractLayers().surfaces)
+/// @param startSurface  the start-surface triangles (deposited material under the first layer;
+///                      may be empty)
+/// @throws InvalidInput for bad options, no layers, or no path on any layer (the message gives
+///         the reason of the first layer); NumericalFailure from the stages; Cancelled.
+PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& startSurface,
+                      const PlannerOptions& options = {}, Progress progress = {});
+
+/// Plans a thin wall (see the file comment).
+/// @param surface  the wall's surface, open, indexed, part frame, mm
+/// @throws InvalidInput for bad options, a surface without a boundary loop, a wall lower than
+///         one bead; NumericalFailure, Cancelled.
+PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options = {},
+                        Progress progress = {});
+
+}  // namespace curvedslicer

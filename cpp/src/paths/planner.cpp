@@ -1,0 +1,641 @@
+#include "curvedslicer/paths/planner.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "curvedslicer/core/error.hpp"
+#include "curvedslicer/geom/triangle_bvh.hpp"
+#include "curvedslicer/paths/iso_lines.hpp"
+#include "curvedslicer/paths/path_fit.hpp"
+#include "curvedslicer/paths/polyline.hpp"
+#include "curvedslicer/paths/surface_curves.hpp"
+
+namespace curvedslicer {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+const char* const kStages[] = {"initial curves", "surface geodesic", "iso-lines", "fit",
+                               "order",          "deposition"};
+enum Stage { kCurves, kGeodesic, kIso, kFit, kOrder, kDeposition, kStageCount };
+
+std::string formatMm(double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.4g", value);
+  return buffer;
+}
+
+std::string formatVec(const Vec3& v) {
+  return formatMm(v.x()) + "," + formatMm(v.y()) + "," + formatMm(v.z());
+}
+
+std::string describeKind(InitialCurveKind kind) {
+  return kind == InitialCurveKind::Plane ? "plane" : "surface";
+}
+
+/// Vertices on edges used by exactly one triangle (sorted, unique).
+std::vector<std::int32_t> findBoundaryVertices(const TriMesh& mesh) {
+  std::vector<std::pair<std::int32_t, std::int32_t>> edges;
+  edges.reserve(3 * mesh.triangleCount());
+  for (const Vec3i& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t a = t[k], b = t[(k + 1) % 3];
+      edges.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  std::vector<std::int32_t> vertices;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) {
+      vertices.push_back(edges[i].first);
+      vertices.push_back(edges[i].second);
+    }
+    i = j;
+  }
+  std::sort(vertices.begin(), vertices.end());
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  return vertices;
+}
+
+std::string surfaceMethodName(SurfaceGeodesicMethod method) {
+  return method == SurfaceGeodesicMethod::Paper ? "paper" : "accurate";
+}
+
+void checkPositive(double value, const char* what, const char* example) {
+  if (!std::isfinite(value) || value <= 0.0) {
+    throw InvalidInput(std::string(what) + " must be a positive number of mm: " + formatMm(value) +
+                       "; pass a value such as " + example);
+  }
+}
+
+class StageTimer {
+ public:
+  explicit StageTimer(PlanStats& stats) : stats_(stats), seconds_(kStageCount, 0.0) {}
+  template <typename F>
+  auto run(Stage stage, F&& f) {
+    const auto begin = Clock::now();
+    struct Add {
+      StageTimer* t;
+      Stage s;
+      Clock::time_point b;
+      ~Add() { t->seconds_[s] += std::chrono::duration<double>(Clock::now() - b).count(); }
+    } add{this, stage, begin};
+    return f();
+  }
+  void finish() {
+    stats_.stageTimes.clear();
+    for (int s = 0; s < kStageCount; ++s) stats_.stageTimes.push_back({kStages[s], seconds_[s]});
+  }
+
+ private:
+  PlanStats& stats_;
+  std::vector<double> seconds_;
+};
+
+/// Area-weighted unit vertex normals (zero for isolated vertices).
+std::vector<Vec3> computeVertexNormals(const TriMesh& mesh) {
+  std::vector<Vec3> normals(mesh.vertexCount(), Vec3::Zero());
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    const Vec3 n = mesh.areaNormal(t);
+    for (int k = 0; k < 3; ++k) normals[mesh.triangles[t][k]] += n;
+  }
+  for (Vec3& n : normals) {
+    const double len = n.norm();
+    if (len > 0.0) n /= len;
+  }
+  return normals;
+}
+
+Vec3 barycentric(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 v0 = b - a, v1 = c - a, v2 = p - a;
+  const double d00 = v0.dot(v0), d01 = v0.dot(v1), d11 = v1.dot(v1);
+  const double d20 = v2.dot(v0), d21 = v2.dot(v1);
+  const double den = d00 * d11 - d01 * d01;
+  if (!(std::abs(den) > 0.0)) return Vec3(1.0, 0.0, 0.0);
+  const double v = (d11 * d20 - d01 * d21) / den;
+  const double w = (d00 * d21 - d01 * d20) / den;
+  return Vec3(1.0 - v - w, v, w);
+}
+
+/// A layer surface with what the planner asks of it: closest points and normals.
+struct SurfaceQuery {
+  const TriMesh* mesh = nullptr;
+  TriangleBvh bvh;
+  std::vector<Vec3> vertexNormals;
+
+  explicit SurfaceQuery(const TriMesh& m)
+      : mesh(&m), bvh(m), vertexNormals(computeVertexNormals(m)) {}
+
+  /// The interpolated unit normal at a closest point of this surface.
+  Vec3 normalAt(const ClosestPoint& c) const {
+    const Vec3i& tri = mesh->triangles[c.triangle];
+    const Vec3 w = barycentric(c.point, mesh->vertices[tri[0]], mesh->vertices[tri[1]],
+                               mesh->vertices[tri[2]]);
+    Vec3 n =
+        w[0] * vertexNormals[tri[0]] + w[1] * vertexNormals[tri[1]] + w[2] * vertexNormals[tri[2]];
+    if (!(n.norm() > 1e-12)) n = mesh->areaNormal(c.triangle);
+    return n.normalized();
+  }
+};
+
+/// One bead before ordering: its points and per-point normals.
+struct RawBead {
+  Polyline line;
+  std::vector<Vec3> normals;
+};
+
+/// Fits the iso-lines at one value and turns them into beads on the surface.
+/// `normalOf` gives the normal at a projected point.
+template <typename NormalFn>
+void fitBeads(const std::vector<Polyline>& lines, double minLength, const PathFitOptions& fit,
+              const TriangleBvh& projectOnto, NormalFn&& normalOf, std::vector<RawBead>& beads,
+              PlanStats& stats, std::size_t& dropped) {
+  for (const Polyline& raw : lines) {
+    const std::size_t need = raw.closed ? 3 : 2;
+    if (raw.points.size() < need || raw.length() < minLength) {
+      ++dropped;
+      continue;
+    }
+    PathFitResult fitted = fitPath(raw, fit);
+    stats.maxFitDeviation = std::max(stats.maxFitDeviation, fitted.fitDeviation);
+    RawBead bead;
+    bead.line.closed = fitted.points.closed;
+    ClosestPoint hint;
+    for (const Vec3& p : fitted.points.points) {
+      hint = projectOnto.closestPoint(p, hint);
+      bead.line.points.push_back(hint.point);
+      bead.normals.push_back(normalOf(hint));
+    }
+    // Projection can merge neighbouring points only where the spline folds; drop exact repeats.
+    std::size_t w = 0;
+    for (std::size_t i = 0; i < bead.line.points.size(); ++i) {
+      if (w > 0 && (bead.line.points[i] - bead.line.points[w - 1]).norm() <= 1e-9) continue;
+      bead.line.points[w] = bead.line.points[i];
+      bead.normals[w] = bead.normals[i];
+      ++w;
+    }
+    bead.line.points.resize(w);
+    bead.normals.resize(w);
+    if (bead.line.closed && w >= 2 &&
+        (bead.line.points.back() - bead.line.points.front()).norm() <= 1e-9) {
+      bead.line.points.pop_back();
+      bead.normals.pop_back();
+    }
+    if (bead.line.points.size() < (bead.line.closed ? 3u : 2u)) {
+      ++dropped;
+      continue;
+    }
+    beads.push_back(std::move(bead));
+  }
+}
+
+/// Orders the beads of one layer and appends them to `layer` (without deposition directions).
+LayerOrder orderBeads(const std::vector<RawBead>& beads, int layerIndex,
+                      const std::optional<Vec3>& torch, const std::vector<Vec3>& previousSeams,
+                      const OrderingOptions& ordering, PlanLayer& layer) {
+  std::vector<Polyline> lines;
+  lines.reserve(beads.size());
+  for (const RawBead& b : beads) lines.push_back(b.line);
+  LayerOrder order = orderLayerPaths(lines, torch, previousSeams, ordering);
+  for (std::size_t k = 0; k < order.paths.size(); ++k) {
+    const OrderedPath& o = order.paths[k];
+    const RawBead& b = beads[o.source];
+    const std::vector<Vec3> points = applyOrder(b.line.points, b.line.closed, o);
+    const std::vector<Vec3> normals = applyOrder(b.normals, b.line.closed, o);
+    PlanPath path;
+    path.layer = layerIndex;
+    path.index = static_cast<int>(k);
+    path.closed = b.line.closed;
+    path.length = b.line.length();
+    path.points.resize(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      path.points[i].position = points[i];
+      path.points[i].normal = normals[i];
+      path.points[i].deposition = -normals[i];
+    }
+    layer.paths.push_back(std::move(path));
+  }
+  return order;
+}
+
+void finishStats(PlanResult& result, StageTimer& timer) {
+  timer.finish();
+  for (const PlanLayer& layer : result.plan.layers) {
+    if (layer.paths.empty()) ++result.stats.layersWithoutPaths;
+    for (const PlanPath& p : layer.paths) result.stats.arcLength += p.length;
+  }
+}
+
+}  // namespace
+
+std::string InitialCurve::describe() const {
+  switch (kind) {
+    case InitialCurveKind::Boundary:
+      return "boundary";
+    case InitialCurveKind::Plane:
+      return "plane:" + formatVec(planePoint) + "," + formatVec(planeNormal);
+    case InitialCurveKind::Surface:
+      return "surface";
+  }
+  return "boundary";
+}
+
+void validatePlannerOptions(const PlannerOptions& o) {
+  checkPositive(o.beadSpacing, "bead spacing", "3.7");
+  checkPositive(o.pointSpacing, "point spacing", "2");
+  checkPositive(o.fitTolerance, "fit tolerance", "0.05");
+  if (o.initialCurve.kind == InitialCurveKind::Plane &&
+      (!o.initialCurve.planeNormal.allFinite() || !(o.initialCurve.planeNormal.norm() > 0.0) ||
+       !o.initialCurve.planePoint.allFinite())) {
+    throw InvalidInput("initial plane needs a finite point and a non-zero normal: " +
+                       o.initialCurve.describe() + "; pass e.g. plane:0,0,0,1,0,0");
+  }
+  if (o.initialCurve.kind == InitialCurveKind::Surface && o.initialCurve.surface.empty()) {
+    throw InvalidInput(
+        "initial surface has no triangles: 0; pass a surface mesh that crosses the layers");
+  }
+  if (o.improvementPasses < 0) {
+    throw InvalidInput("ordering improvement passes must not be negative: " +
+                       std::to_string(o.improvementPasses) + "; pass 0 or more");
+  }
+}
+
+void validateThinWallOptions(const ThinWallOptions& o) {
+  checkPositive(o.beadSpacing, "bead spacing", "1.65");
+  checkPositive(o.pointSpacing, "point spacing", "2");
+  checkPositive(o.fitTolerance, "fit tolerance", "0.05");
+  if (o.edge == WallEdgeKind::LowestAlongAxis && (!o.axis.allFinite() || !(o.axis.norm() > 0.0))) {
+    throw InvalidInput("thin-wall axis must be a finite non-zero vector: " + formatVec(o.axis) +
+                       "; pass e.g. 0,0,1");
+  }
+  if (o.edge == WallEdgeKind::NearestToPoint && !o.point.allFinite()) {
+    throw InvalidInput("thin-wall edge point is not finite: " + formatVec(o.point) +
+                       "; pass a point in mm");
+  }
+}
+
+// ---- volume layers ----
+
+PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& startSurface,
+                      const PlannerOptions& options, Progress progress) {
+  validatePlannerOptions(options);
+  if (layers.empty()) {
+    throw InvalidInput("no layer surfaces to plan: 0 layers; run the layer job first");
+  }
+  const double s = options.beadSpacing;
+  const double minLength = options.minPathLength < 0.0 ? s : options.minPathLength;
+  OrderingOptions ordering;
+  ordering.seamSeparation = options.seamSeparation < 0.0 ? 2.0 * s : options.seamSeparation;
+  ordering.improvementPasses = options.improvementPasses;
+  PathFitOptions fit;
+  fit.tolerance = options.fitTolerance;
+  fit.pointSpacing = options.pointSpacing;
+  const bool fromBoundary = options.initialCurve.kind == InitialCurveKind::Boundary;
+  const IsoValueStart isoStart =
+      fromBoundary ? IsoValueStart::Boundary : IsoValueStart::InteriorCurve;
+
+  PlanResult result;
+  Plan& plan = result.plan;
+  plan.parameters.beadSpacing = s;
+  plan.parameters.pointSpacing = options.pointSpacing;
+  plan.parameters.fitTolerance = options.fitTolerance;
+  plan.parameters.surfaceMethod = surfaceMethodName(options.geodesic.method);
+  plan.parameters.initialCurve = options.initialCurve.describe();
+  StageTimer timer(result.stats);
+
+  std::optional<TriangleBvh> support;  // material under the current layer
+  if (!startSurface.empty()) support.emplace(startSurface);
+  std::optional<Vec3> torch;
+  std::vector<Vec3> previousSeams;
+  double widest = 0.0;  // largest GDTC over all layers (for the "spacing too wide" message)
+  std::string firstReason;
+
+  for (std::size_t li = 0; li < layers.size(); ++li) {
+    const Progress layerProgress = progress.sub(static_cast<double>(li) / layers.size(),
+                                                static_cast<double>(li + 1) / layers.size());
+    const LayerSurface& surface = layers[li];
+    PlanLayer layer;
+    layer.index = static_cast<int>(li);
+    layer.height = surface.level;
+    auto warn = [&](const std::string& text) {
+      layer.warnings.push_back(text);
+      if (firstReason.empty()) firstReason = "layer " + std::to_string(li) + ": " + text;
+    };
+
+    std::optional<SurfaceQuery> query;
+    std::vector<Polyline> curves;
+    std::optional<SurfaceGeodesicResult> field;
+    if (surface.mesh.empty()) {
+      warn("the layer surface is empty; no paths");
+    } else {
+      query.emplace(surface.mesh);
+      // ---- initial curves ----
+      layerProgress.report(0.0, kStages[kCurves]);
+      curves = timer.run(kCurves, [&] {
+        switch (options.initialCurve.kind) {
+          case InitialCurveKind::Plane:
+            return computePlaneSection(surface.mesh, options.initialCurve.planePoint,
+                                       options.initialCurve.planeNormal);
+          case InitialCurveKind::Surface:
+            return computeSurfaceSection(surface.mesh, options.initialCurve.surface);
+          case InitialCurveKind::Boundary:
+            break;
+        }
+        return extractBoundaryLoops(surface.mesh);
+      });
+      if (curves.empty()) {
+        warn(fromBoundary ? "the layer is a closed surface without a boundary; no paths (choose an "
+                            "initial plane or surface that crosses it)"
+                          : "the initial " + describeKind(options.initialCurve.kind) +
+                                " misses this layer; no paths (choose one that crosses every "
+                                "layer)");
+      }
+    }
+    if (!curves.empty()) {
+      // ---- surface geodesic ----
+      // Boundary loops consist of mesh vertices and edges: those vertices are the sources as they
+      // are (nothing to insert). Sections are inserted into the mesh.
+      try {
+        field = timer.run(kGeodesic, [&] {
+          return fromBoundary ? computeSurfaceGeodesicFromVertices(
+                                    surface.mesh, findBoundaryVertices(surface.mesh), {},
+                                    options.geodesic, layerProgress.sub(0.0, 0.7))
+                              : computeSurfaceGeodesic(surface.mesh, curves, options.geodesic,
+                                                       layerProgress.sub(0.0, 0.7));
+        });
+      } catch (const NumericalFailure& e) {
+        warn(std::string("the surface distance from the initial curve failed (") + e.what() +
+             "); no paths");
+      }
+    }
+    if (field) {
+      const SurfaceGeodesicResult& gdtc = *field;
+      double maxDistance = 0.0;
+      for (const double d : gdtc.distance) {
+        if (std::isfinite(d)) maxDistance = std::max(maxDistance, d);
+      }
+      widest = std::max(widest, maxDistance);
+      if (gdtc.unreachedVertices > 0) {
+        layer.warnings.push_back(std::to_string(gdtc.unreachedVertices) +
+                                 " vertices of the layer are not reached from the initial curve "
+                                 "(a separate piece of the layer); they get no paths");
+      }
+      // ---- iso-lines and fit ----
+      layerProgress.report(0.7, kStages[kIso]);
+      const std::vector<double> values = computeIsoValues(s, maxDistance, isoStart);
+      std::vector<RawBead> beads;
+      std::size_t dropped = 0;
+      const auto normalOf = [&](const ClosestPoint& c) { return query->normalAt(c); };
+      for (const double value : values) {
+        std::vector<Polyline> lines;
+        if (value <= 0.0) {
+          lines = curves;  // k = 0: the initial curve itself is the first bead
+        } else {
+          lines = timer.run(kIso, [&] { return extractIsoLines(gdtc.mesh, gdtc.distance, value); });
+        }
+        timer.run(kFit, [&] {
+          fitBeads(lines, minLength, fit, query->bvh, normalOf, beads, result.stats, dropped);
+          return 0;
+        });
+        layerProgress.check();
+      }
+      result.stats.droppedFragments += dropped;
+      if (values.empty()) {
+        warn("no room for a bead: the layer reaches at most " + formatMm(maxDistance) +
+             " mm from its initial curve, less than " +
+             (fromBoundary ? "s/2 = " + formatMm(0.5 * s) : "s = " + formatMm(s)) +
+             " mm; no paths");
+      } else if (beads.empty()) {
+        warn("no room for a bead: every iso-line is shorter than " + formatMm(minLength) +
+             " mm; no paths");
+      } else if (dropped > 0) {
+        layer.warnings.push_back(std::to_string(dropped) + " path piece(s) shorter than " +
+                                 formatMm(minLength) + " mm not deposited");
+      }
+      // ---- order ----
+      layerProgress.report(0.9, kStages[kOrder]);
+      const LayerOrder order = timer.run(kOrder, [&] {
+        return orderBeads(beads, layer.index, torch, previousSeams, ordering, layer);
+      });
+      if (!layer.paths.empty()) {
+        torch = order.end;
+        previousSeams = order.seams;
+        result.stats.travel += order.travel;
+        result.stats.seamsTooClose += order.seamsTooClose;
+        if (order.seamsTooClose > 0) {
+          layer.warnings.push_back(
+              std::to_string(order.seamsTooClose) + " ring(s) too short to keep the seam " +
+              formatMm(ordering.seamSeparation) + " mm from the previous layer's seams");
+        }
+      }
+      // ---- deposition ----
+      layerProgress.report(0.95, kStages[kDeposition]);
+      DepositionSupport dep;
+      dep.surface = support ? &*support : nullptr;
+      dep.earlierBeads = li == 0;
+      const DepositionStats ds = timer.run(kDeposition, [&] {
+        return assignDepositionDirections(layer.paths, dep, options.deposition);
+      });
+      result.stats.deposition.add(ds);
+    }
+    // The material under the next layer is this layer's surface (if it has one).
+    if (query) support.emplace(std::move(query->bvh));
+    plan.layers.push_back(std::move(layer));
+    layerProgress.report(1.0, kStages[kDeposition]);
+  }
+  finishStats(result, timer);
+  if (plan.pathCount() == 0) {
+    if (widest > 0.0 && widest < (fromBoundary ? 0.5 * s : s)) {
+      throw InvalidInput("bead spacing is wider than every layer: " + formatMm(s) +
+                         " mm, the layers reach at most " + formatMm(widest) +
+                         " mm from their initial curves; choose a bead spacing below " +
+                         formatMm(fromBoundary ? 2.0 * widest : widest) + " mm");
+    }
+    throw InvalidInput("no layer got a path: " + firstReason +
+                       "; change the initial curve or the bead spacing");
+  }
+  return result;
+}
+
+// ---- thin wall ----
+
+PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options, Progress progress) {
+  validateThinWallOptions(options);
+  if (surface.empty()) {
+    throw InvalidInput("thin-wall surface has no triangles: 0; pass the wall's surface mesh");
+  }
+  const double s = options.beadSpacing;
+  const double minLength = options.minPathLength < 0.0 ? s : options.minPathLength;
+  OrderingOptions ordering;
+  ordering.seamSeparation = options.seamSeparation < 0.0 ? 2.0 * s : options.seamSeparation;
+  ordering.improvementPasses = options.improvementPasses;
+  PathFitOptions fit;
+  fit.tolerance = options.fitTolerance;
+  fit.pointSpacing = options.pointSpacing;
+
+  PlanResult result;
+  Plan& plan = result.plan;
+  plan.parameters.layerThickness = s;
+  plan.parameters.beadSpacing = s;
+  plan.parameters.pointSpacing = options.pointSpacing;
+  plan.parameters.fitTolerance = options.fitTolerance;
+  plan.parameters.surfaceMethod = surfaceMethodName(options.geodesic.method);
+  StageTimer timer(result.stats);
+
+  // ---- initial curves: the edge ----
+  progress.report(0.0, kStages[kCurves]);
+  const std::vector<Polyline> loops =
+      timer.run(kCurves, [&] { return extractBoundaryLoops(surface); });
+  if (loops.empty()) {
+    throw InvalidInput(
+        "thin-wall surface has no boundary edge: 0 loops; pass an open surface "
+        "whose edge lies on the substrate");
+  }
+  std::size_t edge = 0;
+  double bestKey = kInf;
+  const Vec3 axis = options.axis.normalized();
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    double key = kInf;
+    if (options.edge == WallEdgeKind::LowestAlongAxis) {
+      for (const Vec3& p : loops[i].points) key = std::min(key, p.dot(axis));
+    } else {
+      key = closestPointOnPolyline(loops[i], options.point).distance;
+    }
+    if (key < bestKey) {
+      bestKey = key;
+      edge = i;
+    }
+  }
+  plan.parameters.initialCurve = options.edge == WallEdgeKind::LowestAlongAxis
+                                     ? "thin-wall:lowest:" + formatVec(options.axis)
+                                     : "thin-wall:nearest:" + formatVec(options.point);
+
+  // ---- surface geodesic ----
+  // The loop's points are mesh vertices: they are the sources as they are (nothing to insert).
+  std::map<std::array<double, 3>, std::int32_t> vertexAt;
+  for (std::size_t v = 0; v < surface.vertexCount(); ++v) {
+    const Vec3& p = surface.vertices[v];
+    vertexAt.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, static_cast<std::int32_t>(v));
+  }
+  std::vector<std::int32_t> sources;
+  for (const Vec3& p : loops[edge].points) {
+    const auto it = vertexAt.find({p.x(), p.y(), p.z()});
+    if (it != vertexAt.end()) sources.push_back(it->second);
+  }
+  const SurfaceGeodesicResult gdtc = timer.run(kGeodesic, [&] {
+    return sources.size() == loops[edge].points.size()
+               ? computeSurfaceGeodesicFromVertices(surface, sources, {}, options.geodesic,
+                                                    progress.sub(0.0, 0.5))
+               : computeSurfaceGeodesic(surface, {loops[edge]}, options.geodesic,
+                                        progress.sub(0.0, 0.5));
+  });
+  double maxDistance = 0.0;
+  for (const double d : gdtc.distance) {
+    if (std::isfinite(d)) maxDistance = std::max(maxDistance, d);
+  }
+  std::vector<double> values = computeIsoValues(s, maxDistance, IsoValueStart::InteriorCurve);
+  values.erase(std::remove_if(values.begin(), values.end(), [](double v) { return v <= 0.0; }),
+               values.end());
+  if (values.empty()) {
+    throw InvalidInput("thin wall is lower than one bead: it reaches " + formatMm(maxDistance) +
+                       " mm from its edge, the bead spacing is " + formatMm(s) +
+                       " mm; choose a smaller bead spacing");
+  }
+
+  // Growth direction: the GDTC gradient on the triangle under the point.
+  const TriangleBvh bvh(gdtc.mesh);
+  const auto growthDirection = [&](const ClosestPoint& c) -> Vec3 {
+    const Vec3i& t = gdtc.mesh.triangles[c.triangle];
+    const Vec3 a = gdtc.mesh.vertices[t[0]], b = gdtc.mesh.vertices[t[1]],
+               d = gdtc.mesh.vertices[t[2]];
+    const double fa = gdtc.distance[t[0]], fb = gdtc.distance[t[1]], fd = gdtc.distance[t[2]];
+    const Vec3 n = (b - a).cross(d - a);
+    const double area2 = n.squaredNorm();
+    if (!(area2 > 0.0) || !std::isfinite(fa + fb + fd)) {
+      return n.norm() > 0.0 ? Vec3(n.normalized()) : Vec3(Vec3::UnitZ());
+    }
+    // Gradient of the linear interpolant: Σ f_i (n × e_i) / |n|², e_i the edge opposite i.
+    const Vec3 g = (fa * n.cross(d - b) + fb * n.cross(a - d) + fd * n.cross(b - a)) / area2;
+    return g.norm() > 0.0 ? Vec3(g.normalized()) : Vec3(n.normalized());
+  };
+
+  std::optional<Vec3> torch;
+  std::vector<Vec3> previousSeams;
+  std::vector<Polyline> previousBeads = {loops[edge]};
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    const Progress layerProgress =
+        progress.sub(0.5 + 0.5 * k / values.size(), 0.5 + 0.5 * (k + 1) / values.size());
+    layerProgress.report(0.0, kStages[kIso]);
+    PlanLayer layer;
+    layer.index = static_cast<int>(k);
+    layer.height = values[k];
+    const std::vector<Polyline> lines =
+        timer.run(kIso, [&] { return extractIsoLines(gdtc.mesh, gdtc.distance, values[k]); });
+    std::vector<RawBead> beads;
+    std::size_t dropped = 0;
+    timer.run(kFit, [&] {
+      fitBeads(lines, minLength, fit, bvh, growthDirection, beads, result.stats, dropped);
+      return 0;
+    });
+    result.stats.droppedFragments += dropped;
+    if (beads.empty()) {
+      layer.warnings.push_back("no room for a bead at " + formatMm(values[k]) +
+                               " mm from the edge: every curve is shorter than " +
+                               formatMm(minLength) + " mm; no paths");
+    } else if (dropped > 0) {
+      layer.warnings.push_back(std::to_string(dropped) + " path piece(s) shorter than " +
+                               formatMm(minLength) + " mm not deposited");
+    }
+    const LayerOrder order = timer.run(kOrder, [&] {
+      return orderBeads(beads, layer.index, torch, previousSeams, ordering, layer);
+    });
+    if (!layer.paths.empty()) {
+      torch = order.end;
+      previousSeams = order.seams;
+      result.stats.travel += order.travel;
+      result.stats.seamsTooClose += order.seamsTooClose;
+      if (order.seamsTooClose > 0) {
+        layer.warnings.push_back(
+            std::to_string(order.seamsTooClose) + " ring(s) too short to keep the seam " +
+            formatMm(ordering.seamSeparation) + " mm from the previous bead's seams");
+      }
+    }
+    DepositionSupport dep;
+    dep.curves = previousBeads;
+    dep.earlierBeads = true;
+    const DepositionStats ds = timer.run(kDeposition, [&] {
+      return assignDepositionDirections(layer.paths, dep, options.deposition);
+    });
+    result.stats.deposition.add(ds);
+    if (!layer.paths.empty()) {
+      previousBeads.clear();
+      for (const PlanPath& p : layer.paths) {
+        Polyline line;
+        line.closed = p.closed;
+        for (const PathPoint& q : p.points) line.points.push_back(q.position);
+        previousBeads.push_back(std::move(line));
+      }
+    }
+    plan.layers.push_back(std::move(layer));
+    layerProgress.report(1.0, kStages[kDeposition]);
+  }
+  finishStats(result, timer);
+  if (plan.pathCount() == 0) {
+    throw InvalidInput("no bead of the thin wall is long enough: every curve is shorter than " +
+                       formatMm(minLength) + " mm; choose a smaller bead spacing or path length");
+  }
+  return result;
+}
+
+}  // namespace curvedslicer

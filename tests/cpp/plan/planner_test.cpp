@@ -1,0 +1,334 @@
+// The planner on hand-made layer surfaces: a flat layer over a plate, concentric spherical shells,
+// a stack of flat layers (seams), a thin cylindrical wall, and each bad input with its message.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "common/shapes.hpp"
+#include "curvedslicer/core/error.hpp"
+#include "curvedslicer/paths/planner.hpp"
+#include "curvedslicer/plan/plan_io.hpp"
+
+namespace curvedslicer {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double angleDegrees(const Vec3& a, const Vec3& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / kPi;
+}
+
+/// A flat rectangle [x0, x1] × [y0, y1] at height z, n × m cells, normals +z.
+TriMesh makeFlatPatch(double x0, double x1, double y0, double y1, double z, int n, int m) {
+  TriMesh mesh;
+  for (int j = 0; j <= m; ++j) {
+    for (int i = 0; i <= n; ++i) {
+      mesh.vertices.emplace_back(x0 + (x1 - x0) * i / n, y0 + (y1 - y0) * j / m, z);
+    }
+  }
+  const auto id = [n](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j < m; ++j) {
+    for (int i = 0; i < n; ++i) {
+      mesh.triangles.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      mesh.triangles.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  }
+  return mesh;
+}
+
+LayerSurface makeLayer(int index, double level, TriMesh mesh) {
+  LayerSurface s;
+  s.index = index;
+  s.level = level;
+  s.mesh = std::move(mesh);
+  return s;
+}
+
+/// The side of a cylinder of radius r around the z axis, z in [0, height], open at both ends,
+/// normals outward.
+TriMesh makeCylinderSide(double r, double height, int segments, int rows) {
+  TriMesh mesh;
+  for (int j = 0; j <= rows; ++j) {
+    for (int i = 0; i < segments; ++i) {
+      const double a = 2.0 * kPi * i / segments;
+      mesh.vertices.emplace_back(r * std::cos(a), r * std::sin(a), height * j / rows);
+    }
+  }
+  const auto id = [segments](int i, int j) { return j * segments + (i % segments); };
+  for (int j = 0; j < rows; ++j) {
+    for (int i = 0; i < segments; ++i) {
+      mesh.triangles.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      mesh.triangles.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  }
+  return mesh;
+}
+
+void expectMessage(const std::function<void()>& f, const std::string& needle) {
+  try {
+    f();
+    FAIL() << "no InvalidInput; expected one containing: " << needle;
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+TEST(Planner, FlatFirstLayerAbovePlate) {
+  // Layer 1 of a 40 × 30 mm block on a plate at z = 0, h = 1.5, s = 3.7.
+  const std::vector<LayerSurface> layers = {
+      makeLayer(1, 1.5, makeFlatPatch(0, 40, 0, 30, 1.5, 40, 30))};
+  const TriMesh plate = makeFlatPatch(-10, 50, -10, 40, 0.0, 2, 2);
+  PlannerOptions options;
+  const PlanResult result = planLayers(layers, plate, options);
+  const Plan& plan = result.plan;
+  ASSERT_EQ(plan.layers.size(), 1u);
+  // Contour-parallel rings at (k + ½)·s from the edge: the short side (30 mm) fits 4 rings.
+  EXPECT_EQ(plan.layers[0].paths.size(), 4u);
+  std::size_t points = 0;
+  for (const PlanPath& path : plan.layers[0].paths) {
+    EXPECT_TRUE(path.closed);
+    EXPECT_GT(path.length, 0.0);
+    for (const PathPoint& q : path.points) {
+      ++points;
+      EXPECT_NEAR(q.position.z(), 1.5, 1e-9);
+      EXPECT_LT(angleDegrees(q.normal, Vec3::UnitZ()), 1e-6);
+      EXPECT_LT(angleDegrees(q.deposition, Vec3(0, 0, -1)), 1.0);
+    }
+  }
+  EXPECT_EQ(result.stats.deposition.towardsSurface, points);
+  // The outer ring keeps s/2 from the edge (within the fit tolerance).
+  double minEdge = kInf;
+  for (const PathPoint& q : plan.layers[0].paths.front().points) {
+    const Vec3& p = q.position;
+    minEdge = std::min({minEdge, p.x(), 40 - p.x(), p.y(), 30 - p.y()});
+  }
+  EXPECT_NEAR(minEdge, 1.85, 0.06 + 0.05);
+  EXPECT_EQ(plan.parameters.initialCurve, "boundary");
+  EXPECT_EQ(plan.parameters.beadSpacing, 3.7);
+  EXPECT_NO_THROW(validatePlan(plan));
+  // Stage times are reported for every stage.
+  ASSERT_EQ(result.stats.stageTimes.size(), 6u);
+  EXPECT_EQ(result.stats.stageTimes[1].name, "surface geodesic");
+}
+
+TEST(Planner, SphericalShellLayersPointRadiallyInward) {
+  // Closed spherical layers (no boundary): the initial curve is the equator (plane z = c.z).
+  const Vec3 c(0.0, 0.0, 0.0);
+  const double r1 = 20.0, h = 1.5;
+  std::vector<LayerSurface> layers;
+  for (int k = 1; k <= 3; ++k) {
+    layers.push_back(makeLayer(k, k * h, testing::makeSphere(c, r1 + k * h, 5)));
+  }
+  PlannerOptions options;
+  options.beadSpacing = 4.0;
+  options.initialCurve.kind = InitialCurveKind::Plane;
+  options.initialCurve.planePoint = c;
+  options.initialCurve.planeNormal = Vec3::UnitZ();
+  const PlanResult result = planLayers(layers, testing::makeSphere(c, r1, 5), options);
+  double worst = 0.0;
+  for (const PlanLayer& layer : result.plan.layers) {
+    EXPECT_GT(layer.paths.size(), 6u) << "layer " << layer.index;
+    for (const PlanPath& path : layer.paths) {
+      for (const PathPoint& q : path.points) {
+        const Vec3 inward = (c - q.position).normalized();
+        worst = std::max(worst, angleDegrees(q.deposition, inward));
+        EXPECT_LT(angleDegrees(q.normal, -inward), 2.0);
+      }
+    }
+  }
+  EXPECT_LT(worst, 2.0);
+  std::printf("spherical shell layers: largest angle between V and the radial direction %.3f deg\n",
+              worst);
+  EXPECT_EQ(result.stats.deposition.normalFallbacks, 0u);
+}
+
+TEST(Planner, SeamsOfConsecutiveLayersAreApart) {
+  const double s = 3.7;
+  std::vector<LayerSurface> layers;
+  for (int k = 1; k <= 6; ++k) {
+    layers.push_back(makeLayer(k, 1.5 * k, makeFlatPatch(0, 36, 0, 24, 1.5 * k, 36, 24)));
+  }
+  PlannerOptions options;
+  options.beadSpacing = s;
+  const PlanResult result = planLayers(layers, {}, options);
+  const Plan& plan = result.plan;
+  for (std::size_t l = 1; l < plan.layers.size(); ++l) {
+    for (const PlanPath& path : plan.layers[l].paths) {
+      if (!path.closed) continue;
+      for (const PlanPath& prev : plan.layers[l - 1].paths) {
+        const double d = (path.points.front().position - prev.points.front().position).norm();
+        if (path.length > 8.0 * s) {
+          EXPECT_GE(d, 2.0 * s) << "layer " << l << " path " << path.index;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(result.stats.seamsTooClose, 0u);
+  // Layers bottom to top, paths indexed in order.
+  for (std::size_t l = 0; l < plan.layers.size(); ++l) {
+    EXPECT_EQ(plan.layers[l].index, static_cast<int>(l));
+    EXPECT_FALSE(plan.layers[l].paths.empty());
+  }
+}
+
+TEST(Planner, PlaneInitialCurveGivesParallelPaths) {
+  // Plane x = 19 through a 38 × 20 patch: lines at x = 19 ± k·s, all straight along y.
+  const std::vector<LayerSurface> layers = {
+      makeLayer(1, 1.5, makeFlatPatch(0, 38, 0, 20, 1.5, 38, 20))};
+  PlannerOptions options;
+  options.beadSpacing = 4.0;
+  options.initialCurve.kind = InitialCurveKind::Plane;
+  options.initialCurve.planePoint = Vec3(19, 0, 0);
+  options.initialCurve.planeNormal = Vec3::UnitX();
+  const PlanResult result = planLayers(layers, {}, options);
+  std::vector<double> xs;
+  for (const PlanPath& path : result.plan.layers[0].paths) {
+    EXPECT_FALSE(path.closed);
+    const double x = path.points.front().position.x();
+    for (const PathPoint& q : path.points) EXPECT_NEAR(q.position.x(), x, 0.05);
+    xs.push_back(x);
+  }
+  std::sort(xs.begin(), xs.end());
+  // x = 3, 7, …, 35 (k = 0 is the section itself)
+  ASSERT_EQ(xs.size(), 9u) << ::testing::PrintToString(xs);
+  for (std::size_t i = 0; i < xs.size(); ++i) EXPECT_NEAR(xs[i], 3.0 + 4.0 * i, 0.04);
+  EXPECT_EQ(result.plan.parameters.initialCurve, "plane:19,0,0,1,0,0");
+}
+
+TEST(Planner, ThinWallBeadsAlongCylinder) {
+  // The turbine-base case: a wall grown bead on bead from its lowest edge.
+  const TriMesh wall = makeCylinderSide(25.0, 10.0, 120, 20);
+  ThinWallOptions options;
+  options.beadSpacing = 1.65;
+  const PlanResult result = planThinWall(wall, options);
+  const Plan& plan = result.plan;
+  ASSERT_EQ(plan.layers.size(), 6u);  // 1.65 … 9.9 mm
+  for (std::size_t k = 0; k < plan.layers.size(); ++k) {
+    ASSERT_EQ(plan.layers[k].paths.size(), 1u);
+    const PlanPath& bead = plan.layers[k].paths[0];
+    EXPECT_TRUE(bead.closed);
+    for (const PathPoint& q : bead.points) {
+      EXPECT_NEAR(q.position.z(), 1.65 * (k + 1), 0.0165);  // spacing within 1 %
+      EXPECT_LT(angleDegrees(q.normal, Vec3::UnitZ()), 1.0);
+      EXPECT_LT(angleDegrees(q.deposition, Vec3(0, 0, -1)), 1.0);
+    }
+    if (k > 0) {  // seams stagger
+      const double d =
+          (bead.points[0].position - plan.layers[k - 1].paths[0].points[0].position).norm();
+      EXPECT_GE(d, 2.0 * 1.65);
+    }
+  }
+  EXPECT_EQ(plan.parameters.initialCurve, "thin-wall:lowest:0,0,1");
+  // The edge nearest a point at the top: beads grow downwards.
+  options.edge = WallEdgeKind::NearestToPoint;
+  options.point = Vec3(25, 0, 10);
+  const PlanResult down = planThinWall(wall, options);
+  EXPECT_NEAR(down.plan.layers[0].paths[0].points[0].position.z(), 10.0 - 1.65, 0.0165);
+  EXPECT_LT(angleDegrees(down.plan.layers[0].paths[0].points[0].deposition, Vec3::UnitZ()), 1.0);
+}
+
+TEST(Planner, RejectsNonPositiveBeadSpacing) {
+  const std::vector<LayerSurface> layers = {makeLayer(1, 1.5, makeFlatPatch(0, 9, 0, 9, 1, 9, 9))};
+  PlannerOptions options;
+  options.beadSpacing = -1.0;
+  expectMessage([&] { planLayers(layers, {}, options); },
+                "bead spacing must be a positive number of mm: -1");
+  options.beadSpacing = 0.0;
+  expectMessage([&] { planLayers(layers, {}, options); },
+                "bead spacing must be a positive number of mm: 0");
+  ThinWallOptions wall;
+  wall.beadSpacing = std::nan("");
+  expectMessage([&] { planThinWall(makeCylinderSide(5, 5, 12, 4), wall); },
+                "bead spacing must be a positive number of mm: nan");
+}
+
+TEST(Planner, RejectsSpacingWiderThanEveryLayer) {
+  // A 6 mm wide strip reaches 3 mm from its edge; s = 8 needs 4.
+  const std::vector<LayerSurface> layers = {
+      makeLayer(1, 1.5, makeFlatPatch(0, 30, 0, 6, 1.5, 30, 6)),
+      makeLayer(2, 3.0, makeFlatPatch(0, 30, 0, 6, 3.0, 30, 6))};
+  PlannerOptions options;
+  options.beadSpacing = 8.0;
+  expectMessage([&] { planLayers(layers, {}, options); },
+                "bead spacing is wider than every layer: 8 mm, the layers reach at most ");
+}
+
+TEST(Planner, NamesLayerWithoutRoomForABead) {
+  // Layer 2 is a 2 mm strip: no room for s = 3.7; layer 1 is fine.
+  const std::vector<LayerSurface> layers = {
+      makeLayer(1, 1.5, makeFlatPatch(0, 30, 0, 20, 1.5, 30, 20)),
+      makeLayer(2, 3.0, makeFlatPatch(0, 30, 0, 2, 3.0, 60, 4))};
+  const PlanResult result = planLayers(layers, {}, PlannerOptions{});
+  EXPECT_FALSE(result.plan.layers[0].paths.empty());
+  EXPECT_TRUE(result.plan.layers[1].paths.empty());
+  ASSERT_FALSE(result.plan.layers[1].warnings.empty());
+  EXPECT_NE(result.plan.layers[1].warnings[0].find("no room for a bead"), std::string::npos)
+      << result.plan.layers[1].warnings[0];
+  EXPECT_EQ(result.stats.layersWithoutPaths, 1u);
+}
+
+TEST(Planner, NamesLayerMissedByInitialPlane) {
+  // The plane x = 25 crosses layer 1 (x up to 30) but not layer 2 (x up to 20).
+  const std::vector<LayerSurface> layers = {
+      makeLayer(1, 1.5, makeFlatPatch(0, 30, 0, 20, 1.5, 30, 20)),
+      makeLayer(2, 3.0, makeFlatPatch(0, 20, 0, 20, 3.0, 20, 20))};
+  PlannerOptions options;
+  options.initialCurve.kind = InitialCurveKind::Plane;
+  options.initialCurve.planePoint = Vec3(25, 0, 0);
+  const PlanResult result = planLayers(layers, {}, options);
+  EXPECT_FALSE(result.plan.layers[0].paths.empty());
+  EXPECT_TRUE(result.plan.layers[1].paths.empty());
+  ASSERT_FALSE(result.plan.layers[1].warnings.empty());
+  EXPECT_NE(result.plan.layers[1].warnings[0].find("the initial plane misses this layer"),
+            std::string::npos);
+  // Missing every layer is an error naming the first one.
+  options.initialCurve.planePoint = Vec3(100, 0, 0);
+  expectMessage([&] { planLayers(layers, {}, options); },
+                "no layer got a path: layer 0: the initial plane misses this layer");
+}
+
+TEST(Planner, NamesClosedLayerWithoutBoundary) {
+  const std::vector<LayerSurface> layers = {
+      makeLayer(1, 1.5, testing::makeSphere(Vec3::Zero(), 10, 2))};
+  expectMessage([&] { planLayers(layers, {}, PlannerOptions{}); },
+                "layer 0: the layer is a closed surface without a boundary");
+}
+
+TEST(Planner, RejectsEmptyInputs) {
+  expectMessage([] { planLayers({}, {}, PlannerOptions{}); }, "no layer surfaces to plan");
+  PlannerOptions options;
+  options.initialCurve.kind = InitialCurveKind::Surface;
+  expectMessage([&] { validatePlannerOptions(options); }, "initial surface has no triangles");
+  expectMessage([] { planThinWall(testing::makeSphere(Vec3::Zero(), 5, 1)); },
+                "thin-wall surface has no boundary edge");
+  ThinWallOptions tall;
+  tall.beadSpacing = 20.0;
+  expectMessage([&] { planThinWall(makeCylinderSide(5, 10, 24, 4), tall); },
+                "thin wall is lower than one bead: it reaches 10 mm");
+}
+
+TEST(Planner, CancelsThroughProgress) {
+  const std::vector<LayerSurface> layers = {
+      makeLayer(1, 1.5, makeFlatPatch(0, 30, 0, 20, 1.5, 30, 20))};
+  const Progress cancel([](double, std::string_view) { return false; });
+  EXPECT_THROW(planLayers(layers, {}, PlannerOptions{}, cancel), Cancelled);
+}
+
+TEST(Planner, IsDeterministicAndRoundTrips) {
+  std::vector<LayerSurface> layers;
+  for (int k = 1; k <= 2; ++k) {
+    layers.push_back(makeLayer(k, 1.5 * k, makeFlatPatch(0, 25, 0, 15, 1.5 * k, 25, 15)));
+  }
+  const std::string a = formatPlanJson(planLayers(layers, {}, PlannerOptions{}).plan);
+  const std::string b = formatPlanJson(planLayers(layers, {}, PlannerOptions{}).plan);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(formatPlanJson(parsePlanJson(a)), a);
+}
+
+}  // namespace
+}  // namespace curvedslicer
