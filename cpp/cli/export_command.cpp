@@ -1,0 +1,138 @@
+#include "export_command.hpp"
+
+#include <cctype>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <new>
+#include <string>
+
+#include "curvedslicer/core/error.hpp"
+#include "curvedslicer/core/progress.hpp"
+#include "curvedslicer/export/exporter.hpp"
+#include "curvedslicer/plan/plan_io.hpp"
+#include "curvedslicer/robot/cell.hpp"
+#include "curvedslicer/robot/motion.hpp"
+#include "layers_command.hpp"  // ExitCode
+#include "terminal_progress.hpp"
+
+namespace curvedslicer::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// "YYYY/MM/DD HH:MM" with digits where the pattern has them.
+bool isProgramDate(const std::string& date) {
+  const std::string pattern = "dddd/dd/dd dd:dd";
+  if (date.size() != pattern.size()) return false;
+  for (std::size_t k = 0; k < pattern.size(); ++k) {
+    const bool digit = std::isdigit(static_cast<unsigned char>(date[k])) != 0;
+    if (pattern[k] == 'd' ? !digit : date[k] != pattern[k]) return false;
+  }
+  return true;
+}
+
+ExportOptions parseExportOptions(const ExportArguments& args) {
+  ExportOptions options;
+  options.programName = args.name;
+  if (!args.date.empty()) {
+    if (!isProgramDate(args.date)) {
+      throw InvalidInput("--date must look like \"YYYY/MM/DD HH:MM\": '" + args.date +
+                         "'; e.g. --date \"2026/11/22 07:00\"");
+    }
+    options.date = args.date;
+  }
+  if (args.gcodeMode == "tcp") {
+    options.gcodeMode = GcodeMode::Tcp;
+  } else if (args.gcodeMode == "machine") {
+    options.gcodeMode = GcodeMode::Machine;
+  } else {
+    throw InvalidInput("unknown G-code mode: '" + args.gcodeMode + "'; use tcp or machine");
+  }
+  return options;
+}
+
+int failure(TerminalProgress& progress, int code, const std::string& message) {
+  progress.finishLine();
+  std::fprintf(stderr, "curvedslicer: error: %s\n", message.c_str());
+  return code;
+}
+
+}  // namespace
+
+int runExportCommand(const ExportArguments& args) {
+  installInterruptHandlers();
+  TerminalProgress display(!args.quiet);
+  try {
+    const ExportFormat format = parseExportFormat(args.format);
+    const ExportOptions options = parseExportOptions(args);
+    const fs::path output(args.output);
+    const fs::path folder = output.has_parent_path() ? output.parent_path() : fs::path(".");
+    if (!fs::is_directory(folder)) {
+      throw IoError("output folder does not exist: '" + folder.string() +
+                    "'; create it or choose another output file");
+    }
+    const Progress progress([&display](double fraction, std::string_view stage) {
+      return display.update(fraction, stage);
+    });
+
+    // ---- read ----------------------------------------------------------------------------------
+    progress.report(0.0, "read");
+    const Plan plan = readPlanJson(fs::path(args.plan));
+    const Cell cell = args.cell.empty() ? defaultCell() : readCell(fs::path(args.cell));
+
+    // ---- motion --------------------------------------------------------------------------------
+    MotionOptions motionOptions;
+    if (args.warnUnreachable) motionOptions.unreachable = UnreachablePolicy::Warn;
+    const MotionPlan motion = planMotion(plan, cell, motionOptions, progress.sub(0.05, 0.7));
+
+    // ---- export --------------------------------------------------------------------------------
+    const ExportResult result =
+        exportProgram(motion, cell, format, options, progress.sub(0.7, 0.95));
+
+    // ---- write ---------------------------------------------------------------------------------
+    progress.report(0.97, "write");  // last chance to cancel: nothing is in place yet
+    writeExportFiles(result, output);
+    display.finishLine();
+    if (!args.quiet) {
+      for (const std::string& w : motion.warnings) {
+        std::fprintf(stderr, "curvedslicer: warning: %s\n", w.c_str());
+      }
+      for (const std::string& w : result.warnings) {
+        std::fprintf(stderr, "curvedslicer: note: %s\n", w.c_str());
+      }
+      std::printf(
+          "curvedslicer: wrote %s (%zu file%s, %zu bytes): %zu motions, %zu paths; arc time "
+          "%.0f s, total time %.0f s, wire %.2f m, deposit %.1f g\n",
+          output.string().c_str(), result.files.size(), result.files.size() == 1 ? "" : "s",
+          result.totalBytes(), result.motionCount, result.arcCount, motion.total.arcTime,
+          motion.total.totalTime, motion.total.wireLength / 1000.0, motion.total.depositedMass);
+    }
+    return kExitOk;
+  } catch (const Cancelled& e) {
+    if (interruptSignal() != 0) {
+      display.finishLine();
+      std::fprintf(stderr, "curvedslicer: interrupted; nothing was written to '%s'\n",
+                   args.output.c_str());
+      return kExitInterruptedBase + interruptSignal();
+    }
+    return failure(display, kExitOther, e.what());
+  } catch (const InvalidInput& e) {
+    return failure(display, kExitInvalidInput, e.what());
+  } catch (const IoError& e) {
+    return failure(display, kExitIo, e.what());
+  } catch (const ResourceLimit& e) {
+    return failure(display, kExitResourceLimit, e.what());
+  } catch (const NumericalFailure& e) {
+    return failure(display, kExitNumericalFailure, e.what());
+  } catch (const fs::filesystem_error& e) {
+    return failure(display, kExitIo, e.what());
+  } catch (const std::bad_alloc&) {
+    return failure(display, kExitResourceLimit, "out of memory while exporting; free memory");
+  } catch (const std::exception& e) {
+    return failure(display, kExitOther, e.what());
+  }
+}
+
+}  // namespace curvedslicer::cli

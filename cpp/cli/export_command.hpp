@@ -1,0 +1,26 @@
+// The `curvedslicer export` command: read a plan (plan.json) and a cell description, plan the
+// positioner angles and robot joints (robot/motion.hpp) and write a robot program or a neutral
+// per-point file (export/exporter.hpp), all or nothing.
+#pragma once
+
+#include <string>
+
+namespace curvedslicer::cli {
+
+/// The command's arguments as typed (checked by `runExportCommand`).
+struct ExportArguments {
+  std::string plan;
+  std::string cell;  ///< empty = the default cell (Motoman HP20D + tilt-rotate positioner)
+  std::string format;
+  std::string output;
+  std::string name;  ///< program / job name; empty = the cell's job name
+  std::string gcodeMode = "tcp";
+  std::string date;  ///< empty = the fixed default (reproducible files)
+  bool warnUnreachable = false;
+  bool quiet = false;
+};
+
+/// Runs the command; progress and errors on stderr, a summary on stdout. @return the exit code.
+int runExportCommand(const ExportArguments& args);
+
+}  // namespace curvedslicer::cli

@@ -1,0 +1,82 @@
+// Options of `curvedslicer export` (see export_command.hpp for what the command does).
+#include <memory>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.hpp"
+#include "export_command.hpp"
+
+namespace curvedslicer::cli {
+
+namespace {
+
+constexpr const char* kExportFooter = R"(
+Example:
+  curvedslicer export out/part/plan.json --format jbi -o out/part/WAAM.JBI
+  curvedslicer export plan.json --cell resources/cells/motoman_hp20d_tilt_rotate.json \
+      --format krl -o part.src
+
+Output:
+  jbi    Yaskawa INFORM job; when the program exceeds the cell's max_lines_per_job it is split
+         into sub-jobs: FILE holds the main job (NOP, CALL JOB:<NAME><k> ..., END) and the
+         sub-jobs are written next to it as <NAME><k>.JBI (NAME = --name or the cell's job
+         name, cut to the cell's name length). Load all files onto the controller.
+  krl    KUKA .src; rapid: ABB .mod; ls: Fanuc .LS; gcode: tilt-rotate table G-code;
+  csv, json  every motion point (layer, path, xyz, normal, V, a1, a2, joints, speed, arc).
+All files appear together, or none on any error (each is written to a temporary file first).
+Files of an earlier run with other sub-job names are not removed.
+
+Exit codes: 0 success, 2 invalid input (bad plan or cell, unreachable point, joint limit;
+including usage errors), 3 file I/O error, 130 interrupted (Ctrl-C), 1 other.)";
+
+void addExportOptions(CLI::App& cmd, ExportArguments& args) {
+  cmd.add_option("PLAN", args.plan, "The plan: plan.json written by `curvedslicer plan`.")
+      ->required()
+      ->type_name("FILE");
+  cmd.add_option("--cell", args.cell,
+                 "Cell description (JSON: robot, tool, positioner, process, export\n"
+                 "options; see resources/cells/). Default: the paper's cell, a Yaskawa\n"
+                 "Motoman HP20D with a two-axis tilt-rotate positioner.")
+      ->type_name("FILE");
+  cmd.add_option("--format", args.format,
+                 "Output format, required: jbi (Yaskawa INFORM), krl (KUKA),\n"
+                 "rapid (ABB), ls (Fanuc), gcode (tilt-rotate table), csv, json.")
+      ->required()
+      ->type_name("NAME");
+  cmd.add_option("-o,--output", args.output,
+                 "Output file, required (its folder must exist). For a split JBI\n"
+                 "program the sub-jobs go next to it; see Output below.")
+      ->required()
+      ->type_name("FILE");
+  cmd.add_option("--name", args.name,
+                 "Program / job name (default: the cell's job name, e.g. WAAM);\n"
+                 "cut to the controller's character set and length.")
+      ->type_name("NAME");
+  cmd.add_option("--gcode-mode", args.gcodeMode,
+                 "G-code coordinates: tcp (default; part X Y Z + A C, the controller\n"
+                 "does the kinematics) or machine (X Y Z through the table kinematics).")
+      ->type_name("MODE");
+  cmd.add_option("--date", args.date,
+                 "Date written into program headers, \"YYYY/MM/DD HH:MM\". Default: a\n"
+                 "fixed date (2000/01/01 00:00), so the same plan gives identical files.")
+      ->type_name("DATE");
+  cmd.add_flag("--allow-unreachable", args.warnUnreachable,
+               "Do not stop at points the robot cannot reach: keep the closest pose and\n"
+               "warn (default: stop with an error naming the points). A point beyond a\n"
+               "joint limit is still refused by every exporter.");
+  cmd.add_flag("-q,--quiet", args.quiet, "No progress and no summary; errors still go to stderr.");
+  cmd.footer(kExportFooter);
+}
+
+}  // namespace
+
+void addExportCommand(CLI::App& app, CommandList& commands) {
+  auto args = std::make_shared<ExportArguments>();
+  CLI::App* cmd = app.add_subcommand(
+      "export",
+      "Write a robot program (JBI, KRL, RAPID, LS, G-code) or a neutral CSV/JSON from a plan.");
+  addExportOptions(*cmd, *args);
+  commands.push_back({cmd, [args] { return runExportCommand(*args); }});
+}
+
+}  // namespace curvedslicer::cli

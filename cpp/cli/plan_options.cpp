@@ -1,0 +1,111 @@
+// Options of `curvedslicer plan` (see plan_command.hpp for what the command does).
+#include <memory>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.hpp"
+#include "plan_command.hpp"
+
+namespace curvedslicer::cli {
+
+namespace {
+
+constexpr const char* kPlanFooter = R"(
+Examples:
+  curvedslicer plan part.stl --layer-thickness 1.5 --voxel 0.5 --bead-spacing 3.7 -o out/part
+  curvedslicer plan blade.obj --start mesh:base.obj --cap-holes --layer-thickness 1.5 \
+      --voxel 0.5 --bead-spacing 3.7 --initial-curve plane:0,0,0,1,0,0 -o out/blade
+  curvedslicer plan base_wall.stl --thin-wall lowest --bead-spacing 1.65 -o out/base
+
+Output (all files appear together, or none on any error):
+  DIR/layer_0001.ply ...  one surface per layer (not with --thin-wall)
+  DIR/voxel_sets.ply      the voxel layer sets of the paper's eq. 13 (not with --thin-wall)
+  DIR/plan.json           the deposition plan: layers, paths in deposition order, per point the
+                          position, layer normal and deposition direction (schema:
+                          resources/schema/plan.schema.json)
+  DIR/plan.csv            the same points as a table: layer,path,point,closed,x,y,z,n,v
+  DIR/report.json         the layer report plus a "plan" section (per-layer paths and warnings,
+                          stage times, deposition statistics)
+
+Exit codes: 0 success, 2 invalid input (including usage errors), 3 file I/O error,
+4 resource limit (memory budget), 5 numerical failure, 130 interrupted (Ctrl-C), 1 other.)";
+
+void addPlanOptions(CLI::App& plan, PlanArguments& args) {
+  LayersArguments& l = args.layers;
+  plan.add_option("MODEL", l.model,
+                  "The part: a closed triangle mesh, STL (binary or ASCII) or OBJ, in mm;\n"
+                  "with --thin-wall the wall's (open) surface.")
+      ->required()
+      ->type_name("FILE");
+  plan.add_option("--start", l.start, "Start surface, as for `layers` (default plane:bottom).")
+      ->type_name("SPEC");
+  plan.add_option("--layer-thickness", l.layerThickness,
+                  "Layer thickness h in mm (> 0); required unless --thin-wall.")
+      ->type_name("MM");
+  plan.add_option("--voxel", l.voxelSize,
+                  "Voxel edge length L in mm (> 0); required unless --thin-wall.")
+      ->type_name("MM");
+  plan.add_option("--bead-spacing", args.beadSpacing,
+                  "Bead spacing s in mm (> 0), required: distance between neighbouring\n"
+                  "bead centre lines along the layer (with --thin-wall: between beads\n"
+                  "along the wall, the bead height).")
+      ->required()
+      ->type_name("MM");
+  plan.add_option("--point-spacing", args.pointSpacing,
+                  "Largest distance between robot points along a path, mm (default 2).")
+      ->type_name("MM");
+  plan.add_option("--fit-tolerance", args.fitTolerance, "Spline fit tolerance, mm (default 0.05).")
+      ->type_name("MM");
+  plan.add_option("--initial-curve", args.initialCurve,
+                  "Initial curve of every layer (paths are equidistant from it):\n"
+                  "  boundary             the layer's edge; contour-parallel paths\n"
+                  "                       inward, the outer bead's edge on the part\n"
+                  "                       edge (default)\n"
+                  "  plane:X,Y,Z,NX,NY,NZ the section with the plane through X,Y,Z with\n"
+                  "                       normal NX,NY,NZ (mm, model coordinates);\n"
+                  "                       parallel paths on both sides\n"
+                  "  mesh:FILE            the section with a surface mesh (STL/OBJ)")
+      ->type_name("SPEC");
+  plan.add_option("--surface-method", args.surfaceMethod,
+                  "Surface geodesic distance: accurate (default; the curve inserted\n"
+                  "into the layer mesh, fast marching) or paper (eq. 15).")
+      ->type_name("NAME");
+  plan.add_option("--thin-wall", args.thinWall,
+                  "Thin-wall mode (the paper's turbine base): MODEL is the wall's\n"
+                  "surface; beads are curves along it at k*s from an edge:\n"
+                  "  lowest           the boundary loop lowest along z\n"
+                  "  lowest:AX,AY,AZ  lowest along the axis AX,AY,AZ\n"
+                  "  nearest:X,Y,Z    the boundary loop nearest to X,Y,Z (mm)\n"
+                  "No volume layers are computed (--voxel, --layer-thickness unused).")
+      ->type_name("EDGE");
+  plan.add_option("--method", l.method, "Volume geodesic method: anyangle (default) or paper.")
+      ->type_name("NAME");
+  plan.add_option("--grid", l.grid, "Voxel grid orientation: pca (default) or model.")
+      ->type_name("NAME");
+  plan.add_option("--format", l.format, "Layer file format: ply (default) or obj.")
+      ->type_name("NAME");
+  plan.add_option("--memory-budget", l.memoryBudgetMb,
+                  "Memory the job may use, MB (default 0 = 80 % of physical memory).")
+      ->type_name("MB");
+  plan.add_flag("--cap-holes", l.capHoles, "Close the holes of an open model first (as `layers`).");
+  plan.add_flag("-q,--quiet", l.quiet, "No progress and no summary; errors still go to stderr.");
+  plan.add_option("-o,--output", l.output,
+                  "Output folder (created if missing), required; see Output below.")
+      ->required()
+      ->type_name("DIR");
+  plan.footer(kPlanFooter);
+}
+
+}  // namespace
+
+void addPlanCommand(CLI::App& app, CommandList& commands) {
+  auto args = std::make_shared<PlanArguments>();
+  CLI::App* plan = app.add_subcommand(
+      "plan",
+      "Slice a solid into curved layers and plan equidistant deposition paths on them (or plan "
+      "the beads of a thin wall), with deposition directions; writes plan.json and plan.csv.");
+  addPlanOptions(*plan, *args);
+  commands.push_back({plan, [args] { return runPlanCommand(*args); }});
+}
+
+}  // namespace curvedslicer::cli

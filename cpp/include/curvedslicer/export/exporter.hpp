@@ -1,0 +1,117 @@
+// Robot programs and neutral files from a motion plan (robot/motion.hpp): one writer per format
+// behind a common interface, and an all-or-nothing writer for the resulting files.
+//
+// Formats (each in its own header/source pair under export/, details there):
+//   jbi    Yaskawa Motoman INFORM job(s), station ST1 with EC positions, SMOVL … +MOVJ EC,
+//          ARCON/ARCOF, sub-jobs at the cell's line limit called from a main job (jbi_writer.hpp)
+//   krl    KUKA KRL .src with E1/E2, first motion PTP, TRIGGER arc outputs (krl_writer.hpp)
+//   rapid  ABB RAPID .mod with extax and a coordinated work object (rapid_writer.hpp)
+//   ls     Fanuc TP .LS with GP1/GP2 and COORD (ls_writer.hpp)
+//   gcode  G-code for a tilt-rotate table, TCP or machine mode (gcode_writer.hpp)
+//   csv, json  every motion point with all its data (neutral_writer.hpp)
+// Every writer is a pure function of (MotionPlan, Cell, ExportOptions): the same inputs give
+// byte-identical files (no clock, no locale; the date written into headers is an option).
+//
+// Preconditions: the motion plan was made for the same cell (planMotion). Cost: O(points),
+// about 100–300 bytes of text per point.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "curvedslicer/core/progress.hpp"
+#include "curvedslicer/robot/cell.hpp"
+#include "curvedslicer/robot/motion.hpp"
+
+namespace curvedslicer {
+
+enum class ExportFormat { Jbi, Krl, Rapid, Ls, Gcode, Csv, Json };
+
+/// G-code coordinates (gcode_writer.hpp).
+enum class GcodeMode {
+  Tcp,      ///< part-frame X Y Z plus table angles A C; the controller does the kinematics
+  Machine,  ///< X Y Z already transformed by the table's forward kinematics (positioner base)
+};
+
+struct ExportOptions {
+  /// Program / job name; empty = the cell's exportOptions.jobName. Each format cuts it to its
+  /// character set and length (JBI: the cell's maxNameLength).
+  std::string programName;
+  /// Date written into program headers (JBI ///DATE), "YYYY/MM/DD HH:MM". Fixed by default so a
+  /// saved plan re-exports byte-identical programs.
+  std::string date = "2000/01/01 00:00";
+  GcodeMode gcodeMode = GcodeMode::Tcp;  ///< G-code only
+  /// Digital output that switches the arc on (KRL $OUT[n], RAPID signal doArc<n>, G-code has
+  /// M3/M5). JBI and LS use the cell's arc conditions instead.
+  int arcOutput = 1;
+};
+
+/// One output file.
+struct ExportFile {
+  std::string name;       ///< plain file name (no folder); the first file is the main program
+  std::string text;       ///< complete contents
+  std::size_t lines = 0;  ///< number of lines
+};
+
+struct ExportResult {
+  ExportFormat format = ExportFormat::Jbi;
+  std::vector<ExportFile> files;  ///< files[0] is the main program (or the only file)
+  std::size_t motionCount = 0;    ///< motion instructions / rows written
+  std::size_t arcCount = 0;       ///< arc-on segments (paths) written
+  std::vector<std::string> warnings;
+  std::size_t totalBytes() const {
+    std::size_t n = 0;
+    for (const auto& f : files) n += f.text.size();
+    return n;
+  }
+};
+
+/// A program writer for one format.
+class ProgramExporter {
+ public:
+  virtual ~ProgramExporter() = default;
+  virtual ExportFormat format() const = 0;
+  /// Writes the program(s) into memory.
+  /// @param motion  the motion plan (planMotion) for `cell`; at least one point
+  /// @param progress  progress and cancel ("export" stage)
+  /// @throws InvalidInput for an empty plan, a point beyond a joint limit of the cell (which
+  ///         point, which joint, by how much), a cell the format cannot express; Cancelled.
+  virtual ExportResult write(const MotionPlan& motion, const Cell& cell,
+                             const ExportOptions& options, const Progress& progress) const = 0;
+};
+
+/// "jbi", "krl", "rapid", "ls", "gcode", "csv", "json".
+std::string_view toString(ExportFormat format);
+
+/// Parses a format name (case-insensitive). @throws InvalidInput listing the valid names.
+ExportFormat parseExportFormat(std::string_view name);
+
+/// The usual file extension of the main file, with the dot (".JBI", ".src", ".mod", ".LS",
+/// ".ngc", ".csv", ".json").
+std::string_view fileExtension(ExportFormat format);
+
+/// The writer of `format`.
+std::unique_ptr<ProgramExporter> makeExporter(ExportFormat format);
+
+/// makeExporter(format)->write(…).
+ExportResult exportProgram(const MotionPlan& motion, const Cell& cell, ExportFormat format,
+                           const ExportOptions& options = {}, const Progress& progress = {});
+
+/// Checks every point of `motion` against the cell's joint limits (robot joints and positioner
+/// axes, with 1e-9 rad slack); the robot and positioner must never be asked to cross a limit.
+/// @throws InvalidInput naming the first offending point (layer, path, point), the joint, its
+///         angle and the limit in degrees, and how far beyond it is.
+void checkJointLimits(const MotionPlan& motion, const Cell& cell);
+
+/// Writes the files all or nothing: `mainFile` receives files[0].text, every further file goes
+/// next to it under its own name. Each file is written to a temporary sibling first; only when
+/// all are complete are they renamed into place. On any error no target file is changed and the
+/// temporaries are removed.
+/// @throws IoError naming the file; InvalidInput if a further file's name equals the main file's.
+void writeExportFiles(const ExportResult& result, const std::filesystem::path& mainFile);
+
+}  // namespace curvedslicer

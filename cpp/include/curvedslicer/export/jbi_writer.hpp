@@ -1,0 +1,40 @@
+// Yaskawa Motoman INFORM job files (.JBI) for a robot (RB1) with a two-axis station (ST1).
+//
+// Layout of one job (CRLF or LF from the cell's export options; names upper case, at most the
+// cell's maxNameLength characters, 8 on NX100, 32 on DX100 and later):
+//   /JOB  //NAME n  //POS  ///NPOS C,0,EC,0,0,0  ///TOOL t
+//   robot positions C00000… : ///POSTYPE PULSE + ///PULSE (robot pulses from the cell's pulses
+//     per degree) or ///POSTYPE BASE + ///RECTAN + ///RCONF (x, y, z in mm and Rx, Ry, Rz in deg
+//     of the TCP in the robot base frame, R = Rz·Ry·Rx; RCONF from the IK configuration, repeated
+//     whenever it changes); station positions EC00000… always ///POSTYPE PULSE (tilt, rotation
+//     pulses = sign · round(deg · ppd));
+//   //INST  ///DATE  ///ATTR SC,RW[,RJ]  ///GROUP1 RB1  ///GROUP2 ST1  NOP … END
+// Instructions per point: the program's first point `MOVJ C VJ=10.00 +MOVJ EC VJ=10.00` (10 % joint
+// speed for the unplanned approach); every further point `SMOVL C V=v +MOVJ EC` when the cell
+// asks for coordinated motion (speed v relative to the part), else `MOVL C V=v +MOVJ EC`; v is
+// the point's speed (weld or travel) in the cell's speed unit. After the first point of a path
+// `ARCON ASF#(n)` (condition file) or `ARCON AC=… AV=… T=…` (direct); after its last point
+// `ARCOF AEF#(n)` or `ARCOF`, then `TIMER T=…` for the path (+ layer) dwell if any.
+//
+// Splitting: when the instructions (NOP … END inclusive) exceed the cell's maxLinesPerJob, the
+// points are packed into sub-jobs <NAME><k> (k zero-padded) at path boundaries where possible (a
+// path longer than a job continues in the next job with the arc on); each sub-job declares and
+// references only its own positions (numbered from 0); the main job <NAME> is `NOP`, one
+// `CALL JOB:<NAME><k>` per sub-job, `END`. Files: <NAME>.JBI (main) and <NAME><k>.JBI.
+//
+// Preconditions: motion plan for this cell; position type Pulse or Base (User is refused: the
+// user frame is not part of the cell). Cost: O(points), about 120 bytes per point.
+#pragma once
+
+#include "curvedslicer/export/exporter.hpp"
+
+namespace curvedslicer {
+
+class JbiWriter final : public ProgramExporter {
+ public:
+  ExportFormat format() const override { return ExportFormat::Jbi; }
+  ExportResult write(const MotionPlan& motion, const Cell& cell, const ExportOptions& options,
+                     const Progress& progress) const override;
+};
+
+}  // namespace curvedslicer

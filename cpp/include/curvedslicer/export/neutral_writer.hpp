@@ -1,0 +1,32 @@
+// Neutral per-point output of a motion plan: CSV (one row per motion point) or JSON (the same
+// rows plus the cell name, units and a ROS-style joint trajectory view: joint names and time from
+// start).
+//
+// Columns (both forms): layer, path, index, x_mm, y_mm, z_mm (part frame), nx, ny, nz (layer
+// normal), vx, vy, vz (deposition direction V of the plan), a1_deg, a2_deg (positioner, model
+// convention), j1_deg … j6_deg (robot, controller convention), speed_mm_s, arc_on (0/1),
+// path_start, path_end (0/1), time_s (time from start: straight-line distance in the part frame /
+// speed, plus dwells), residual_deg, flags (MotionFlag bits). Numbers in the shortest form that
+// reads back to the same double; CSV with '\n' line endings and a header row.
+// JSON: {"format": "curvedslicer-motion", "version": 1, "cell": …, "columns": […],
+//        "joint_names": ["j1",…,"j6","a1","a2"], "points": [[…], …]}.
+// Cost: O(points), about 300 bytes per point.
+#pragma once
+
+#include "curvedslicer/export/exporter.hpp"
+
+namespace curvedslicer {
+
+class NeutralWriter final : public ProgramExporter {
+ public:
+  /// @param format  ExportFormat::Csv or ExportFormat::Json
+  explicit NeutralWriter(ExportFormat format) : format_(format) {}
+  ExportFormat format() const override { return format_; }
+  ExportResult write(const MotionPlan& motion, const Cell& cell, const ExportOptions& options,
+                     const Progress& progress) const override;
+
+ private:
+  ExportFormat format_;
+};
+
+}  // namespace curvedslicer

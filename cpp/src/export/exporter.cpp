@@ -1,0 +1,203 @@
+// Format registry, joint-limit check and the all-or-nothing file writer (see exporter.hpp).
+#include "curvedslicer/export/exporter.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <set>
+#include <system_error>
+
+#include <unistd.h>
+
+#include "curvedslicer/core/error.hpp"
+#include "curvedslicer/export/gcode_writer.hpp"
+#include "curvedslicer/export/jbi_writer.hpp"
+#include "curvedslicer/export/krl_writer.hpp"
+#include "curvedslicer/export/ls_writer.hpp"
+#include "curvedslicer/export/neutral_writer.hpp"
+#include "curvedslicer/export/rapid_writer.hpp"
+#include "writer_support.hpp"
+
+namespace curvedslicer {
+
+namespace fs = std::filesystem;
+using export_detail::kRadToDeg;
+
+std::string_view toString(ExportFormat format) {
+  switch (format) {
+    case ExportFormat::Jbi:
+      return "jbi";
+    case ExportFormat::Krl:
+      return "krl";
+    case ExportFormat::Rapid:
+      return "rapid";
+    case ExportFormat::Ls:
+      return "ls";
+    case ExportFormat::Gcode:
+      return "gcode";
+    case ExportFormat::Csv:
+      return "csv";
+    case ExportFormat::Json:
+      return "json";
+  }
+  return "jbi";
+}
+
+ExportFormat parseExportFormat(std::string_view name) {
+  std::string lower(name);
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (ExportFormat f :
+       {ExportFormat::Jbi, ExportFormat::Krl, ExportFormat::Rapid, ExportFormat::Ls,
+        ExportFormat::Gcode, ExportFormat::Csv, ExportFormat::Json}) {
+    if (lower == toString(f)) return f;
+  }
+  throw InvalidInput("unknown export format: '" + std::string(name) +
+                     "'; use one of jbi, krl, rapid, ls, gcode, csv, json");
+}
+
+std::string_view fileExtension(ExportFormat format) {
+  switch (format) {
+    case ExportFormat::Jbi:
+      return ".JBI";
+    case ExportFormat::Krl:
+      return ".src";
+    case ExportFormat::Rapid:
+      return ".mod";
+    case ExportFormat::Ls:
+      return ".LS";
+    case ExportFormat::Gcode:
+      return ".ngc";
+    case ExportFormat::Csv:
+      return ".csv";
+    case ExportFormat::Json:
+      return ".json";
+  }
+  return "";
+}
+
+std::unique_ptr<ProgramExporter> makeExporter(ExportFormat format) {
+  switch (format) {
+    case ExportFormat::Jbi:
+      return std::make_unique<JbiWriter>();
+    case ExportFormat::Krl:
+      return std::make_unique<KrlWriter>();
+    case ExportFormat::Rapid:
+      return std::make_unique<RapidWriter>();
+    case ExportFormat::Ls:
+      return std::make_unique<LsWriter>();
+    case ExportFormat::Gcode:
+      return std::make_unique<GcodeWriter>();
+    case ExportFormat::Csv:
+      return std::make_unique<NeutralWriter>(ExportFormat::Csv);
+    case ExportFormat::Json:
+      return std::make_unique<NeutralWriter>(ExportFormat::Json);
+  }
+  throw InvalidInput("unknown export format; use one of jbi, krl, rapid, ls, gcode, csv, json");
+}
+
+ExportResult exportProgram(const MotionPlan& motion, const Cell& cell, ExportFormat format,
+                           const ExportOptions& options, const Progress& progress) {
+  return makeExporter(format)->write(motion, cell, options, progress);
+}
+
+namespace {
+
+[[noreturn]] void throwLimit(const MotionPoint& p, std::size_t i, const std::string& joint,
+                             double angle, const JointLimit& limit) {
+  const double beyond = angle < limit.min ? limit.min - angle : angle - limit.max;
+  throw InvalidInput(
+      "motion point " + std::to_string(i) + " (layer " + std::to_string(p.layer) + ", path " +
+      std::to_string(p.path) + ", point " + std::to_string(p.index) + ") crosses the limit of " +
+      joint + ": " + formatFixed(angle * kRadToDeg, 3) + " deg outside [" +
+      formatFixed(limit.min * kRadToDeg, 3) + ", " + formatFixed(limit.max * kRadToDeg, 3) +
+      "] deg by " + formatFixed(beyond * kRadToDeg, 3) +
+      " deg; re-plan the motion for this cell, change the part's place on the table, or widen "
+      "the limit in the cell if the machine allows it");
+}
+
+}  // namespace
+
+void checkJointLimits(const MotionPlan& motion, const Cell& cell) {
+  for (std::size_t i = 0; i < motion.points.size(); ++i) {
+    const MotionPoint& p = motion.points[i];
+    for (int j = 0; j < 6; ++j) {
+      if (!cell.robot.joints[j].contains(p.joints[j])) {
+        throwLimit(p, i, "robot joint " + std::to_string(j + 1), p.joints[j], cell.robot.joints[j]);
+      }
+    }
+    if (!cell.positioner.tilt.limit.contains(p.a1)) {
+      throwLimit(p, i, "the positioner tilt (a1)", p.a1, cell.positioner.tilt.limit);
+    }
+    if (!cell.positioner.rotation.endless && !cell.positioner.rotation.limit.contains(p.a2)) {
+      throwLimit(p, i, "the positioner rotation (a2)", p.a2, cell.positioner.rotation.limit);
+    }
+  }
+}
+
+void writeExportFiles(const ExportResult& result, const fs::path& mainFile) {
+  if (result.files.empty()) {
+    throw InvalidInput("nothing to write: the export has no files; export a non-empty plan");
+  }
+  const fs::path folder = mainFile.has_parent_path() ? mainFile.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) {
+    throw IoError("output folder does not exist: '" + folder.string() +
+                  "'; create it or choose another output path");
+  }
+  std::vector<fs::path> targets{mainFile};
+  std::set<std::string> names{mainFile.filename().string()};
+  for (std::size_t k = 1; k < result.files.size(); ++k) {
+    targets.push_back(folder / result.files[k].name);
+    if (!names.insert(result.files[k].name).second) {
+      throw InvalidInput("two output files would have the same name: '" + result.files[k].name +
+                         "'; choose another output file name");
+    }
+  }
+  for (const fs::path& target : targets) {
+    if (fs::is_directory(target, ec)) {
+      throw IoError("an output file would replace a folder: '" + target.string() +
+                    "'; choose another output file name");
+    }
+  }
+  static std::atomic<unsigned> counter{0};
+  std::vector<fs::path> temps;
+  const auto removeTemps = [&temps]() noexcept {
+    std::error_code ignored;
+    for (const auto& t : temps) fs::remove(t, ignored);
+  };
+  try {
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+      fs::path tmp = targets[k];
+      tmp += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+      temps.push_back(tmp);
+      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+      if (!out) {
+        throw IoError("cannot create file '" + tmp.string() + "': " + std::strerror(errno) +
+                      "; check that the folder is writable");
+      }
+      const std::string& text = result.files[k].text;
+      out.write(text.data(), static_cast<std::streamsize>(text.size()));
+      out.flush();
+      if (!out) {
+        throw IoError("writing '" + targets[k].string() +
+                      "' failed (disk full?); nothing was written");
+      }
+    }
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+      fs::rename(temps[k], targets[k], ec);
+      if (ec) {
+        throw IoError("cannot move '" + temps[k].string() + "' to '" + targets[k].string() +
+                      "': " + ec.message());
+      }
+    }
+  } catch (...) {
+    removeTemps();
+    throw;
+  }
+}
+
+}  // namespace curvedslicer

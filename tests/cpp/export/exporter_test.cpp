@@ -1,0 +1,86 @@
+// Tests of export/exporter.hpp: format names, the writer registry and the all-or-nothing file
+// writer.
+#include "curvedslicer/export/exporter.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "common/test_paths.hpp"
+#include "curvedslicer/core/error.hpp"
+#include "export_test_support.hpp"
+
+namespace curvedslicer {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace testing;
+
+TEST(Exporter, ParsesFormatNamesAndBuildsEachWriter) {
+  for (ExportFormat f :
+       {ExportFormat::Jbi, ExportFormat::Krl, ExportFormat::Rapid, ExportFormat::Ls,
+        ExportFormat::Gcode, ExportFormat::Csv, ExportFormat::Json}) {
+    EXPECT_EQ(parseExportFormat(toString(f)), f);
+    EXPECT_EQ(makeExporter(f)->format(), f);
+    EXPECT_FALSE(fileExtension(f).empty());
+  }
+  EXPECT_EQ(parseExportFormat("JBI"), ExportFormat::Jbi);
+  try {
+    parseExportFormat("gcode2");
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("jbi, krl, rapid, ls, gcode, csv, json"),
+              std::string::npos);
+  }
+}
+
+TEST(Exporter, EveryFormatWritesTheWholePlan) {
+  const Cell cell = defaultCell();
+  const MotionPlan motion = planMotion(makeConePlan(2, 12), cell);
+  for (ExportFormat f :
+       {ExportFormat::Jbi, ExportFormat::Krl, ExportFormat::Rapid, ExportFormat::Ls,
+        ExportFormat::Gcode, ExportFormat::Csv, ExportFormat::Json}) {
+    const ExportResult r = exportProgram(motion, cell, f);
+    EXPECT_EQ(r.format, f);
+    EXPECT_EQ(r.motionCount, motion.points.size()) << toString(f);
+    EXPECT_EQ(r.arcCount, 2u) << toString(f);
+    ASSERT_FALSE(r.files.empty());
+    EXPECT_GT(r.files[0].lines, motion.points.size());
+    EXPECT_GT(r.totalBytes(), 0u);
+  }
+}
+
+TEST(Exporter, WritesAllFilesOrNone) {
+  const fs::path dir = freshTempDir();
+  ExportResult result;
+  result.files = {{"MAIN.JBI", "main\r\n", 1}, {"SUB1.JBI", "sub\r\n", 1}};
+  writeExportFiles(result, dir / "out.JBI");
+  EXPECT_EQ(readFile((dir / "out.JBI").string()), "main\r\n");
+  EXPECT_EQ(readFile((dir / "SUB1.JBI").string()), "sub\r\n");
+
+  // A file that cannot be created: nothing is replaced and no temporary file is left.
+  ExportResult bad;
+  bad.files = {{"MAIN.JBI", "new main\r\n", 1}, {"missing/SUB2.JBI", "x\r\n", 1}};
+  EXPECT_THROW(writeExportFiles(bad, dir / "out.JBI"), IoError);
+  EXPECT_EQ(readFile((dir / "out.JBI").string()), "main\r\n");
+  // A target that is a folder is refused before anything is written.
+  fs::create_directories(dir / "SUB3.JBI");
+  bad.files[1].name = "SUB3.JBI";
+  EXPECT_THROW(writeExportFiles(bad, dir / "out.JBI"), IoError);
+  EXPECT_EQ(readFile((dir / "out.JBI").string()), "main\r\n");
+  std::size_t entries = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    ++entries;
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+  }
+  EXPECT_EQ(entries, 3u);
+  // Same name twice, missing folder, nothing to write.
+  bad.files[1].name = "out.JBI";
+  EXPECT_THROW(writeExportFiles(bad, dir / "out.JBI"), InvalidInput);
+  EXPECT_THROW(writeExportFiles(result, dir / "nope" / "out.JBI"), IoError);
+  EXPECT_THROW(writeExportFiles(ExportResult{}, dir / "x.JBI"), InvalidInput);
+}
+
+}  // namespace
+}  // namespace curvedslicer
