@@ -56,7 +56,7 @@ if(CURVEDSLICER_BUILD_TESTS)
                        --freecad ${FREECADCMD_EXECUTABLE}
                        --home ${CMAKE_BINARY_DIR}/freecad-test-homes/${test_name}
                        --mod ${CURVEDSLICER_FREECAD_HOME}/Mod --script ${test_file})
-      set_tests_properties(freecad_${test_name} PROPERTIES LABELS freecad TIMEOUT 300
+      set_tests_properties(freecad_${test_name} PROPERTIES LABELS freecad TIMEOUT 900
                            ENVIRONMENT "OMP_NUM_THREADS=2")
     endforeach()
   else()
@@ -71,7 +71,7 @@ if(CURVEDSLICER_BUILD_TESTS)
                        --xvfb-run ${XVFB_RUN_EXECUTABLE}
                        --home ${CMAKE_BINARY_DIR}/freecad-test-homes/gui_${test_name}
                        --mod ${CURVEDSLICER_FREECAD_HOME}/Mod --script ${test_file})
-      set_tests_properties(gui_${test_name} PROPERTIES LABELS gui TIMEOUT 300
+      set_tests_properties(gui_${test_name} PROPERTIES LABELS gui TIMEOUT 900
                            ENVIRONMENT "OMP_NUM_THREADS=2")
     endforeach()
   else()

@@ -134,6 +134,24 @@ def profile_length():
     return profile_curve().length()
 
 
+
+
+def make_turbine_jobs(doc, voxel=1.0):
+    """Builds the turbine into `doc` and adds its two Jobs (not run). Returns (parts, base job,
+    blades job)."""
+    from freecad.curvedslicer import api
+
+    parts = build_turbine(doc)
+    base = api.make_job(doc, parts["Base"], plan_kind="ThinWall",
+                        wall_surface=parts["BaseOuterSurface"], wall_axis=(0, 0, 1),
+                        bead_spacing=1.65, point_spacing=2.0, voxel_size=voxel,
+                        tool_along_travel=False, name="BaseJob")
+    blades = api.make_job(doc, parts["Blades"], start=parts["BaseOuterSurface"],
+                          layer_thickness=1.5, voxel_size=voxel, bead_spacing=3.7,
+                          point_spacing=2.0, tool_along_travel=False, name="BladesJob")
+    return parts, base, blades
+
+
 if __name__ == "__main__":
     document = FreeCAD.ActiveDocument or FreeCAD.newDocument("Turbine")
     build_turbine(document)

@@ -1,13 +1,22 @@
-"""Headless turbine example (paper §4.2): builds the turbine (turbine.py), makes a CurvedSlicer
-Job for the blades grown from the base's outer surface with 1.5 mm layers (bead spacing 3.7 mm,
-stored for path planning), runs it and saves an .FCStd.
+"""The turbine main job (paper §4.2), headless: builds the turbine (turbine.py) and plans it as the
+paper does —
+
+ - the base as a thin wall: equidistant paths 1.65 mm apart along its outer surface from its lower
+   edge (PlanKind ThinWall; the paper: 54 paths);
+ - the blades as 1.5 mm curved layers grown from the base's outer surface with 3.7 mm bead
+   spacing (the paper: 20 layers);
+
+then plans the positioner motion in the default cell (the paper's Motoman HP20D with a tilt-rotate
+positioner), exports one JBI program (base first, then the blades) and saves the .FCStd with
+layers, paths and poses.
 
     freecadcmd resources/examples/turbine_job.py
 
-Environment: CURVEDSLICER_OUT (output folder, default out/turbine under the current folder),
-CURVEDSLICER_VOXEL (voxel size, mm, default 1.0). Writes turbine.FCStd and summary.json and
-exits non-zero on failure. Paths, poses, the JBI program and the PNG render arrive with the path
-planner and exporters (next version of the workbench).
+Environment: CURVEDSLICER_OUT (output folder, default out/example under the current folder),
+CURVEDSLICER_VOXEL (voxel size of the blades' layers, mm, default 1.0), CURVEDSLICER_FORMAT
+(program format, default jbi). Writes turbine.FCStd, the program (TURBINE.JBI and its sub-jobs)
+and summary.json; exits non-zero on failure or when the counts leave the acceptance ranges
+(base paths 54 ± 2, blade layers 20 ± 1).
 """
 
 import json
@@ -21,51 +30,76 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)) if "__file__" in g
 
 import FreeCAD  # noqa: E402
 
+PAPER_BASE_PATHS = 54
+PAPER_BLADE_LAYERS = 20
 
-def main():
-    import turbine
-    from freecad.curvedslicer import api
 
-    out = os.path.abspath(os.environ.get("CURVEDSLICER_OUT", os.path.join("out", "turbine")))
-    voxel = float(os.environ.get("CURVEDSLICER_VOXEL", "1.0"))
-    os.makedirs(out, exist_ok=True)
-    doc = FreeCAD.newDocument("Turbine")
-    parts = turbine.build_turbine(doc)
-    job = api.make_job(doc, parts["Blades"], start=parts["BaseOuterSurface"],
-                       layer_thickness=1.5, voxel_size=voxel, bead_spacing=3.7,
-                       name="BladesJob")
+def _progress(name):
     last = [-1]
 
     def progress(stage, fraction):
         percent = int(100 * fraction)
         if percent >= last[0] + 10:
             last[0] = percent
-            print("  %3d %%  %s" % (percent, stage))
+            print("  %-6s %3d %%  %s" % (name, percent, stage))
             sys.stdout.flush()
         return True
 
+    return progress
+
+
+def main():
+    import turbine
+    from freecad.curvedslicer import api
+
+    out = os.path.abspath(os.environ.get("CURVEDSLICER_OUT", os.path.join("out", "example")))
+    voxel = float(os.environ.get("CURVEDSLICER_VOXEL", "1.0"))
+    fmt = os.environ.get("CURVEDSLICER_FORMAT", "jbi")
+    os.makedirs(out, exist_ok=True)
+    doc = FreeCAD.newDocument("Turbine")
+    parts, base, blades = turbine.make_turbine_jobs(doc, voxel)
     start = time.time()
-    api.run(job, progress=progress)
+    api.run(base, progress=_progress("base"))
+    api.run(blades, progress=_progress("blades"))
+    plan_seconds = time.time() - start
+    extension = dict(api.export_formats())[fmt]
+    program = os.path.join(out, "TURBINE" + extension)
+    exported = api.export([base, blades], program, format=fmt, program_name="TURBINE",
+                          warn_unreachable=True)
+    # Show a pose in the middle of the blades on the saved document.
+    api.set_pose(blades, api.pose_count(blades) // 2)
     path = os.path.join(out, "turbine.FCStd")
     doc.saveAs(path)
     summary = {
         "document": path,
-        "blade_layers": job.LayerCount,
-        "paper_blade_layers": 20,
-        "layer_heights_mm": list(job.LayerHeights),
+        "program": program,
+        "program_files": [name for (name, _, _) in exported["files"]],
+        "program_motions": exported["motion_count"],
+        "program_warnings": exported["warnings"],
+        "base_paths": base.PathCount,
+        "paper_base_paths": PAPER_BASE_PATHS,
         "base_profile_length_mm": round(turbine.profile_length(), 3),
-        "base_paths_expected": int(turbine.profile_length() // 1.65),
-        "paper_base_paths": 54,
+        "blade_layers": blades.LayerCount,
+        "paper_blade_layers": PAPER_BLADE_LAYERS,
+        "blade_paths": blades.PathCount,
+        "blade_layers_with_paths": blades.PlanLayerCount,
+        "layer_heights_mm": list(blades.LayerHeights),
         "voxel_size_mm": voxel,
-        "grid": job.GridDims,
-        "max_geodesic_distance_mm": round(job.MaxDistance, 3),
-        "seconds": round(time.time() - start, 2),
-        "paths": job.PathsStatus,
+        "grid": blades.GridDims,
+        "max_geodesic_distance_mm": round(blades.MaxDistance, 3),
+        "motion_warnings": list(base.MotionWarnings) + list(blades.MotionWarnings),
+        "pose": {"point": blades.PosePoint, "a1_deg": blades.PoseA1, "a2_deg": blades.PoseA2},
+        "plan_seconds": round(plan_seconds, 2),
     }
     with open(os.path.join(out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)
-    print("turbine: %d blade layers (paper: 20), saved %s" % (job.LayerCount, path))
-    return 0 if abs(job.LayerCount - 20) <= 1 else 1
+    print("turbine: base %d paths (paper: %d), blades %d layers (paper: %d) with %d paths; "
+          "program %s (%d files); saved %s"
+          % (base.PathCount, PAPER_BASE_PATHS, blades.LayerCount, PAPER_BLADE_LAYERS,
+             blades.PathCount, program, len(exported["files"]), path))
+    ok = abs(base.PathCount - PAPER_BASE_PATHS) <= 2 and \
+        abs(blades.LayerCount - PAPER_BLADE_LAYERS) <= 1
+    return 0 if ok else 1
 
 
 try:

@@ -22,7 +22,7 @@ def main():
     parser.add_argument("--home", required=True, help="FREECAD_USER_HOME for this test")
     parser.add_argument("--mod", required=True, help="the Mod folder holding CurvedSlicer")
     parser.add_argument("--script", required=True)
-    parser.add_argument("--timeout", type=float, default=280.0)
+    parser.add_argument("--timeout", type=float, default=880.0)
     args = parser.parse_args()
 
     shutil.rmtree(args.home, ignore_errors=True)

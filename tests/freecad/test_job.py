@@ -96,7 +96,7 @@ class TestJob(cs_testing.DocumentTestCase):
         self.doc.recompute()
         self.assertEqual(job.RunCount, 1)
         self.assertEqual([o.Name for o in api.layers(job)], names)
-        self.assertIn("not wired", job.PathsStatus)
+        self.assertTrue(job.PathsStatus.startswith("Planned"), job.PathsStatus)
         # A layer parameter: rerun, children follow.
         job.LayerThickness = 3.0
         self.doc.recompute()
@@ -104,7 +104,11 @@ class TestJob(cs_testing.DocumentTestCase):
         self.assertEqual(job.LayerCount, 2)
         self.assertEqual([float(o.Height) for o in api.layers(job)], [3.0, 6.0])
         api.recompute(job)  # prunes the emptied layer objects
-        self.assertEqual(len(job.LayersGroup.Group), 2)
+        self.assertEqual(len([o for o in job.LayersGroup.Group
+                              if "LayerIndex" in o.PropertiesList]), 2)
+        # The paths followed the layers: one path feature per layer, on the new heights.
+        self.assertEqual([round(f.Shape.BoundBox.ZMin, 1) for f in api.path_features(job)],
+                         [3.0, 6.0])
         # The solid changes: rerun.
         box.Height = 13
         self.doc.recompute()
@@ -142,13 +146,6 @@ class TestJob(cs_testing.DocumentTestCase):
         # The document is usable afterwards.
         api.run(job, progress=False)
         self.assertEqual(job.LayerCount, 8)
-
-    def test_paths_and_export_are_reported_as_not_available(self):
-        box = self.box(10, 10, 5)
-        job = api.make_job(self.doc, box, layer_thickness=2.0, voxel_size=1.0)
-        with self.assertRaises(api.NotAvailable):
-            api.export(job, cs_testing.tmp_path("job.jbi"))
-        self.assertFalse(os.path.exists(cs_testing.tmp_path("job.jbi")))
 
     def test_layer_range_hides_the_other_layers(self):
         box = self.box(10, 10, 9)

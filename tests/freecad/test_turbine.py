@@ -1,6 +1,7 @@
 """The bundled turbine (resources/examples/turbine.py, paper §4): the model has the paper's
-dimensions, and a Job for the blades grown from the base's outer surface at 1.5 mm gives the
-paper's 20 ± 1 layers; the document saves and reopens with its layers."""
+dimensions; the main job (the base as a thin wall, the blades as curved layers grown from the
+base's outer surface) gives the paper's 54 ± 2 base paths and 20 ± 1 blade layers, exports one
+program, and the document saves and reopens with its layers and paths."""
 
 import math
 import os
@@ -53,23 +54,38 @@ class TestTurbine(cs_testing.DocumentTestCase):
         self.assertTrue(base.isValid() and len(base.Solids) == 1)
         self.assertGreaterEqual(base.BoundBox.ZMin, -1e-6)
 
-    def test_blade_job_gives_the_papers_20_layers_and_reopens(self):
-        parts = turbine.build_turbine(self.doc)
-        job = api.make_job(self.doc, parts["Blades"], start=parts["BaseOuterSurface"],
-                           layer_thickness=1.5, voxel_size=1.5, bead_spacing=3.7)
-        api.run(job, progress=False)
-        self.assertLessEqual(abs(job.LayerCount - 20), 1, job.LayerCount)
-        for layer in api.layers(job)[:3]:
+    def test_turbine_jobs_give_the_papers_counts_and_reopen(self):
+        # The main job on coarse voxels (1.5 mm; the example uses 1 mm): base 54 ± 2 thin-wall
+        # paths, blades 20 ± 1 curved layers with paths, one program for both.
+        parts, base, blades = turbine.make_turbine_jobs(self.doc, voxel=1.5)
+        api.run(base, progress=False)
+        api.run(blades, progress=False)
+        self.assertLessEqual(abs(base.PathCount - 54), 2, base.PathCount)
+        self.assertEqual(base.PlanLayerCount, base.PathCount)  # one bead per wall layer
+        self.assertLessEqual(abs(blades.LayerCount - 20), 1, blades.LayerCount)
+        for layer in api.layers(blades)[:3]:
             self.assertAlmostEqual(layer.ThicknessMean, 1.5, delta=0.15)
+        self.assertGreaterEqual(blades.PathCount, blades.PlanLayerCount)
+        self.assertGreaterEqual(blades.PlanLayerCount, blades.LayerCount - 1)
+        spacing = api.path_spacing(base)
+        self.assertLess(abs(sorted(spacing)[len(spacing) // 2] - 1.65), 0.05)
+        program = cs_testing.tmp_path("TURBINE.JBI")
+        result = api.export([base, blades], program, format="jbi", program_name="TURBINE",
+                            warn_unreachable=True, tool_along_travel=False)
+        self.assertEqual(result["arc_count"], base.PathCount + blades.PathCount)
+        self.assertTrue(os.path.exists(program))
         path = cs_testing.tmp_path("turbine.FCStd")
         self.doc.saveAs(path)
         out = cs_testing.run_in_new_process(
             "import FreeCAD\nfrom freecad.curvedslicer import api\n"
-            "doc = FreeCAD.openDocument(%r)\njob = doc.getObject('Job')\n"
-            "print('RESULT ' + json.dumps({'layers': job.LayerCount, 'meshes': "
-            "[o.Mesh.CountFacets > 0 for o in api.layers(job)]}))" % path)
-        self.assertEqual(out.get("layers"), job.LayerCount, out)
+            "doc = FreeCAD.openDocument(%r)\nbase, blades = doc.BaseJob, doc.BladesJob\n"
+            "print('RESULT ' + json.dumps({'layers': blades.LayerCount, 'base': base.PathCount, "
+            "'meshes': [o.Mesh.CountFacets > 0 for o in api.layers(blades)], "
+            "'paths': len(api.path_features(blades)) + len(api.path_features(base))}))" % path)
+        self.assertEqual(out.get("layers"), blades.LayerCount, out)
+        self.assertEqual(out.get("base"), base.PathCount, out)
         self.assertTrue(all(out["meshes"]))
+        self.assertEqual(out["paths"], blades.PlanLayerCount + base.PlanLayerCount)
 
 
 cs_testing.main(__name__)

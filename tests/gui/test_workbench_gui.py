@@ -49,7 +49,8 @@ def run():
           "workbench activates")
     commands = FreeCADGui.listCommands()
     for name in ("CurvedSlicer_CreateJob", "CurvedSlicer_EditJob", "CurvedSlicer_RunJob",
-                 "CurvedSlicer_LayerRange", "CurvedSlicer_Export", "CurvedSlicer_Preferences"):
+                 "CurvedSlicer_LayerRange", "CurvedSlicer_Export", "CurvedSlicer_StepPose",
+                 "CurvedSlicer_AnimatePoses", "CurvedSlicer_Preferences"):
         check(name in commands, "command %s exists" % name)
 
     from freecad.curvedslicer import api
@@ -113,6 +114,15 @@ def run():
     process_events()
     check(job.LayerCount == 3, "3 layers of 3 mm in a 12 mm box (got %d)" % job.LayerCount)
 
+    check(job.PathCount > 0 and len(api.path_features(job)) == job.PlanLayerCount,
+          "run from the GUI planned paths (%s)" % job.PathsStatus)
+    path_views = [o.ViewObject for o in api.path_features(job)]
+    check(all(v.Visibility and v.LineWidth == 2.0 for v in path_views), "paths drawn as lines")
+    check(len({tuple(v.LineColor[:3]) for v in path_views}) == len(path_views),
+          "paths coloured per layer")
+    # The layer screenshot shows the layers alone (the positioner sits 1.1 m away).
+    for o in job.PathsGroup.Group + job.PosesGroup.Group:
+        o.ViewObject.Visibility = False
     view = FreeCADGui.ActiveDocument.ActiveView
     box.ViewObject.Visibility = False
     view.viewIsometric()
@@ -137,6 +147,23 @@ def run():
     check([o.Visibility for o in api.layers(job)] == [False, True, True],
           "layer range dialog shows layers 2-3")
     dialog.close()
+
+    # Export from the GUI (the dialog's choice passed in) and the pose step command.
+    FreeCADGui.Selection.clearSelection()
+    FreeCADGui.Selection.addSelection(doc.Name, job.Name)
+    check(job_commands.ExportProgram().IsActive(), "Export is enabled for a planned Job")
+    program = os.path.join(TMP, "gui.JBI")
+    result = job_commands.export_selected_job(job, path=program, format="jbi")
+    check(result is not None and os.path.getsize(program) > 0, "export from the GUI wrote %s"
+          % program)
+    check(len(job_commands.export_filters()) == 7, "the export dialog offers every format")
+    before = job.PosePoint
+    FreeCADGui.runCommand("CurvedSlicer_StepPose")
+    process_events()
+    check(job.PosePoint > before, "step pose moves to a later point (%d -> %d)"
+          % (before, job.PosePoint))
+    check(job.PoseDeposition.getAngle(FreeCAD.Vector(0, 0, -1)) < 0.02,
+          "the pose turns V along gravity")
 
     # A document made headless (no view provider proxies) gets them on opening in the GUI, with
     # the layers coloured by height.

@@ -13,17 +13,27 @@ replays what the user did. Lengths are mm. Errors are the classes of ``freecad.c
 import FreeCAD
 
 from . import geometry, preferences
-from .core import (PATHS_NOT_WIRED, Cancelled, CurvedSlicerError, InvalidInput, NotAvailable,
+from .core import (Cancelled, CurvedSlicerError, InvalidInput, IoError, NotAvailable,
                    ResourceLimit, native)
 from .objects import job as job_module
+from .objects import plan_stage, poses
 
 __all__ = ["make_job", "run", "recompute", "estimate", "layers", "set_layer_range", "export",
-           "report", "is_job", "CurvedSlicerError", "InvalidInput", "ResourceLimit", "Cancelled",
-           "NotAvailable"]
+           "export_formats", "plan", "plan_json", "path_features", "path_spacing", "motion",
+           "set_pose", "pose_count", "report", "is_job", "CurvedSlicerError", "InvalidInput",
+           "IoError", "ResourceLimit", "Cancelled", "NotAvailable"]
 
 is_job = job_module.is_job
 layers = job_module.layer_objects
 report = job_module.report
+
+
+def _link_sub(value):
+    """object | (object, [subelements]) -> the value of a PropertyLinkSub."""
+    if isinstance(value, tuple):
+        obj, subs = value
+        return (obj, [subs] if isinstance(subs, str) else list(subs))
+    return (value, [])
 
 
 def _set_start(job, start):
@@ -59,19 +69,35 @@ def _set_start(job, start):
 def make_job(doc, solid, start=None, layer_thickness=1.5, voxel_size=None, method="AnyAngle",
              grid_alignment="PCA", cap_holes=False, deflection=0.0, memory_budget_mb=0.0,
              bead_spacing=3.7, point_spacing=2.0, initial_path="Boundary", cell_file=None,
-             name="Job"):
+             name="Job", plan_kind="CurvedLayers", wall_surface=None, wall_axis=(0, 0, 1),
+             fit_tolerance=0.05, surface_method="Accurate", initial_plane=None,
+             initial_surface=None, path_display="Polyline", tool_along_travel=False):
     """Creates a Job for `solid` in `doc` (no computation; call run() or doc.recompute()).
 
     start: see _set_start. voxel_size None = the preference (default 1 mm). method "AnyAngle" |
     "Paper"; grid_alignment "PCA" | "Model"; memory_budget_mb 0 = 80 % of physical memory.
-    bead_spacing, point_spacing, initial_path ("Boundary" | "Plane" | "Surface") and cell_file
-    are stored for path planning, which is not wired yet (cell_file None = the preference).
-    Raises InvalidInput when `solid` is not a solid (checked here, before any computation)."""
-    if solid is not None and not geometry.is_mesh_object(solid):
-        geometry.solid_shape(solid)
+    Paths: bead_spacing and point_spacing (mm), fit_tolerance (mm), surface_method "Accurate" |
+    "Paper", initial_path "Boundary" | "Plane" (initial_plane = (point, normal)) | "Surface"
+    (initial_surface = object or (object, [faces])); path_display "Polyline" | "BSpline".
+    tool_along_travel: torch x along the travel (True) or fixed while the positioner turns.
+    plan_kind "ThinWall": no volume layers; wall_surface (object or (object, [faces])) is planned
+    as a thin wall from its lowest edge along wall_axis, one bead per bead_spacing; `solid` may
+    then be None or the wall's solid (carried by the positioner model). cell_file None = the
+    preference ("" = the paper's cell). Raises InvalidInput when `solid` is not a solid (checked
+    here, before any computation)."""
+    if plan_kind not in plan_stage.PLAN_KINDS:
+        raise InvalidInput("unknown plan_kind: %r; use one of %s"
+                           % (plan_kind, ", ".join(plan_stage.PLAN_KINDS)))
+    if plan_kind == "CurvedLayers" or solid is not None:
+        if solid is not None and not geometry.is_mesh_object(solid):
+            geometry.solid_shape(solid)
     obj = doc.addObject("App::DocumentObjectGroupPython", name)
     job_module.JobProxy(obj)
     obj.Solid = solid
+    obj.PlanKind = plan_kind
+    if wall_surface is not None:
+        obj.WallSurface = _link_sub(wall_surface)
+    obj.WallAxis = FreeCAD.Vector(*wall_axis)
     obj.LayerThickness = layer_thickness
     if voxel_size is not None:
         obj.VoxelSize = voxel_size
@@ -82,10 +108,20 @@ def make_job(doc, solid, start=None, layer_thickness=1.5, voxel_size=None, metho
     obj.MemoryBudget = memory_budget_mb
     obj.BeadSpacing = bead_spacing
     obj.PointSpacing = point_spacing
+    obj.FitTolerance = fit_tolerance
+    obj.SurfaceMethod = surface_method
     obj.InitialPath = initial_path
+    if initial_plane is not None:
+        obj.InitialPlanePoint = FreeCAD.Vector(*initial_plane[0])
+        obj.InitialPlaneNormal = FreeCAD.Vector(*initial_plane[1])
+    if initial_surface is not None:
+        obj.InitialSurface = _link_sub(initial_surface)
+    obj.PathDisplay = path_display
+    obj.ToolAlongTravel = tool_along_travel
     obj.CellFile = preferences.default_cell_file() if cell_file is None else cell_file
-    _set_start(obj, start)
-    job_module.ensure_layers_group(obj)
+    if plan_kind == "CurvedLayers":
+        _set_start(obj, start)
+        job_module.ensure_layers_group(obj)
     if FreeCAD.GuiUp:
         from .viewproviders import view_job
 
@@ -94,11 +130,12 @@ def make_job(doc, solid, start=None, layer_thickness=1.5, voxel_size=None, metho
 
 
 def run(job, progress=None, force=False):
-    """Computes the Job's layers now (outside a recompute) and updates its children.
+    """Computes the Job's layers, paths and poses now (outside a recompute); each stage reruns
+    only if its inputs changed.
 
     progress: None = a progress dialog with Cancel in the GUI, nothing headless; False = none;
     or a callable (stage: str, fraction: float) -> bool, False (or raising) to cancel.
-    force: rerun even if the inputs did not change. Returns True if the layers were computed.
+    force: rerun even if the inputs did not change. Returns (layers ran, paths ran).
     Raises the core's exceptions; after any error (including Cancelled) the document is as it
     was before except for the Job's Status."""
     if not is_job(job):
@@ -110,10 +147,7 @@ def run(job, progress=None, force=False):
     if progress is False:
         progress = None
     try:
-        ran = job_module.update_layers(job, progress=progress, force=force, prune=True)
-    except CurvedSlicerError as error:
-        job_module.report_failure(job, error)
-        raise
+        ran = job_module.update_job(job, progress=progress, force=force, prune=True)
     finally:
         if owned is not None and hasattr(owned, "close"):
             owned.close()
@@ -122,6 +156,7 @@ def run(job, progress=None, force=False):
         from .viewproviders import view_job
 
         view_job.color_layers(job)
+        view_job.style_paths(job)
     return ran
 
 
@@ -130,6 +165,7 @@ def recompute(job):
     job.touch()
     job.Document.recompute()
     job_module.prune_unused_layers(job)
+    plan_stage.prune_unused_paths(job)
 
 
 def estimate(job, voxel_size=None, grid_alignment=None, memory_budget_mb=None, deflection=None):
@@ -160,11 +196,110 @@ def set_layer_range(job, first, last):
         feature.Visibility = first <= feature.LayerIndex <= last
 
 
-def export(job, path, format="jbi"):
-    """Robot program export. Not available in this version (paths and exporters are not wired
-    into the workbench yet): raises NotAvailable rather than writing anything."""
-    raise NotAvailable("program export is not available yet: format %r to %s; %s"
-                       % (format, path, PATHS_NOT_WIRED))
+def export_formats():
+    """[(name, main file extension)] of every program format ("jbi", "krl", "rapid", "ls",
+    "gcode", "csv", "json")."""
+    return [tuple(f) for f in native.export_formats()]
+
+
+def _jobs(jobs):
+    jobs = list(jobs) if isinstance(jobs, (list, tuple)) else [jobs]
+    if not jobs:
+        raise InvalidInput("no Job to export: an empty list; pass a Job or a list of Jobs")
+    for job in jobs:
+        if not is_job(job):
+            raise InvalidInput("not a CurvedSlicer Job: %s; pass the object make_job returned"
+                               % getattr(job, "Label", job))
+        if not job.PlanJson:
+            raise InvalidInput("no plan to export: %s has no paths; run it first (api.run)"
+                               % job.Label)
+    return jobs
+
+
+def plan_json(jobs):
+    """The stored plan of a Job, or of several Jobs deposited one after the other (their layers
+    concatenated in the given order, renumbered), as canonical plan JSON. No recompute."""
+    jobs = _jobs(jobs)
+    if len(jobs) == 1:
+        return jobs[0].PlanJson
+    import json
+
+    merged = None
+    for job in jobs:
+        plan = json.loads(job.PlanJson)
+        if merged is None:
+            merged = plan
+            merged["model"] = " + ".join(j.Label for j in jobs)
+            merged["start"] = " + ".join(json.loads(j.PlanJson)["start"] for j in jobs)
+            continue
+        for layer in plan["layers"]:
+            layer["index"] = len(merged["layers"])
+            for path in layer["paths"]:
+                path["layer"] = layer["index"]
+            merged["layers"].append(layer)
+    return native.format_plan_json(json.dumps(merged))
+
+
+def plan(job):
+    """The stored plan as a summary dict (layers, paths, points, per_layer, parameters)."""
+    return native.plan_summary(plan_json(job))
+
+
+def export(job, path=None, format="jbi", program_name="", date="", gcode_mode="tcp",
+           arc_output=1, warn_unreachable=False, cell_file=None, tool_along_travel=None):
+    """Writes the robot program of the stored plan (no recompute) for the Job's cell.
+
+    job: a Job or a list of Jobs (deposited in that order, one program). format: one of
+    export_formats() names. path: the main file (further files, e.g. JBI sub-jobs, go beside it);
+    None = nothing written, only returned. All files are written or none. date: header date
+    ("" = the exporters' fixed default, so a re-export is byte-identical). warn_unreachable:
+    keep points the robot cannot reach (warnings) instead of raising InvalidInput.
+    tool_along_travel: True = torch x axis along the travel direction; False (the core's
+    default) keeps a fixed torch orientation while the positioner turns the part (no wrist
+    wind-up on long rings); None = the (first) Job's ToolAlongTravel. cell_file:
+    None = the (first) Job's CellFile. Returns {format, files [(name, bytes, lines)],
+    motion_count, arc_count, warnings, total_bytes}."""
+    jobs = _jobs(job)
+    text = plan_json(jobs)
+    if cell_file is None:
+        cell = poses.cell_json(jobs[0])
+    else:
+        cell = native.read_cell_json(cell_file) if cell_file else native.default_cell_json()
+    if tool_along_travel is None:
+        tool_along_travel = bool(jobs[0].ToolAlongTravel)
+    return native.export_program(text, cell, format=format, path=path,
+                                 program_name=program_name, date=date, gcode_mode=gcode_mode,
+                                 arc_output=arc_output, warn_unreachable=warn_unreachable,
+                                 tool_along_travel=tool_along_travel)
+
+
+def path_features(job):
+    """The Part features of the Job's plan layers (one compound of bead wires each)."""
+    return plan_stage.path_objects(job)
+
+
+def path_spacing(job):
+    """Measured distances between neighbouring beads of the stored plan, mm (plan_stage)."""
+    return plan_stage.plan_spacing(job)
+
+
+def motion(job):
+    """The planned motion of the stored plan in the Job's cell (positioner angles a1/a2 in rad,
+    deposition directions, ... per point; see native.plan_motion)."""
+    return poses.motion(job)
+
+
+def pose_count(job):
+    return len(poses.motion(job)["a1"]) if job.PlanJson else 0
+
+
+def set_pose(job, index):
+    """Shows the positioner at motion point `index` (0-based, clamped); returns the point's
+    (a1, a2) in degrees."""
+    job.PosePoint = int(index)
+    poses.update_poses(job)
+    job.purgeTouched()
+    return job.PoseA1, job.PoseA2
 
 
 def tessellate(obj, deflection):

@@ -3,7 +3,7 @@
 Every error the workbench raises on purpose derives from ``CurvedSlicerError``:
 ``InvalidInput`` (bad parameters or geometry), ``IoError``, ``ResourceLimit`` (memory budget),
 ``NumericalFailure``, ``Cancelled`` (the progress callback asked to stop) and ``NotAvailable``
-(a feature of a later version, e.g. path planning and program export in this version).
+(a feature this build of the workbench does not offer).
 Messages read "<what was wrong>: <value>; <what to do>".
 """
 
@@ -26,10 +26,3 @@ Cancelled = native.Cancelled
 
 class NotAvailable(CurvedSlicerError):
     """A feature that is not wired into this version of the workbench yet."""
-
-
-PATHS_NOT_WIRED = (
-    "path planning is not wired into the workbench yet: BeadSpacing, PointSpacing, InitialPath "
-    "and CellFile are stored but unused; the paths, positioner poses and program export arrive "
-    "in the next version"
-)

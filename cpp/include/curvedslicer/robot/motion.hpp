@@ -117,7 +117,10 @@ struct MotionOptions {
   bool preferPositiveTilt = true;  ///< branch at the first point: a1 >= 0 if feasible
   double smoothingLength = 0.0;    ///< mm, Gaussian sigma along the path for V; 0 = no smoothing
   double maxSmoothingDeviation = 0.0872664625997165;  ///< rad (5°), smoothed V vs plan V
-  bool toolAlongTravel = true;  ///< tool x along the travel direction (else fixed world x)
+  /// Tool x along the travel direction; off (default) keeps the torch orientation fixed in the
+  /// world while the positioner turns the part: a round GMA torch does not care, and following
+  /// the travel winds the wrist a full turn per ring (joint 6 past its limits).
+  bool toolAlongTravel = false;
   UnreachablePolicy unreachable = UnreachablePolicy::Throw;
   double residualWarning = 0.0174532925199433;  ///< rad (1°): warn above this residual
 };

@@ -1,5 +1,6 @@
 """Commands: create a Job from the selection, edit it, run it (progress + Cancel), show a layer
-range, export (not available yet) and preferences. Document changes go through the macro API
+range, export the robot program (file dialog with the format), step and animate the positioner
+poses, and preferences. Document changes go through the macro API
 (api.py) and are echoed with FreeCADGui.doCommand / doCommandSkip so macro recording captures
 them; errors are shown in a message box saying what to do, never as a crash."""
 
@@ -8,7 +9,7 @@ import FreeCADGui
 from PySide import QtCore, QtGui
 
 from .. import icon_path
-from ..core import PATHS_NOT_WIRED, Cancelled, CurvedSlicerError
+from ..core import Cancelled, CurvedSlicerError
 from ..objects.job import is_job
 
 
@@ -193,15 +194,130 @@ class LayerRangeDialog(QtGui.QDialog):
 
 
 class ExportProgram:
+    """Robot program of the selected Job's stored plan: a file dialog whose filters are the
+    formats of the exporters; the format follows the chosen filter (or the file's extension)."""
+
     def GetResources(self):
-        return {"Pixmap": icon_path("Export"), "MenuText": "Export robot program (next version)",
-                "ToolTip": PATHS_NOT_WIRED}
+        return {"Pixmap": icon_path("Export"), "MenuText": "Export robot program…",
+                "ToolTip": "Write the robot program (JBI, KRL, RAPID, LS, G-code, CSV, JSON) of "
+                           "the selected Job's plan; all files or none"}
 
     def IsActive(self):
-        return selected_job() is not None
+        job = selected_job()
+        return job is not None and bool(job.PlanJson)
 
     def Activated(self):
-        QtGui.QMessageBox.information(_main_window(), "CurvedSlicer", PATHS_NOT_WIRED)
+        export_selected_job()
+
+
+def export_filters():
+    from .. import api
+
+    return [("%s (*%s)" % (name.upper(), ext), name, ext) for (name, ext) in api.export_formats()]
+
+
+def export_selected_job(job=None, path=None, format=None):
+    """Exports through the macro API (recorded); returns the result dict or None. `path` and
+    `format` skip the dialog (tests)."""
+    from .. import api
+
+    job = job or selected_job()
+    if job is None:
+        return None
+    filters = export_filters()
+    if path is None:
+        chosen = QtGui.QFileDialog.getSaveFileName(
+            _main_window(), "Export robot program", job.Label + filters[0][2],
+            ";;".join(f[0] for f in filters))
+        path, selected = chosen if isinstance(chosen, tuple) else (chosen, "")
+        if not path:
+            return None
+        format = next((f[1] for f in filters if f[0] == selected), None)
+    if format is None:
+        format = next((f[1] for f in filters if path.lower().endswith(f[2].lower())), "jbi")
+    _record("from freecad.curvedslicer import api")
+    _record("api.export(%s, %r, format=%r)" % (_ref(job), path, format))
+    try:
+        QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
+        try:
+            result = api.export(job, path, format=format)
+        finally:
+            QtGui.QApplication.restoreOverrideCursor()
+    except CurvedSlicerError as error:
+        show_error("export failed", error)
+        return None
+    FreeCAD.Console.PrintMessage(
+        "CurvedSlicer: wrote %s (%d files, %d motions)\n"
+        % (path, len(result["files"]), result["motion_count"]))
+    return result
+
+
+class StepPose:
+    """Shows the positioner at the next motion point (a tenth of a path's points further)."""
+
+    def GetResources(self):
+        return {"Pixmap": icon_path("Run"), "MenuText": "Step positioner pose",
+                "ToolTip": "Move the positioner model to the next path point of the plan"}
+
+    def IsActive(self):
+        job = selected_job()
+        return job is not None and bool(job.PlanJson)
+
+    def Activated(self):
+        from .. import api
+
+        job = selected_job()
+        count = api.pose_count(job)
+        step = max(1, count // 200)
+        index = (job.PosePoint + step) % max(count, 1)
+        _record("api.set_pose(%s, %d)" % (_ref(job), index))
+        api.set_pose(job, index)
+        FreeCADGui.updateGui()
+
+
+class AnimatePoses:
+    """Plays the positioner through the plan (about 200 poses; run again to stop)."""
+
+    def __init__(self):
+        self.timer = None
+
+    def GetResources(self):
+        return {"Pixmap": icon_path("Layers"), "MenuText": "Animate positioner poses",
+                "ToolTip": "Step the positioner model through the plan's points (again: stop)"}
+
+    def IsActive(self):
+        job = selected_job()
+        return job is not None and bool(job.PlanJson)
+
+    def Activated(self):
+        from .. import api
+
+        if self.timer is not None:
+            self.timer.stop()
+            self.timer = None
+            return
+        job = selected_job()
+        count = api.pose_count(job)
+        step = max(1, count // 200)
+        state = {"index": 0}
+
+        def tick():
+            if job.Document is None or state["index"] >= count:
+                self.timer.stop()
+                self.timer = None
+                return
+            try:
+                api.set_pose(job, state["index"])
+            except CurvedSlicerError as error:
+                self.timer.stop()
+                self.timer = None
+                show_error("animation stopped", error)
+                return
+            state["index"] += step
+
+        self.timer = QtCore.QTimer()
+        self.timer.timeout.connect(tick)
+        self.timer.start(50)
 
 
 class Preferences:
@@ -222,6 +338,8 @@ COMMANDS = {
     "CurvedSlicer_RunJob": RunJob,
     "CurvedSlicer_LayerRange": LayerRange,
     "CurvedSlicer_Export": ExportProgram,
+    "CurvedSlicer_StepPose": StepPose,
+    "CurvedSlicer_AnimatePoses": AnimatePoses,
     "CurvedSlicer_Preferences": Preferences,
 }
 

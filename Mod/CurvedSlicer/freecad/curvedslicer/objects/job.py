@@ -1,16 +1,20 @@
-"""The CurvedSlicer Job: a document object holding a solid, a start surface and the slicing
-parameters, and its children (a "Layers" group with one Mesh feature per curved layer).
+"""The CurvedSlicer Job: a document object holding a solid, a start surface and the slicing,
+path and cell parameters, and its children: a "Layers" group (one Mesh feature per curved layer
+and the hidden start-surface mesh), a "Paths" group (one Part feature of bead wires per plan
+layer and the arc-off travel, objects/plan_stage.py) and a "Poses" group (the positioner model
+carrying the part, objects/poses.py).
 
-Recompute reruns only what changed: the layer stage runs when the digest of its inputs (the
-model's BREP text or mesh arrays, the start surface and the layer parameters) differs from the
-one stored with the current layers; the path parameters (BeadSpacing, PointSpacing, InitialPath,
-CellFile) do not trigger it. Path planning, positioner poses and export are not wired yet
-(``PathsStatus`` says so); nothing is faked.
+Recompute reruns only what changed, stage by stage: the layer stage runs when the digest of its
+inputs (the model's BREP text or mesh arrays, the start surface and the layer parameters)
+differs from ``InputsDigest``; the plan stage when the layers or a path parameter changed
+(``PlanDigest``), so a path parameter alone never reruns the layers; the poses follow the plan,
+the cell and ``PosePoint``. PlanKind ThinWall skips the layer stage and plans the wall surface.
 
-Layers are computed by the core's layer job (paper §2) and stored as Mesh features, saved in the
-.FCStd with the report JSON, so a reopened document needs no recompute. Errors of the core or of
-the input are shown in ``Status`` (and the Report view) without raising out of ``execute``; the
-macro API (api.run) raises them.
+Layers are stored as Mesh features, the plan as its versioned JSON text (``PlanJson``), both
+saved in the .FCStd, so a reopened document needs no recompute and re-exports byte-identical
+programs. Errors of the core or of the input are shown in ``Status`` (layers) or ``PathsStatus``
+(paths, poses) and the Report view without raising out of ``execute``; the macro API (api.run)
+raises them.
 """
 
 import hashlib
@@ -20,7 +24,8 @@ import FreeCAD
 
 from .. import SCHEMA_VERSION
 from .. import geometry
-from ..core import PATHS_NOT_WIRED, Cancelled, CurvedSlicerError, InvalidInput, native
+from ..core import Cancelled, CurvedSlicerError, InvalidInput, native
+from . import plan_stage, poses
 
 JOB_TYPE = "CurvedSlicer::Job"
 
@@ -28,6 +33,10 @@ START_MODES = ["BuildPlate", "Plane", "Faces", "Surface"]
 METHODS = ["AnyAngle", "Paper"]
 ALIGNMENTS = ["PCA", "Model"]
 INITIAL_PATHS = ["Boundary", "Plane", "Surface"]
+PLAN_KINDS = plan_stage.PLAN_KINDS
+WALL_EDGES = plan_stage.WALL_EDGES
+SURFACE_METHODS = plan_stage.SURFACE_METHODS
+PATH_DISPLAYS = plan_stage.PATH_DISPLAYS
 
 # (type, name, group, tooltip, default). Enumerations take their list as default (first = value).
 PROPERTIES = [
@@ -60,18 +69,51 @@ PROPERTIES = [
      "Tessellation chord error, mm; 0 = a quarter of the voxel size", 0.0),
     ("App::PropertyFloat", "MemoryBudget", "Layers",
      "Memory the layer job may use, MB; 0 = 80 % of physical memory", 0.0),
-    ("App::PropertyLength", "BeadSpacing", "Paths (not wired yet)",
-     "Distance between neighbouring beads, mm (used from the next version)", 3.7),
-    ("App::PropertyLength", "PointSpacing", "Paths (not wired yet)",
-     "Largest distance between robot points, mm (used from the next version)", 2.0),
-    ("App::PropertyEnumeration", "InitialPath", "Paths (not wired yet)",
-     "Initial curve of every layer: Boundary, Plane or Surface section (next version)",
+    ("App::PropertyEnumeration", "PlanKind", "Model",
+     "CurvedLayers: paths on curved layers grown from the start surface; ThinWall: one bead per "
+     "layer on WallSurface from its lower edge (the paper's turbine base)", PLAN_KINDS),
+    ("App::PropertyLinkSub", "WallSurface", "Thin wall",
+     "The wall's surface (PlanKind ThinWall), e.g. the turbine base's outer surface", None),
+    ("App::PropertyEnumeration", "WallEdge", "Thin wall",
+     "Edge the wall grows from: Lowest (the boundary loop lowest along WallAxis) or Nearest "
+     "(the loop nearest to WallPoint)", WALL_EDGES),
+    ("App::PropertyVector", "WallAxis", "Thin wall", "Up direction for WallEdge Lowest",
+     FreeCAD.Vector(0, 0, 1)),
+    ("App::PropertyVectorDistance", "WallPoint", "Thin wall",
+     "A point near the wall's start edge, mm (WallEdge Nearest)", FreeCAD.Vector(0, 0, 0)),
+    ("App::PropertyLength", "BeadSpacing", "Paths",
+     "Distance between neighbouring beads, mm (thin wall: between consecutive beads along the "
+     "wall)", 3.7),
+    ("App::PropertyLength", "PointSpacing", "Paths", "Largest distance between robot points, mm",
+     2.0),
+    ("App::PropertyFloat", "FitTolerance", "Paths", "Spline fit tolerance of the paths, mm",
+     0.05),
+    ("App::PropertyEnumeration", "InitialPath", "Paths",
+     "Initial curve of every layer: Boundary (contour-parallel paths), Plane (section with "
+     "InitialPlanePoint/InitialPlaneNormal) or Surface (section with InitialSurface)",
      INITIAL_PATHS),
-    ("App::PropertyFile", "CellFile", "Paths (not wired yet)",
-     "Robot cell description (JSON, resources/cells), used from the next version", ""),
+    ("App::PropertyVectorDistance", "InitialPlanePoint", "Paths",
+     "A point of the initial plane, mm (InitialPath Plane)", FreeCAD.Vector(0, 0, 0)),
+    ("App::PropertyVector", "InitialPlaneNormal", "Paths",
+     "Normal of the initial plane (InitialPath Plane)", FreeCAD.Vector(1, 0, 0)),
+    ("App::PropertyLinkSub", "InitialSurface", "Paths",
+     "Surface whose section with each layer is the first path (InitialPath Surface)", None),
+    ("App::PropertyEnumeration", "SurfaceMethod", "Paths",
+     "Surface geodesic field (GDTC): Accurate, or Paper (the paper's search, eq. 15)",
+     SURFACE_METHODS),
+    ("App::PropertyEnumeration", "PathDisplay", "Paths",
+     "Draw the paths as Polyline (the robot points) or BSpline (interpolated)", PATH_DISPLAYS),
+    ("App::PropertyFile", "CellFile", "Robot",
+     "Robot cell description (JSON, resources/cells); empty = the paper's cell (Motoman HP20D "
+     "with a tilt-rotate positioner)", ""),
+    ("App::PropertyBool", "ToolAlongTravel", "Robot",
+     "Torch x axis along the travel direction; off keeps the torch orientation fixed while the "
+     "positioner turns the part (default; no wrist wind-up on long rings)", False),
+    ("App::PropertyInteger", "PosePoint", "Robot",
+     "Motion point (0-based, execution order) the positioner model shows", 0),
     ("App::PropertyString", "Status", "Results", "What the last run did", "Not run yet"),
-    ("App::PropertyString", "PathsStatus", "Results", "State of paths, poses and export",
-     PATHS_NOT_WIRED),
+    ("App::PropertyString", "PathsStatus", "Results", "What the last path planning did",
+     "Not run yet"),
     ("App::PropertyInteger", "LayerCount", "Results", "Number of curved layers", 0),
     ("App::PropertyFloatList", "LayerHeights", "Results",
      "Geodesic distance of each layer from the start surface, mm", []),
@@ -87,9 +129,34 @@ PROPERTIES = [
     ("App::PropertyString", "Report", "Results",
      "Report JSON of the layer job (inputs, mesh, grid, field, per-layer statistics)", ""),
     ("App::PropertyInteger", "RunCount", "Results", "Layer computations so far", 0),
+    ("App::PropertyInteger", "PlanLayerCount", "Results", "Layers of the plan", 0),
+    ("App::PropertyInteger", "PathCount", "Results", "Beads (paths) of the plan", 0),
+    ("App::PropertyInteger", "PathPointCount", "Results", "Robot points of the plan", 0),
+    ("App::PropertyString", "PlanStats", "Results", "Planner statistics (JSON)", ""),
+    ("App::PropertyInteger", "PoseCount", "Results", "Motion points (PosePoint range)", 0),
+    ("App::PropertyFloat", "PoseA1", "Results", "Positioner tilt a1 at PosePoint, degrees", 0.0),
+    ("App::PropertyFloat", "PoseA2", "Results", "Positioner rotation a2 at PosePoint, degrees",
+     0.0),
+    ("App::PropertyFloat", "PoseResidual", "Results",
+     "Angle between the turned deposition direction and gravity at PosePoint, degrees", 0.0),
+    ("App::PropertyInteger", "PoseLayer", "Results", "Plan layer of PosePoint, 1-based", 0),
+    ("App::PropertyInteger", "PosePath", "Results", "Path of PosePoint in its layer, 1-based",
+     0),
+    ("App::PropertyVector", "PoseDeposition", "Results",
+     "Deposition direction V of PosePoint turned by the positioner (world; gravity ideally)",
+     FreeCAD.Vector(0, 0, -1)),
+    ("App::PropertyStringList", "MotionWarnings", "Results",
+     "Warnings of the motion planning (limits, unreachable points)", []),
     ("App::PropertyString", "InputsDigest", "Internal",
      "SHA-256 of the inputs the current layers were computed from", ""),
+    ("App::PropertyString", "PlanDigest", "Internal",
+     "SHA-256 of the inputs the current plan was computed from", ""),
+    ("App::PropertyString", "PlanJson", "Internal",
+     "The deposition plan, versioned JSON (plan/plan_io.hpp)", ""),
     ("App::PropertyLink", "LayersGroup", "Internal", "The group holding the layer meshes", None),
+    ("App::PropertyLink", "PathsGroup", "Internal", "The group holding the path wires", None),
+    ("App::PropertyLink", "PosesGroup", "Internal", "The group holding the positioner model",
+     None),
     ("App::PropertyInteger", "SchemaVersion", "Internal",
      "Property layout version of this Job (migrated on load)", SCHEMA_VERSION),
 ]
@@ -131,7 +198,8 @@ def add_missing_properties(obj):
             setattr(obj, name, default)
     for name in RESULT_PROPERTIES:
         obj.setEditorMode(name, 1)  # read-only
-    for name in ("InputsDigest", "LayersGroup"):
+    for name in ("InputsDigest", "LayersGroup", "PlanDigest", "PlanJson", "PathsGroup",
+                 "PosesGroup"):
         obj.setEditorMode(name, 2)  # hidden
     return added
 
@@ -173,15 +241,53 @@ class JobProxy:
             view_job.restore(obj)
 
     def execute(self, obj):
-        """Recompute: reruns the layers only if their inputs changed. Errors go to Status."""
+        """Recompute: reruns the layers, the paths and the poses only if their inputs changed.
+        Errors go to Status / PathsStatus (never raised out of a recompute)."""
         progress = _default_progress_factory() if _default_progress_factory else None
         try:
-            update_layers(obj, progress=progress, prune=False)
-        except CurvedSlicerError as error:
-            report_failure(obj, error)
+            update_job(obj, progress=progress, prune=False)
+        except CurvedSlicerError:
+            pass  # reported by update_job
         finally:
             if progress is not None and hasattr(progress, "close"):
                 progress.close()
+
+
+def _scaled(progress, begin, end):
+    """progress(stage, fraction) mapped into [begin, end] (fractions never go backwards)."""
+    if progress is None:
+        return None
+    return lambda stage, fraction: progress(stage, begin + (end - begin) * fraction)
+
+
+def update_job(job, progress=None, force=False, prune=True):
+    """Layers (CurvedLayers only), then paths, then poses, each only if its inputs changed (or
+    `force`). Reports an error in Status (layers) or PathsStatus (paths, poses) and re-raises it;
+    what an earlier run computed stays. Returns (layers ran, paths ran)."""
+    ran_layers = False
+    if job.PlanKind == "CurvedLayers":
+        try:
+            ran_layers = update_layers(job, progress=_scaled(progress, 0.0, 0.85), force=force,
+                                       prune=prune)
+        except CurvedSlicerError as error:
+            report_failure(job, error)
+            raise
+    else:
+        job.Status = "Thin wall: no volume layers (the wall's beads are the plan layers)"
+    try:
+        ran_paths = plan_stage.update_paths(job, progress=_scaled(progress, 0.85, 1.0),
+                                            force=force or ran_layers, prune=prune)
+        poses.update_poses(job)
+    except CurvedSlicerError as error:
+        kind = type(error).__name__
+        job.PathsStatus = ("Cancelled: the paths shown are from the previous run"
+                           if isinstance(error, Cancelled) else "%s: %s" % (kind, error))
+        FreeCAD.Console.PrintError("CurvedSlicer %s paths: %s: %s\n" % (job.Label, kind, error))
+        raise
+    job.PathsStatus = "%s: %d paths (%d points) on %d plan layers%s" % (
+        "Planned" if ran_paths else "Up to date", job.PathCount, job.PathPointCount,
+        job.PlanLayerCount, "" if ran_paths else " (inputs unchanged, not rerun)")
+    return ran_layers, ran_paths
 
 
 # A factory of progress callbacks the GUI installs (init_gui.py); None when headless.
@@ -399,8 +505,42 @@ def apply_result(job, result, digest, prune=True):
     job.InputsDigest = digest
     job.RunCount = job.RunCount + 1
     job.Status = _done_status(job)
-    job.PathsStatus = PATHS_NOT_WIRED
+    _store_start_mesh(job, result.get("source"))
     group.purgeTouched()
+
+
+def start_mesh_object(job):
+    """The hidden Mesh feature holding the start-surface triangles of the last layer run."""
+    group = job.LayersGroup
+    if group is None:
+        return None
+    for o in group.Group:
+        if "StartSurfaceMesh" in o.PropertiesList:
+            return o
+    return None
+
+
+def _store_start_mesh(job, source):
+    """Keeps the start surface the layers grew from (deposited material under layer 1, which the
+    path planner's deposition directions point to)."""
+    import Mesh
+
+    feature = start_mesh_object(job)
+    if feature is None:
+        feature = job.Document.addObject("Mesh::Feature", "StartSurfaceMesh")
+        feature.addProperty("App::PropertyBool", "StartSurfaceMesh", "Layer",
+                            "Start-surface triangles of the last layer run")
+        feature.setEditorMode("StartSurfaceMesh", 2)
+        feature.StartSurfaceMesh = True
+        job.LayersGroup.addObject(feature)
+    if source is not None and len(source["triangles"]):
+        feature.Mesh = Mesh.Mesh((geometry.vectors(source["vertices"]),
+                                  [tuple(t) for t in source["triangles"].tolist()]))
+    else:
+        feature.Mesh = Mesh.Mesh()
+    feature.Label = "%s start surface" % job.Label
+    feature.Visibility = False
+    feature.purgeTouched()
 
 
 def prune_unused_layers(job):

@@ -8,7 +8,7 @@ import FreeCAD
 import FreeCADGui
 from PySide import QtCore, QtGui
 
-from ..core import CurvedSlicerError, PATHS_NOT_WIRED
+from ..core import CurvedSlicerError
 from ..objects import job as job_module
 
 
@@ -98,8 +98,9 @@ class TaskPanelJob:
         f.addRow(self.estimate_button, self.estimate_label)
         layout.addWidget(layers)
 
-        paths = QtGui.QGroupBox("Paths (not wired yet)")
-        paths.setToolTip(PATHS_NOT_WIRED)
+        paths = QtGui.QGroupBox("Paths")
+        paths.setToolTip("Bead paths on every layer (paper 3.1); a change replans the paths "
+                         "without rerunning the layers")
         f = QtGui.QFormLayout(paths)
         self.bead_spacing = _spin(_mm(job.BeadSpacing), 0.01, 100.0)
         f.addRow("Bead spacing", self.bead_spacing)

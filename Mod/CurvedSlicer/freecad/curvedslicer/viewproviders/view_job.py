@@ -38,6 +38,34 @@ def color_layers(job):
             vobj.Lighting = "Two side"
 
 
+def style_paths(job):
+    """Arc-on beads as solid lines coloured by plan layer height, arc-off travel as thin dashed
+    grey lines, positioner parts in neutral greys (no-op headless)."""
+    if not FreeCAD.GuiUp:
+        return
+    from ..objects import plan_stage, poses
+
+    features = plan_stage.path_objects(job)
+    count = max(len(features), 1)
+    for i, feature in enumerate(features):
+        vobj = feature.ViewObject
+        if vobj is None:
+            continue
+        vobj.LineColor = height_color(i / max(count - 1, 1))
+        vobj.LineWidth = 2.0
+        vobj.DrawStyle = "Solid"
+    travel = plan_stage.travel_object(job)
+    if travel is not None and travel.ViewObject is not None:
+        travel.ViewObject.LineColor = (0.45, 0.45, 0.45)
+        travel.ViewObject.LineWidth = 1.0
+        travel.ViewObject.DrawStyle = "Dashed"
+    greys = {"PositionerBase": (0.35, 0.35, 0.38), "PositionerCradle": (0.55, 0.55, 0.6),
+             "PositionerTable": (0.75, 0.75, 0.78)}
+    for role, obj in poses.pose_objects(job).items():
+        if role in greys and obj.ViewObject is not None:
+            obj.ViewObject.ShapeColor = greys[role]
+
+
 class ViewProviderJob:
     def __init__(self, vobj):
         vobj.Proxy = self
@@ -51,6 +79,8 @@ class ViewProviderJob:
     def updateData(self, obj, prop):
         if prop == "LayerHeights":
             color_layers(obj)
+        elif prop in ("PlanDigest", "PoseCount"):
+            style_paths(obj)
 
     def onChanged(self, vobj, prop):
         pass
@@ -96,7 +126,22 @@ def restore(obj):
         ViewProviderJob(obj.ViewObject)
     from PySide import QtCore
 
-    QtCore.QTimer.singleShot(0, lambda: color_layers(obj) if obj.Document else None)
+    QtCore.QTimer.singleShot(0, lambda: (color_layers(obj), style_paths(obj),
+                                         _sync_visibility(obj)) if obj.Document else None)
+
+
+def _sync_visibility(job):
+    """A document saved headless has no GUI visibility for the path and pose objects; take the
+    object's own Visibility."""
+    from ..objects import plan_stage, poses
+
+    objects = list(plan_stage.path_objects(job)) + list(poses.pose_objects(job).values())
+    travel = plan_stage.travel_object(job)
+    if travel is not None:
+        objects.append(travel)
+    for o in objects:
+        if o.ViewObject is not None:
+            o.ViewObject.Visibility = bool(o.Visibility)
 
 
 def attach(obj):

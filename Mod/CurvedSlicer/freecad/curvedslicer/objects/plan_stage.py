@@ -1,0 +1,323 @@
+"""Paths of a Job (paper §3.1): the plan stage between the layers and the poses.
+
+Two kinds of Job plan paths:
+ - CurvedLayers: the planner (paths/planner.hpp planLayers) on the layer meshes stored in the
+   Job's "Layers" group and the start-surface triangles of the last layer run, with BeadSpacing,
+   PointSpacing, FitTolerance, SurfaceMethod and InitialPath (Boundary, or the section with
+   InitialPlane*/InitialSurface);
+ - ThinWall: the thin-wall planner (planThinWall, the paper's turbine base) on WallSurface, paths
+   at k·BeadSpacing from its lowest edge along WallAxis (or the edge nearest WallPoint).
+
+The plan is stored in the Job as its versioned JSON text (``PlanJson``, plan/plan_io.hpp) and drawn
+as one Part feature per plan layer (compound of arc-on wires: polylines or B-splines) plus one
+"Travel" feature holding the arc-off moves. The stage has its own digest (``PlanDigest``): it
+reruns when the layers or a path parameter changed, and a change of a path parameter alone never
+reruns the layers. No GUI imports.
+"""
+
+import hashlib
+import json
+
+import FreeCAD
+
+from .. import geometry
+from ..core import InvalidInput, native
+
+PLAN_KINDS = ["CurvedLayers", "ThinWall"]
+PATH_DISPLAYS = ["Polyline", "BSpline"]
+SURFACE_METHODS = ["Accurate", "Paper"]
+WALL_EDGES = ["Lowest", "Nearest"]
+
+PATH_PROPERTIES = [
+    ("App::PropertyInteger", "LayerIndex", "Paths", "Plan layer index, 1-based"),
+    ("App::PropertyInteger", "PathCount", "Paths", "Beads on this layer"),
+    ("App::PropertyDistance", "Height", "Paths", "Geodesic height of the layer, mm"),
+]
+
+
+def _vec(v):
+    return (float(v.x), float(v.y), float(v.z))
+
+
+def _mm(quantity):
+    return float(FreeCAD.Units.Quantity(quantity).getValueAs("mm"))
+
+
+def _digest(parts):
+    h = hashlib.sha256()
+    for part in parts:
+        h.update(repr(part).encode("utf-8"))
+        h.update(b"\0")
+    return h.hexdigest()
+
+
+# ---- inputs ------------------------------------------------------------------------------------
+
+def _initial_curve(job, deflection):
+    """kwargs and digest part of the initial curve of CurvedLayers."""
+    kind = job.InitialPath
+    if kind == "Boundary":
+        return {"initial_curve": "boundary"}, "boundary"
+    if kind == "Plane":
+        point, normal = _vec(job.InitialPlanePoint), _vec(job.InitialPlaneNormal)
+        if normal == (0.0, 0.0, 0.0):
+            raise InvalidInput("initial plane normal is zero: (0, 0, 0); set InitialPlaneNormal, "
+                               "e.g. (1, 0, 0)")
+        return ({"initial_curve": "plane", "plane_point": point, "plane_normal": normal},
+                ("plane", point, normal))
+    link = job.InitialSurface
+    obj, subs = (link[0], list(link[1])) if link else (None, [])
+    if obj is None:
+        raise InvalidInput("no initial surface: InitialSurface is empty; link the surface whose "
+                           "section with each layer is the first path, or use InitialPath "
+                           "Boundary")
+    vertices, triangles, digest = geometry.surface_from_object(obj, subs, deflection)
+    return ({"initial_curve": "surface", "surface_vertices": vertices,
+             "surface_triangles": triangles}, ("surface", digest))
+
+
+def _common_parameters(job):
+    spacing, points, tolerance = (_mm(job.BeadSpacing), _mm(job.PointSpacing),
+                                  float(job.FitTolerance))
+    for name, value in (("BeadSpacing", spacing), ("PointSpacing", points),
+                        ("FitTolerance", tolerance)):
+        if not value > 0:
+            raise InvalidInput("%s must be positive: %g mm; set it, e.g. %s" % (
+                name, value, {"BeadSpacing": "3.7", "PointSpacing": "2",
+                              "FitTolerance": "0.05"}[name]))
+    return {"bead_spacing": spacing, "point_spacing": points, "fit_tolerance": tolerance,
+            "surface_method": job.SurfaceMethod.lower()}
+
+
+def path_inputs(job):
+    """Everything the plan stage needs: (callable that plans, digest)."""
+    from .job import _deflection, layer_objects, start_mesh_object
+
+    common = _common_parameters(job)
+    if job.PlanKind == "ThinWall":
+        link = job.WallSurface
+        obj, subs = (link[0], list(link[1])) if link else (None, [])
+        if obj is None:
+            raise InvalidInput("no wall surface: WallSurface is empty; link the wall's surface "
+                               "(e.g. the turbine's BaseOuterSurface), or use PlanKind "
+                               "CurvedLayers")
+        deflection = _deflection(job)
+        vertices, triangles, surface_digest = geometry.surface_from_object(obj, subs, deflection)
+        edge = {"Lowest": "lowest", "Nearest": "nearest"}[job.WallEdge]
+        axis, point = _vec(job.WallAxis), _vec(job.WallPoint)
+        if edge == "lowest" and axis == (0.0, 0.0, 0.0):
+            raise InvalidInput("wall axis is zero: (0, 0, 0); set WallAxis to the up direction, "
+                               "e.g. (0, 0, 1)")
+        digest = _digest(["ThinWall", surface_digest, deflection, sorted(common.items()), edge,
+                          axis, point])
+
+        def plan(progress):
+            return native.plan_thin_wall(vertices, triangles, edge=edge, axis=axis, point=point,
+                                         model=obj.Label, progress=progress, **common)
+
+        return plan, digest
+
+    layers = layer_objects(job)
+    if not layers:
+        raise InvalidInput("no layers to plan paths on: %s has no layers; run the Job (its layer "
+                           "stage) first" % job.Label)
+    deflection = _deflection(job)
+    curve, curve_digest = _initial_curve(job, deflection)
+    digest = _digest(["CurvedLayers", job.InputsDigest, sorted(common.items()), curve_digest])
+    start = start_mesh_object(job)
+
+    def plan(progress):
+        arrays = []
+        for feature in layers:
+            vertices, triangles = geometry.mesh_arrays(feature.Mesh)
+            arrays.append({"index": int(feature.LayerIndex), "height": float(feature.Height),
+                           "vertices": vertices, "triangles": triangles})
+        kwargs = dict(common)
+        kwargs.update(curve)
+        if start is not None and start.Mesh.CountFacets:
+            kwargs["start_vertices"], kwargs["start_triangles"] = geometry.mesh_arrays(
+                start.Mesh)
+        report = json.loads(job.Report) if job.Report else {}
+        return native.plan_layers(
+            arrays, layer_thickness=_mm(job.LayerThickness), voxel_size=_mm(job.VoxelSize),
+            field_method={"AnyAngle": "anyangle", "Paper": "paper"}[job.Method],
+            model=job.Solid.Label if job.Solid else "",
+            start=str(report.get("inputs", {}).get("start", job.StartMode)),
+            progress=progress, **kwargs)
+
+    return plan, digest
+
+
+# ---- running -----------------------------------------------------------------------------------
+
+def update_paths(job, progress=None, force=False, prune=True):
+    """Replans the paths if their inputs changed (or `force`). Returns True if it ran.
+
+    Raises the core's exceptions; on error the previous plan and path objects stay."""
+    plan, digest = path_inputs(job)
+    if not force and digest == job.PlanDigest and job.PlanJson:
+        return False
+    result = plan(progress)
+    job.PlanJson = result["plan_json"]
+    job.PlanDigest = digest
+    summary = native.plan_summary(job.PlanJson)
+    job.PlanLayerCount = int(summary["layers"])
+    job.PathCount = int(summary["paths"])
+    job.PathPointCount = int(summary["points"])
+    stats = result["stats"]
+    job.PlanStats = json.dumps({k: v for k, v in stats.items()}, sort_keys=True)
+    draw_paths(job, prune=prune)
+    return True
+
+
+def ensure_paths_group(job):
+    if job.PathsGroup is None:
+        group = job.Document.addObject("App::DocumentObjectGroup", "Paths")
+        group.Label = "%s paths" % job.Label
+        job.addObject(group)
+        job.PathsGroup = group
+    return job.PathsGroup
+
+
+def path_objects(job):
+    """Part features of the plan layers (LayerIndex > 0), in layer order."""
+    group = job.PathsGroup
+    if group is None:
+        return []
+    return [o for o in group.Group if "LayerIndex" in o.PropertiesList and o.LayerIndex > 0]
+
+
+def travel_object(job):
+    group = job.PathsGroup
+    if group is None:
+        return None
+    for o in group.Group:
+        if "TravelMoves" in o.PropertiesList:
+            return o
+    return None
+
+
+def _wire(points, closed, display):
+    import Part
+
+    vectors = [FreeCAD.Vector(*p) for p in points]
+    if closed and (vectors[0] - vectors[-1]).Length > 1e-9:
+        vectors.append(vectors[0])
+    if display == "BSpline" and len(vectors) >= 4:
+        curve = Part.BSplineCurve()
+        if closed:
+            curve.interpolate(vectors[:-1], PeriodicFlag=True)
+        else:
+            curve.interpolate(vectors)
+        return Part.Wire([curve.toShape()])
+    return Part.makePolygon(vectors)
+
+
+def draw_paths(job, prune=True):
+    """(Re)builds the path features from job.PlanJson: one per plan layer, and the travel."""
+    import Part
+
+    doc = job.Document
+    group = ensure_paths_group(job)
+    existing = [o for o in group.Group if "LayerIndex" in o.PropertiesList]
+    paths = native.plan_paths(job.PlanJson) if job.PlanJson else []
+    summary = native.plan_summary(job.PlanJson) if job.PlanJson else {"per_layer": []}
+    by_layer = {}
+    for (layer, index, closed, points, _normals, _dep) in paths:
+        by_layer.setdefault(layer, []).append((closed, points.tolist()))
+    travel = []
+    previous_end = None
+    for (layer, index, closed, points, _normals, _dep) in paths:
+        start = tuple(points[0].tolist())
+        if previous_end is not None and previous_end != start:
+            travel.append(Part.LineSegment(FreeCAD.Vector(*previous_end),
+                                           FreeCAD.Vector(*start)).toShape())
+        previous_end = start if closed else tuple(points[-1].tolist())
+    layers = summary["per_layer"]
+    for i, layer in enumerate(layers):
+        if i < len(existing):
+            feature = existing[i]
+        else:
+            feature = doc.addObject("Part::Feature", "PathLayer")
+            for (ptype, name, pgroup, tooltip) in PATH_PROPERTIES:
+                feature.addProperty(ptype, name, pgroup, tooltip)
+                feature.setEditorMode(name, 1)
+            group.addObject(feature)
+        wires = [_wire(points, closed, job.PathDisplay)
+                 for (closed, points) in by_layer.get(layer["index"], [])]
+        feature.Shape = Part.makeCompound(wires)
+        feature.Label = "%s paths %03d" % (job.Label, layer["index"] + 1)
+        feature.LayerIndex = int(layer["index"]) + 1
+        feature.PathCount = int(layer["paths"])
+        feature.Height = float(layer["height"])
+        feature.Visibility = True
+        feature.purgeTouched()
+    for feature in existing[len(layers):]:
+        if prune:
+            group.removeObject(feature)
+            doc.removeObject(feature.Name)
+        else:
+            feature.Shape = Part.Shape()
+            feature.LayerIndex = 0
+            feature.Label = "%s unused paths" % job.Label
+            feature.Visibility = False
+            feature.purgeTouched()
+    moves = travel_object(job)
+    if moves is None:
+        moves = doc.addObject("Part::Feature", "Travel")
+        moves.addProperty("App::PropertyInteger", "TravelMoves", "Paths",
+                          "Arc-off moves between consecutive paths")
+        moves.setEditorMode("TravelMoves", 1)
+        group.addObject(moves)
+    moves.Shape = Part.makeCompound(travel) if travel else Part.Shape()
+    moves.TravelMoves = len(travel)
+    moves.Label = "%s travel (arc off)" % job.Label
+    moves.purgeTouched()
+    group.purgeTouched()
+    if FreeCAD.GuiUp:
+        from ..viewproviders import view_job
+
+        view_job.style_paths(job)
+
+
+def prune_unused_paths(job):
+    """Removes path features a smaller plan emptied inside a recompute."""
+    group = job.PathsGroup
+    if group is None:
+        return
+    for feature in [o for o in group.Group if "LayerIndex" in o.PropertiesList
+                    and o.LayerIndex == 0]:
+        group.removeObject(feature)
+        job.Document.removeObject(feature.Name)
+
+
+def plan_spacing(job):
+    """Distances between neighbouring beads measured on the stored plan (mm): thin wall, the
+    median distance of each bead's points to the previous bead; curved layers, per path the
+    smallest median distance of its points to another path of the same layer."""
+    import numpy as np
+
+    paths = native.plan_paths(job.PlanJson)
+    result = []
+
+    def distance_to_polyline(points, line):
+        a, b = line[:-1], line[1:]
+        ab = b - a
+        denom = np.maximum((ab * ab).sum(axis=1), 1e-300)
+        best = np.full(len(points), np.inf)
+        for p_i, p in enumerate(points):
+            t = np.clip(((p - a) * ab).sum(axis=1) / denom, 0.0, 1.0)
+            d = np.linalg.norm(a + t[:, None] * ab - p, axis=1)
+            best[p_i] = d.min()
+        return best
+
+    if job.PlanKind == "ThinWall":
+        for first, second in zip(paths, paths[1:]):
+            result.append(float(np.median(distance_to_polyline(second[3], first[3]))))
+        return result
+    for i, path in enumerate(paths):
+        others = [q for j, q in enumerate(paths) if j != i and q[0] == path[0]]
+        if others:
+            result.append(min(float(np.median(distance_to_polyline(path[3], q[3])))
+                              for q in others))
+    return result

@@ -1,0 +1,206 @@
+"""Positioner poses of a Job (paper §3.2, eq. 16): a schematic two-axis positioner — base,
+tilting cradle, rotary table — built from the cell (robot/cell.hpp), carrying the part (an
+App::Link to the Job's solid), placed at the planned angles (robot/motion.hpp planMotion: a1 tilt,
+a2 rotation) of the motion point ``PosePoint``.
+
+Shapes are built once in the table-zero frame T0 (x axis the tilt axis, z axis the rotation
+axis, origin on the table) and carried by placements: base T0, cradle T_cradle(a1) = T_table(a1,
+0), table T_table(a1, a2), part T_part(a1, a2). Sizes follow the part's extent
+(table radius at least 1.2 × the part's radius); they illustrate the motion and are not a
+collision model. The motion is planned with unreachable robot points kept (warnings go to
+``MotionWarnings``), cached per plan and cell for stepping. No GUI imports.
+"""
+
+import hashlib
+import math
+
+import FreeCAD
+
+from ..core import InvalidInput, native
+
+POSE_PARTS = ["PositionerBase", "PositionerCradle", "PositionerTable", "PosePart"]
+
+_motion_cache = {}  # (document name, job name) -> (digest, motion dict)
+
+
+def cell_json(job):
+    """The Job's cell as canonical JSON: CellFile, or the paper's cell when CellFile is empty."""
+    path = job.CellFile
+    if not path:
+        return native.default_cell_json()
+    return native.read_cell_json(path)
+
+
+def _digest(*parts):
+    h = hashlib.sha256()
+    for p in parts:
+        h.update(p.encode("utf-8") if isinstance(p, str) else repr(p).encode("utf-8"))
+        h.update(b"\0")
+    return h.hexdigest()
+
+
+def motion(job, progress=None):
+    """planMotion of the Job's plan in its cell (cached): dict of columns (see plan_motion)."""
+    if not job.PlanJson:
+        raise InvalidInput("no plan: %s has no paths yet; run the Job first" % job.Label)
+    cell = cell_json(job)
+    along = bool(getattr(job, "ToolAlongTravel", False))
+    digest = _digest(job.PlanJson, cell, along)
+    key = (job.Document.Name, job.Name)
+    cached = _motion_cache.get(key)
+    if cached is not None and cached[0] == digest:
+        return cached[1]
+    result = native.plan_motion(job.PlanJson, cell, warn_unreachable=True,
+                                tool_along_travel=along, progress=progress)
+    result["cell_json"] = cell
+    _motion_cache[key] = (digest, result)
+    return result
+
+
+def placement(matrix):
+    m = FreeCAD.Matrix(*[float(v) for row in matrix for v in row])
+    return FreeCAD.Placement(m)
+
+
+def _matrix(matrix):
+    return FreeCAD.Matrix(*[float(v) for row in matrix for v in row])
+
+
+def _box(x0, x1, y0, y1, z0, z1):
+    import Part
+
+    return Part.makeBox(x1 - x0, y1 - y0, z1 - z0, FreeCAD.Vector(x0, y0, z0))
+
+
+def positioner_shapes(cell, part_radius):
+    """Base, cradle and table shapes in the table-zero frame (mm): placed by T0 (base), the
+    cradle frame T_cradle(a1) and the table frame T_table(a1, a2)."""
+    import Part
+
+    frames = native.positioner_frames(cell, 0.0, 0.0)
+    t0 = _matrix(frames["table_zero"])
+    inverse = t0.inverse()
+    # Tilt axis and floor in the table-zero frame.
+    import json
+
+    description = json.loads(cell)["positioner"]
+    base = _matrix(frames["base"])
+    tilt_point = base.multiply(FreeCAD.Vector(*description["tilt_axis"]["point_mm"]))
+    tz = inverse.multiply(tilt_point).z
+    floor = inverse.multiply(base.multiply(FreeCAD.Vector(0, 0, 0))).z
+    r = max(150.0, 1.2 * part_radius)
+    w = r + 70.0  # half width of the cradle plate
+    table = Part.makeCylinder(r, 30.0, FreeCAD.Vector(0, 0, -30.0))
+    cradle = _box(-w, w, -0.8 * r, 0.8 * r, -70.0, -30.0)
+    for sign in (1, -1):
+        x0, x1 = sorted((sign * w, sign * (w + 40.0)))
+        cradle = cradle.fuse(_box(x0, x1, -60.0, 60.0, min(tz - 60.0, -70.0), -30.0))
+    base_shape = _box(-(w + 110.0), w + 110.0, -0.9 * r, 0.9 * r, floor, floor + 60.0)
+    for sign in (1, -1):
+        x0, x1 = sorted((sign * (w + 50.0), sign * (w + 110.0)))
+        base_shape = base_shape.fuse(_box(x0, x1, -80.0, 80.0, floor, tz + 60.0))
+    return base_shape, cradle, table
+
+
+def ensure_poses_group(job):
+    if job.PosesGroup is None:
+        group = job.Document.addObject("App::DocumentObjectGroup", "Poses")
+        group.Label = "%s poses" % job.Label
+        job.addObject(group)
+        job.PosesGroup = group
+    return job.PosesGroup
+
+
+def pose_objects(job):
+    """{role: object} of the Poses group (roles POSE_PARTS)."""
+    group = job.PosesGroup
+    found = {}
+    if group is None:
+        return found
+    for o in group.Group:
+        if "PoseRole" in o.PropertiesList:
+            found[o.PoseRole] = o
+    return found
+
+
+def _part_radius(job):
+    solid = job.Solid
+    shape = getattr(solid, "Shape", None) if solid is not None else None
+    if shape is None or shape.isNull():
+        mesh = getattr(solid, "Mesh", None)
+        box = mesh.BoundBox if mesh is not None else None
+    else:
+        box = shape.BoundBox
+    if box is None or not box.isValid():
+        return 100.0
+    return max(math.hypot(x, y) for x in (box.XMin, box.XMax) for y in (box.YMin, box.YMax))
+
+
+def update_poses(job, progress=None):
+    """Places the positioner model at the angles of motion point job.PosePoint (clamped).
+    Returns the motion dict, or None when the Job has no plan."""
+    if not job.PlanJson:
+        return None
+    m = motion(job, progress)
+    count = len(m["a1"])
+    index = min(max(int(job.PosePoint), 0), max(count - 1, 0))
+    if index != job.PosePoint:
+        job.PosePoint = index
+    a1, a2 = float(m["a1"][index]), float(m["a2"][index])
+    cell = m["cell_json"]
+    frames = native.positioner_frames(cell, a1, a2)
+    doc = job.Document
+    group = ensure_poses_group(job)
+    objects = pose_objects(job)
+    shape_digest = _digest("shapes v2", cell, round(_part_radius(job), 3))
+    needs_shapes = any(role not in objects for role in POSE_PARTS[:3]) or \
+        objects["PositionerBase"].ShapeDigest != shape_digest
+    if needs_shapes:
+        shapes = positioner_shapes(cell, _part_radius(job))
+    for role, shape_index in (("PositionerBase", 0), ("PositionerCradle", 1),
+                              ("PositionerTable", 2)):
+        obj = objects.get(role)
+        if obj is None:
+            obj = doc.addObject("Part::Feature", role)
+            obj.addProperty("App::PropertyString", "PoseRole", "Pose", "Part of the positioner")
+            obj.addProperty("App::PropertyString", "ShapeDigest", "Pose",
+                            "Cell and part size the shape was built for")
+            obj.PoseRole = role
+            for name in ("PoseRole", "ShapeDigest"):
+                obj.setEditorMode(name, 2)
+            group.addObject(obj)
+        if needs_shapes:
+            obj.Shape = shapes[shape_index]
+            obj.ShapeDigest = shape_digest
+    objects = pose_objects(job)
+    part = objects.get("PosePart")
+    if part is None and job.Solid is not None:
+        part = doc.addObject("App::Link", "PosePart")
+        part.addProperty("App::PropertyString", "PoseRole", "Pose", "Part of the positioner")
+        part.PoseRole = "PosePart"
+        part.setEditorMode("PoseRole", 2)
+        group.addObject(part)
+    if part is not None:
+        if part.LinkedObject != job.Solid:
+            part.LinkedObject = job.Solid
+        part.LinkTransform = True
+        part.Placement = placement(frames["part"])
+    # Shapes are in the table-zero frame; their placements are the frames that carry them.
+    objects["PositionerBase"].Placement = placement(frames["table_zero"])
+    objects["PositionerCradle"].Placement = placement(frames["cradle"])
+    objects["PositionerTable"].Placement = placement(frames["table"])
+    for o in pose_objects(job).values():
+        o.Label = "%s %s" % (job.Label, o.PoseRole)
+        o.purgeTouched()
+    group.purgeTouched()
+    v = m["deposition"][index]
+    world_v = placement(frames["part"]).Rotation.multVec(FreeCAD.Vector(*v.tolist()))
+    job.PoseCount = count
+    job.PoseA1 = math.degrees(a1)
+    job.PoseA2 = math.degrees(a2)
+    job.PoseResidual = math.degrees(float(m["residual"][index]))
+    job.PoseLayer = int(m["layer"][index]) + 1
+    job.PosePath = int(m["path"][index]) + 1
+    job.PoseDeposition = world_v
+    job.MotionWarnings = list(m["warnings"])
+    return m

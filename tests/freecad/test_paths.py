@@ -1,0 +1,187 @@
+"""Headless tests of paths, plan, poses and export (freecadcmd): bead spacing on curved layers and
+on a thin wall, positioner angles that turn V onto gravity, path parameters replan without
+rerunning the layers, save -> reopen in a new process -> byte-identical programs, every export
+format written all or nothing, and the errors of bad export requests."""
+
+import glob
+import math
+import os
+import sys
+
+sys.path.insert(0, os.environ.get("CURVEDSLICER_TEST_DIR", os.path.dirname(__file__)))
+
+import FreeCAD  # noqa: E402
+import Part  # noqa: E402
+
+import cs_testing  # noqa: E402
+from freecad.curvedslicer import api  # noqa: E402
+
+
+class PathTestCase(cs_testing.DocumentTestCase):
+    def box_job(self, bead_spacing=4.0):
+        box = self.box(40, 30, 6)
+        job = api.make_job(self.doc, box, layer_thickness=2.0, voxel_size=1.0,
+                           bead_spacing=bead_spacing, point_spacing=2.0, cell_file="")
+        api.run(job, progress=False)
+        return job
+
+    def wall_job(self, r1, r2, height, bead_spacing=1.65):
+        """A thin wall on the lateral face of a cone (cylinder when r1 == r2)."""
+        if r1 == r2:
+            shape = Part.makeCylinder(r1, height)
+        else:
+            shape = Part.makeCone(r1, r2, height)
+        lateral = max(shape.Faces, key=lambda f: f.Area if f.Surface.__class__.__name__
+                      in ("Cylinder", "Cone") else 0.0)
+        surface = self.doc.addObject("Part::Feature", "Wall")
+        surface.Shape = lateral
+        solid = self.doc.addObject("Part::Feature", "WallSolid")
+        solid.Shape = shape
+        self.doc.recompute()
+        job = api.make_job(self.doc, solid, plan_kind="ThinWall", wall_surface=surface,
+                           bead_spacing=bead_spacing, point_spacing=2.0, voxel_size=1.0,
+                           cell_file="")
+        api.run(job, progress=False)
+        return job
+
+
+class TestPaths(PathTestCase):
+    def test_curved_layer_beads_are_one_bead_spacing_apart(self):
+        job = self.box_job(bead_spacing=4.0)
+        self.assertEqual(job.LayerCount, 2)
+        self.assertEqual(job.PlanLayerCount, 2)
+        self.assertGreater(job.PathCount, 2)
+        spacing = api.path_spacing(job)
+        self.assertTrue(spacing)
+        # Contour-parallel rings on flat layers: neighbours exactly s apart (fit tolerance 0.05).
+        self.assertLess(max(abs(d - 4.0) for d in spacing), 0.06, spacing)
+        features = api.path_features(job)
+        self.assertEqual(len(features), 2)
+        for feature in features:
+            self.assertEqual(len(feature.Shape.Wires), feature.PathCount)
+            z = [v.Point.z for v in feature.Shape.Vertexes]
+            self.assertAlmostEqual(min(z), max(z), delta=0.05)
+            self.assertAlmostEqual(min(z), 2.0 * feature.LayerIndex, delta=0.05)
+        travel = [o for o in job.PathsGroup.Group if "TravelMoves" in o.PropertiesList][0]
+        self.assertEqual(travel.TravelMoves, job.PathCount - 1)
+        self.assertTrue(job.PathsStatus.startswith("Planned"), job.PathsStatus)
+
+    def test_thin_wall_beads_are_equidistant_from_the_lower_edge(self):
+        job = self.wall_job(20.0, 20.0, 10.0, bead_spacing=1.65)
+        self.assertEqual(job.LayerCount, 0)  # no volume layers for a thin wall
+        self.assertEqual(job.PathCount, int(10.0 // 1.65))  # beads at 1.65, 3.3, ... 9.9 mm
+        heights = sorted(f.Shape.BoundBox.ZMin for f in api.path_features(job))
+        for k, z in enumerate(heights, start=1):
+            self.assertAlmostEqual(z, 1.65 * k, delta=0.03)
+        spacing = api.path_spacing(job)
+        self.assertLess(max(abs(d - 1.65) for d in spacing), 0.03, spacing)
+
+    def test_path_parameter_replans_without_rerunning_the_layers(self):
+        job = self.box_job(bead_spacing=4.0)
+        runs, digest, paths = job.RunCount, job.PlanDigest, job.PathCount
+        job.BeadSpacing = 6.0
+        self.doc.recompute()
+        self.assertEqual(job.RunCount, runs)  # the layers were not recomputed
+        self.assertNotEqual(job.PlanDigest, digest)
+        self.assertLess(job.PathCount, paths)
+        self.assertLess(max(abs(d - 6.0) for d in api.path_spacing(job)), 0.06)
+        self.assertEqual(sum(f.PathCount for f in api.path_features(job)), job.PathCount)
+        # A layer parameter reruns both stages.
+        job.LayerThickness = 2.5
+        self.doc.recompute()
+        api.recompute(job)
+        self.assertEqual(job.RunCount, runs + 1)
+        self.assertEqual(job.LayerCount, 2)  # at 2.5 and 5 mm
+        self.assertEqual(len(api.path_features(job)), job.PlanLayerCount)
+        for feature in api.path_features(job):
+            z = feature.Shape.BoundBox.ZMin
+            self.assertAlmostEqual(z, 2.5 * feature.LayerIndex, delta=0.05)
+        # Nothing changed: nothing reruns.
+        self.assertEqual(api.run(job, progress=False), (False, False))
+
+
+class TestPoses(PathTestCase):
+    def test_pose_turns_the_deposition_direction_onto_gravity(self):
+        # A cone wall leaning inwards by 45 degrees: V runs down the slope, so the positioner must
+        # tilt the part for V to point along gravity.
+        job = self.wall_job(30.0, 15.0, 15.0, bead_spacing=1.65)
+        count = api.pose_count(job)
+        self.assertEqual(count, job.PoseCount)
+        self.assertGreater(count, 50)
+        motion = api.motion(job)
+        part = [o for o in job.PosesGroup.Group if getattr(o, "PoseRole", "") == "PosePart"][0]
+        for index in (0, count // 3, count // 2, count - 1):
+            a1, a2 = api.set_pose(job, index)
+            self.assertAlmostEqual(a1, math.degrees(motion["a1"][index]), places=9)
+            self.assertAlmostEqual(a2, math.degrees(motion["a2"][index]), places=9)
+            v = FreeCAD.Vector(*motion["deposition"][index].tolist())
+            turned = part.Placement.Rotation.multVec(v)
+            self.assertLess(turned.getAngle(FreeCAD.Vector(0, 0, -1)), 1e-6)
+            self.assertLess((job.PoseDeposition - turned).Length, 1e-9)
+            # The deposited direction is not vertical in the part frame: the tilt does the work.
+            self.assertGreater(abs(a1), 20.0)
+        # The table carries the part: the part frame origin stays on the table's axis.
+        table = [o for o in job.PosesGroup.Group if getattr(o, "PoseRole", "")
+                 == "PositionerTable"][0]
+        self.assertLess((table.Placement.Base - part.Placement.Base).Length, 1e-6)
+
+
+class TestExport(PathTestCase):
+    def test_every_format_is_written_all_or_nothing(self):
+        job = self.box_job()
+        folder = cs_testing.tmp_path("export_all")
+        os.makedirs(folder, exist_ok=True)
+        for name, extension in api.export_formats():
+            target = os.path.join(folder, "BOX" + extension)
+            result = api.export(job, target, format=name)
+            self.assertEqual(result["format"], name)
+            self.assertGreater(result["motion_count"], 0)
+            with open(target, "rb") as f:
+                self.assertEqual(f.read(), result["files"][0][1])
+        # A folder that does not exist: IoError and no file anywhere.
+        missing = os.path.join(folder, "missing", "BOX.JBI")
+        with self.assertRaises(api.IoError):
+            api.export(job, missing, format="jbi")
+        self.assertFalse(os.path.exists(os.path.dirname(missing)))
+        self.assertFalse(glob.glob(os.path.join(folder, "*.tmp*")))
+
+    def test_bad_export_requests_raise_invalid_input(self):
+        box = self.box(10, 10, 4)
+        job = api.make_job(self.doc, box, layer_thickness=2.0, voxel_size=1.0)
+        with self.assertRaisesRegex(api.InvalidInput, "no plan to export"):
+            api.export(job, cs_testing.tmp_path("none.JBI"))
+        job = self.box_job()
+        with self.assertRaisesRegex(api.InvalidInput, "jbi"):
+            api.export(job, cs_testing.tmp_path("x.prg"), format="fanuc-karel")
+        with self.assertRaises(api.InvalidInput):
+            api.export(job, cs_testing.tmp_path("x.JBI"), cell_file=__file__)  # not a cell
+
+    def test_reopened_document_reexports_identical_programs_without_recompute(self):
+        job = self.box_job()
+        path = cs_testing.tmp_path("paths_reopen.FCStd")
+        self.doc.saveAs(path)
+        programs = {}
+        for name in ("jbi", "krl", "csv"):
+            result = api.export(job, None, format=name)
+            programs[name] = [(n, text.decode("latin-1")) for (n, text, _) in result["files"]]
+        out = cs_testing.run_in_new_process(
+            "import FreeCAD\nfrom freecad.curvedslicer import api\n"
+            "doc = FreeCAD.openDocument(%r)\njob = doc.getObject(%r)\n"
+            "touched = [o.Name for o in doc.Objects if 'Touched' in o.State]\n"
+            "progs = {}\n"
+            "for name in ('jbi', 'krl', 'csv'):\n"
+            "    r = api.export(job, None, format=name)\n"
+            "    progs[name] = [(n, t.decode('latin-1')) for (n, t, _) in r['files']]\n"
+            "print('RESULT ' + json.dumps({'touched': touched, 'programs': progs, "
+            "'runs': job.RunCount, 'paths': len(api.path_features(job)), "
+            "'plan': job.PlanJson == api.plan_json(job)}))" % (path, job.Name))
+        self.assertNotIn("error", out, out)
+        self.assertEqual(out["touched"], [])
+        self.assertEqual(out["runs"], job.RunCount)
+        self.assertEqual(out["paths"], len(api.path_features(job)))
+        self.assertTrue(out["plan"])
+        for name in programs:
+            self.assertEqual([tuple(f) for f in out["programs"][name]], programs[name], name)
+
+
+cs_testing.main(__name__)
