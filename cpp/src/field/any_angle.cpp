@@ -394,7 +394,9 @@ class AnyAnglePropagator {
     double best = kInf;
     std::uint32_t bestCell = 0;
     std::int32_t parents[27];
+    double direct[27];  // evaluate(parents[i], x): a lower bound of every pivot through parents[i]
     int parentCount = 0;
+    direct[parentCount] = evaluate(failed, x, nullptr);
     parents[parentCount++] = failed;
     candidates_.clear();
     for (int o = 0; o < 26; ++o) {
@@ -407,9 +409,10 @@ class AnyAnglePropagator {
       }
       const std::int32_t q = parent_[m];
       if (std::find(parents, parents + parentCount, q) != parents + parentCount) continue;
+      direct[parentCount] = evaluate(q, x, nullptr);
       parents[parentCount++] = q;
       // (a) the neighbour's parent.
-      candidates_.push_back({evaluate(q, x, nullptr), q, -1, Vec3::Zero()});
+      candidates_.push_back({direct[parentCount - 1], q, -1, Vec3::Zero()});
     }
     // (b) pivots on reflex edges near the cell and near where its blocked segment hits the
     // surface, for every candidate parent.
@@ -426,6 +429,9 @@ class AnyAnglePropagator {
       for (std::uint32_t e : edges_) {
         const auto& edge = boundary_->reflexEdge(e);
         for (int i = 0; i < parentCount; ++i) {
+          // Distances through a parent are 1-Lipschitz, so no pivot via parents[i] is shorter
+          // than the straight value; one that cannot beat `best` would never be tested.
+          if (!(direct[i] < best - 1e-9)) continue;
           Vec3 y;
           const double value = bestPointOnEdge(parents[i], edge[0], edge[1], x, &y);
           if (value < best - 1e-9)

@@ -148,11 +148,12 @@ bool SolidBoundary::crossesTriangle(const Vec3& a, const Vec3& b, std::uint32_t 
                                     double startTolerance) const {
   const Triangle& tri = tris_[t];
   const Vec3& n = normals_[t];
-  const double eps = 1e-9 * n.norm();
   const double da = n.dot(a - tri[0]);
   const double db = n.dot(b - tri[0]);
-  if (std::abs(da) <= eps || std::abs(db) <= eps) return false;  // touches the plane at an end
+  // Both ends on one side (the common case, decided without the square root below).
   if ((da > 0) == (db > 0)) return false;
+  const double eps = 1e-9 * n.norm();
+  if (std::abs(da) <= eps || std::abs(db) <= eps) return false;  // touches the plane at an end
   const double s = da / (da - db);
   // A start point within startTolerance cells outside the surface (a cell centre in the sliver
   // between a curved solid and its tessellation) is not blocked by that surface.
