@@ -240,6 +240,15 @@ class PolylineDistance {
         best = std::min(best, pointSegmentDistance(p, pts_[s], pts_[(s + 1) % n]));
       return best;
     }
+    // A grid query visits about (2·bound/cell + 1)³ cells: when that is more than the segments,
+    // testing every segment is cheaper (a far local bound on a finely sampled line).
+    const double span = 2.0 * bound / gridCell() + 1.0;
+    if (!(span * span * span < static_cast<double>(segments))) {
+      double best = bound;
+      for (int s = 0; s < segments; ++s)
+        best = std::min(best, pointSegmentDistance(p, pts_[s], pts_[(s + 1) % n]));
+      return best;
+    }
     if (!grid_) buildGrid();
     Vec3 point;
     double d = bound;
@@ -250,12 +259,21 @@ class PolylineDistance {
  private:
   static constexpr int kBruteForceQueries = 8;
 
-  void buildGrid() {
+  /// The grid's cell size: the mean segment length, at least minCell_.
+  double gridCell() {
+    if (cell_ > 0.0) return cell_;
     const int segments = segmentCount();
     const int n = static_cast<int>(pts_.size());
     double total = 0.0;
     for (int s = 0; s < segments; ++s) total += (pts_[(s + 1) % n] - pts_[s]).norm();
-    const double cell = std::max(total / std::max(segments, 1), minCell_);
+    cell_ = std::max(total / std::max(segments, 1), minCell_);
+    return cell_;
+  }
+
+  void buildGrid() {
+    const int segments = segmentCount();
+    const int n = static_cast<int>(pts_.size());
+    const double cell = gridCell();
     grid_.emplace(cell);
     for (int s = 0; s < segments; ++s) {
       const Vec3& a = pts_[s];
@@ -272,6 +290,7 @@ class PolylineDistance {
   bool closed_;
   double minCell_;
   int exactQueries_ = 0;
+  double cell_ = 0.0;
   std::optional<detail::SegmentGrid> grid_;
 };
 

@@ -56,8 +56,9 @@ class SegmentGrid {
       for (int i = c.x() - r; i <= c.x() + r; ++i) {
         for (int j = c.y() - r; j <= c.y() + r; ++j) {
           const bool edgeIJ = std::abs(i - c.x()) == r || std::abs(j - c.y()) == r;
-          for (int k = c.z() - r; k <= c.z() + r; ++k) {
-            if (!edgeIJ && std::abs(k - c.z()) != r) continue;  // interior of the shell
+          // Rows inside the shell's i/j outline touch the shell only at its two z faces.
+          const int kStep = edgeIJ || r == 0 ? 1 : 2 * r;
+          for (int k = c.z() - r; k <= c.z() + r; k += kStep) {
             const auto it = cells_.find(key(i, j, k));
             if (it == cells_.end()) continue;
             for (const int id : it->second) {
