@@ -172,7 +172,9 @@ TEST(Motion, EndlessRotationUnwraps) {
   EXPECT_LT(motion.maxResidual, 1e-9);
   // with the torch following the travel direction the joint-T limit is named
   try {
-    planMotion(linePlan(dirs), cell);
+    MotionOptions along;
+    along.toolAlongTravel = true;
+    planMotion(linePlan(dirs), cell, along);
     ADD_FAILURE() << "T winding beyond its limit accepted";
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("joint 6 at"), std::string::npos) << e.what();
@@ -302,7 +304,9 @@ TEST(Motion, FlatRingsRecentreTheWrist) {
     layer.paths.push_back(path);
     plan.layers.push_back(layer);
   }
-  const MotionPlan motion = planMotion(plan, cell);
+  MotionOptions along;
+  along.toolAlongTravel = true;
+  const MotionPlan motion = planMotion(plan, cell, along);
   EXPECT_EQ(motion.singularPoints, motion.points.size());
   for (const MotionPathSpan& span : motion.paths) {
     const double turn = motion.points[span.end - 1].joints[5] - motion.points[span.begin].joints[5];
