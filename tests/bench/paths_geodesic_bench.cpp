@@ -72,10 +72,9 @@ int main(int argc, char** argv) {
   for (int i = 3; i < argc; ++i) layers.push_back(std::atoi(argv[i]));
   if (layers.empty()) layers = {1, 20, 50, 80, 110, 140};
 
-  std::printf("%-6s %8s %7s %7s | %9s %9s %9s %9s %9s | %9s | %-15s %-15s %-15s %-15s\n",
-              "layer", "faces", "dropped", "sources", "ours s", "1st ord s", "paper s", "heat s",
-              "exact s", "heat/ours", "ours mean/max", "1st mean/max", "paper mean/max",
-              "heat mean/max");
+  std::printf("%-6s %8s %7s %7s | %9s %9s %9s %9s %9s | %9s | %-15s %-15s %-15s %-15s\n", "layer",
+              "faces", "dropped", "sources", "ours s", "1st ord s", "paper s", "heat s", "exact s",
+              "heat/ours", "ours mean/max", "1st mean/max", "paper mean/max", "heat mean/max");
   for (const int layer : layers) {
     char name[64];
     std::snprintf(name, sizeof name, "layer_%04d.obj", layer);

@@ -92,8 +92,8 @@ double circleUpdate(const Eigen::Vector2d& A, const Eigen::Vector2d& B, const Ei
   const Eigen::Vector2d n = P.inverse() * Eigen::Vector2d(dA - planar, dB - planar);
   const double nNorm = n.norm();
   if (!(nNorm > 0.0)) return nan;
-  const double stencil =
-      std::sqrt(std::max({A.squaredNorm(), B.squaredNorm(), (B - A).squaredNorm(), (D - A).squaredNorm()}));
+  const double stencil = std::sqrt(
+      std::max({A.squaredNorm(), B.squaredNorm(), (B - A).squaredNorm(), (D - A).squaredNorm()}));
   const double flat = 1e4 * stencil;
   const double minRadius = 2.0 * stencil;
   // Of the two Apollonius solutions keep the flatter one (the larger front radius): the other is
