@@ -7,6 +7,7 @@
 #include <new>
 #include <string>
 
+#include "command_errors.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/core/progress.hpp"
 #include "curvedslicer/export/exporter.hpp"
@@ -51,12 +52,6 @@ ExportOptions parseExportOptions(const ExportArguments& args) {
     throw InvalidInput("unknown G-code mode: '" + args.gcodeMode + "'; use tcp or machine");
   }
   return options;
-}
-
-int failure(TerminalProgress& progress, int code, const std::string& message) {
-  progress.finishLine();
-  std::fprintf(stderr, "curvedslicer: error: %s\n", message.c_str());
-  return code;
 }
 
 }  // namespace
@@ -110,28 +105,9 @@ int runExportCommand(const ExportArguments& args) {
           motion.total.totalTime, motion.total.wireLength / 1000.0, motion.total.depositedMass);
     }
     return kExitOk;
-  } catch (const Cancelled& e) {
-    if (interruptSignal() != 0) {
-      display.finishLine();
-      std::fprintf(stderr, "curvedslicer: interrupted; nothing was written to '%s'\n",
-                   args.output.c_str());
-      return kExitInterruptedBase + interruptSignal();
-    }
-    return failure(display, kExitOther, e.what());
-  } catch (const InvalidInput& e) {
-    return failure(display, kExitInvalidInput, e.what());
-  } catch (const IoError& e) {
-    return failure(display, kExitIo, e.what());
-  } catch (const ResourceLimit& e) {
-    return failure(display, kExitResourceLimit, e.what());
-  } catch (const NumericalFailure& e) {
-    return failure(display, kExitNumericalFailure, e.what());
-  } catch (const fs::filesystem_error& e) {
-    return failure(display, kExitIo, e.what());
-  } catch (const std::bad_alloc&) {
-    return failure(display, kExitResourceLimit, "out of memory while exporting; free memory");
-  } catch (const std::exception& e) {
-    return failure(display, kExitOther, e.what());
+  } catch (...) {
+    return failWithCurrentException(display, args.output,
+                                    "out of memory while exporting; free memory");
   }
 }
 

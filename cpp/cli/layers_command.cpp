@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "command_errors.hpp"
 #include "curvedslicer/core/atomic_file.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/core/progress.hpp"
@@ -145,12 +146,6 @@ class StagingLayerSink final : public LayerSink {
   double seconds_ = 0.0;
 };
 
-int failure(TerminalProgress& progress, int code, const std::string& message) {
-  progress.finishLine();
-  std::fprintf(stderr, "curvedslicer: error: %s\n", message.c_str());
-  return code;
-}
-
 }  // namespace
 
 int runLayersCommand(const LayersArguments& args) {
@@ -218,30 +213,8 @@ int runLayersCommand(const LayersArguments& args) {
                   kVoxelSetsFile, kReportFile);
     }
     return kExitOk;
-  } catch (const Cancelled& e) {
-    if (interruptSignal() != 0) {
-      display.finishLine();
-      std::fprintf(stderr, "curvedslicer: interrupted; nothing was written to '%s'\n",
-                   outputDir.string().c_str());
-      return kExitInterruptedBase + interruptSignal();
-    }
-    return failure(display, kExitOther, e.what());
-  } catch (const InvalidInput& e) {
-    return failure(display, kExitInvalidInput, e.what());
-  } catch (const IoError& e) {
-    return failure(display, kExitIo, e.what());
-  } catch (const ResourceLimit& e) {
-    return failure(display, kExitResourceLimit, e.what());
-  } catch (const NumericalFailure& e) {
-    return failure(display, kExitNumericalFailure, e.what());
-  } catch (const fs::filesystem_error& e) {
-    return failure(display, kExitIo, e.what());
-  } catch (const std::bad_alloc&) {
-    return failure(display, kExitResourceLimit,
-                   "out of memory: the job needs more memory than is available; use a larger "
-                   "voxel size (--voxel) or set --memory-budget to what the machine can spare");
-  } catch (const std::exception& e) {
-    return failure(display, kExitOther, e.what());
+  } catch (...) {
+    return failWithCurrentException(display, outputDir.string(), kJobOutOfMemoryMessage);
   }
 }
 
