@@ -1,7 +1,11 @@
 """GUI test under xvfb-run (freecad script): the workbench activates, its commands exist, the
 task panel opens and applies values, a run started from the GUI completes, a screenshot of the 3D
 view shows the coloured layers (pixel statistics, compared with the same view without them), and
-a non-solid selection gives a message box instead of an exception. Exits with os._exit."""
+a non-solid selection gives a message box instead of an exception. The task panel shows every
+user-facing Job property, disables the fields the chosen modes do not use, applies a changed
+value of every group (paths, robot, thin wall) and refuses a missing or broken cell file and a
+face not on the wall surface with their messages, leaving the Job unchanged. Exits with
+os._exit."""
 
 import os
 import sys
@@ -165,6 +169,8 @@ def run():
     check(job.PoseDeposition.getAngle(FreeCAD.Vector(0, 0, -1)) < 0.02,
           "the pose turns V along gravity")
 
+    panel_edits_every_group(job, box)
+
     # A document made headless (no view provider proxies) gets them on opening in the GUI, with
     # the layers coloured by height.
     import subprocess
@@ -187,6 +193,125 @@ def run():
     check(len(colors) == 3 and len(set(colors)) == 3, "reopened layers coloured by height: %s"
           % colors)
     check("Touched" not in job2.State, "reopened Job is not touched")
+
+
+def panel_edits_every_group(job, box):
+    """The task panel: every user-facing property, mode-dependent fields, Apply of the paths,
+    robot and thin-wall groups, refusal of bad input."""
+    from freecad.curvedslicer.core import native
+    from freecad.curvedslicer.objects import job as job_module
+    from freecad.curvedslicer.taskpanels.task_job import TaskPanelJob
+
+    if FreeCADGui.Control.activeDialog():
+        FreeCADGui.Control.closeDialog()
+    process_events()
+    panel = TaskPanelJob(job)
+    FreeCADGui.Control.showDialog(panel)
+    process_events()
+    user_properties = {name for (_, name, group, _, _) in job_module.PROPERTIES
+                       if group not in ("Results", "Internal")}
+    shown = set(panel.values())
+    check(shown == user_properties, "the panel edits every Job parameter (missing %s, extra %s)"
+          % (sorted(user_properties - shown), sorted(shown - user_properties)))
+    tabs = [panel.tabs.tabText(i) for i in range(panel.tabs.count())]
+    check(tabs == ["Model", "Layers", "Paths", "Robot"], "panel tabs: %s" % tabs)
+    check(panel.commands() == [], "an untouched panel applies nothing: %s" % panel.commands())
+
+    # Fields of modes not chosen are disabled.
+    check(panel.start_group.isEnabled() and not panel.wall_group.isEnabled(),
+          "curved layers: start surface on, thin wall off")
+    check(panel.start_faces.isEnabled() and not panel.start_point.isEnabled()
+          and not panel.start_surface.isEnabled(), "start Faces: only the face list on")
+    panel.initial_path.setCurrentIndex(job_module.INITIAL_PATHS.index("Plane"))
+    check(panel.initial_point.isEnabled() and panel.initial_normal.isEnabled()
+          and not panel.initial_surface.isEnabled(), "initial path Plane: plane fields on")
+
+    # Paths and robot: a non-default value in every new field, applied with Apply.
+    cell = os.path.join(TMP, "cell.json")
+    with open(cell, "w") as f:
+        f.write(native.default_cell_json())
+    count = job.PoseCount
+    pose = (job.PosePoint + count // 2 + 1) % count
+    panel.initial_point.set_value((1.0, 2.0, 3.0))
+    panel.initial_normal.set_value((0.0, 1.0, 0.0))
+    panel.fit_tolerance.setValue(0.08)
+    panel.surface_method.setCurrentIndex(job_module.SURFACE_METHODS.index("Paper"))
+    panel.path_display.setCurrentIndex(job_module.PATH_DISPLAYS.index("BSpline"))
+    panel.cell_file.set_text(cell)
+    check(panel.cell_status.text() == "valid cell file", "cell file status: %s"
+          % panel.cell_status.text())
+    panel.tool_along_travel.setChecked(True)
+    panel.pose_point.setValue(pose)
+    lines = panel.commands()
+    expected = ["InitialPath = 'Plane'", "InitialPlanePoint = App.Vector(1.0, 2.0, 3.0)",
+                "InitialPlaneNormal = App.Vector(0.0, 1.0, 0.0)", "FitTolerance = 0.08",
+                "SurfaceMethod = 'Paper'", "PathDisplay = 'BSpline'", "CellFile = %r" % cell,
+                "ToolAlongTravel = True", "PosePoint = %d" % pose]
+    prefix = "App.getDocument(%r).getObject(%r)." % (job.Document.Name, job.Name)
+    check(all(line.startswith(prefix) for line in lines)
+          and sorted(line[len(prefix):] for line in lines) == sorted(expected),
+          "the changed values become property assignments: %s" % lines)
+    panel.clicked(QtGui.QDialogButtonBox.Apply)
+    process_events()
+    check(panel.error_label.text() == "", "applied without message: %s"
+          % panel.error_label.text())
+    check(job.InitialPath == "Plane" and job.InitialPlanePoint == FreeCAD.Vector(1, 2, 3)
+          and job.InitialPlaneNormal == FreeCAD.Vector(0, 1, 0)
+          and abs(job.FitTolerance - 0.08) < 1e-12 and job.SurfaceMethod == "Paper"
+          and job.PathDisplay == "BSpline", "Apply set the path parameters")
+    check(job.CellFile == cell and job.ToolAlongTravel and job.PosePoint == pose,
+          "Apply set the robot parameters (cell, torch along travel, pose point %d)" % pose)
+    check(panel.commands() == [], "nothing left to apply after Apply")
+
+    # A missing and a broken cell file are refused, saying which file; nothing is applied.
+    broken = os.path.join(TMP, "broken_cell.json")
+    with open(broken, "w") as f:
+        f.write('{"robot": {"name": 1}')
+    for path, what in ((os.path.join(TMP, "no_such_cell.json"), "cell file does not exist"),
+                       (broken, "cell file not usable")):
+        panel.tabs.setCurrentIndex(0)
+        panel.cell_file.set_text(path)
+        panel.tool_along_travel.setChecked(False)
+        check(not panel.accept(), "bad cell file refused: %s" % os.path.basename(path))
+        message = panel.error_label.text()
+        check(message.startswith(what) and path in message and "clear the field" in message,
+              "cell file message: %s" % message)
+        check(panel.tabs.currentIndex() == 3, "the Robot tab is brought forward")
+        check(job.CellFile == cell and job.ToolAlongTravel, "refused: CellFile and "
+              "ToolAlongTravel unchanged")
+
+    # Thin wall: the wall fields on, the layer fields off; a face not on the wall is refused.
+    panel.cell_file.set_text("")
+    panel.plan_kind.setCurrentIndex(job_module.PLAN_KINDS.index("ThinWall"))
+    check(panel.wall_group.isEnabled() and not panel.start_group.isEnabled()
+          and not panel.initial_group.isEnabled() and not panel.layer_thickness.isEnabled()
+          and panel.voxel_size.isEnabled(), "thin wall: wall fields on, layer fields off")
+    panel.wall_surface.object.set_object(box)
+    panel.wall_surface.faces.setText("Face99")  # typed; the box has 6 faces
+    panel.wall_edge.setCurrentIndex(job_module.WALL_EDGES.index("Nearest"))
+    check(panel.wall_point.isEnabled() and not panel.wall_axis.isEnabled(),
+          "wall edge Nearest: the point on, the axis off")
+    panel.wall_point.set_value((0.0, 0.0, 1.5))
+    check(not panel.accept(), "a wall face not on the surface is refused")
+    message = panel.error_label.text()
+    check("Face99" in message and "6 faces" in message and panel.tabs.currentIndex() == 0,
+          "wall face message: %s" % message)
+    check(job.PlanKind == "CurvedLayers" and job.CellFile == cell, "refused: Job unchanged")
+    FreeCADGui.Selection.clearSelection()
+    FreeCADGui.Selection.addSelection(box.Document.Name, box.Name, "Face1")
+    panel.wall_surface.pick.click()
+    check(panel.wall_surface.value() == (box.Name, ("Face1",)), "From selection takes the picked "
+          "face: %s" % (panel.wall_surface.value(),))
+    check(panel.accept(), "thin-wall values accepted: %s" % panel.error_label.text())
+    process_events()
+    surface = job.WallSurface
+    check(job.PlanKind == "ThinWall" and surface[0] == box and list(surface[1]) == ["Face1"]
+          and job.WallEdge == "Nearest" and job.WallPoint == FreeCAD.Vector(0, 0, 1.5),
+          "the thin-wall parameters applied")
+    check(job.CellFile == "" and not job.ToolAlongTravel, "cell cleared, torch fixed applied")
+    if FreeCADGui.Control.activeDialog():
+        FreeCADGui.Control.closeDialog()
+    process_events()
 
 
 try:

@@ -168,10 +168,12 @@ def recompute(job):
     plan_stage.prune_unused_paths(job)
 
 
-def estimate(job, voxel_size=None, grid_alignment=None, memory_budget_mb=None, deflection=None):
+def estimate(job, voxel_size=None, grid_alignment=None, memory_budget_mb=None, deflection=None,
+             solid=None, cap_holes=None):
     """Voxel grid and memory of a run before running it (no allocation): dict with dims, cells,
     bytes, budget_bytes, fits, message (the core's advice when it does not fit) and triangles.
-    Keyword values override the Job's properties (the task panel's unsaved values)."""
+    Keyword values override the Job's properties (the task panel's unsaved values); a deflection
+    of 0 means the one tied to the voxel size."""
     voxel = float(job.VoxelSize) if voxel_size is None else float(voxel_size)
     if not voxel > 0:
         raise InvalidInput("voxel size must be positive: %g mm; set VoxelSize, e.g. 0.5" % voxel)
@@ -182,7 +184,8 @@ def estimate(job, voxel_size=None, grid_alignment=None, memory_budget_mb=None, d
         raise InvalidInput("memory budget must not be negative: %g MB; use 0 for 80 %% of "
                            "physical memory" % budget)
     alignment = job.GridAlignment if grid_alignment is None else grid_alignment
-    model = geometry.model_from_object(job.Solid, d, cap_holes=job.CapHoles)
+    model = geometry.model_from_object(job.Solid if solid is None else solid, d,
+                                       cap_holes=job.CapHoles if cap_holes is None else cap_holes)
     result = native.estimate_grid(model["vertices"], model["triangles"], voxel_size=voxel,
                                   alignment={"PCA": "pca", "Model": "model"}[alignment],
                                   memory_budget_mb=float(budget))

@@ -1,94 +1,149 @@
-"""Task panel of a Job: every parameter, validation, and the voxel/memory estimate of a run.
+"""Task panel of a Job: every user-facing Job property, validation, and the voxel/memory
+estimate of a run.
 
-Values are applied through FreeCADGui.doCommand (so macros record them) when OK is pressed;
-the estimate (core planGrid: cells, memory against the budget) is refreshed on demand and after
-every change of the voxel size, alignment or budget."""
+Four tabs follow the property groups: Model (Solid, PlanKind, the start surface and the thin
+wall), Layers (with the estimate: core planGrid cells and memory against the budget, refreshed on
+demand and after a change of the voxel size, alignment or budget), Paths, Robot (cell file with a
+file dialog, torch orientation, pose point). Fields that the chosen modes do not use are disabled
+(e.g. the wall fields unless PlanKind is ThinWall, the initial plane unless InitialPath is Plane).
 
-import FreeCAD
+OK and Apply first validate what the panel would set (a message "<what>: <value>; <what to do>"
+below the tabs, the tab with the field brought forward, nothing applied), then assign the
+properties the user changed through FreeCADGui.doCommand inside one transaction, so macro
+recording captures them and Undo reverts them. Nothing is computed on apply (Run Job does that).
+"""
+
 import FreeCADGui
-from PySide import QtCore, QtGui
+from PySide import QtGui
 
-from ..core import CurvedSlicerError
+from .. import api, geometry
+from ..core import CurvedSlicerError, InvalidInput
 from ..objects import job as job_module
+from .job_fields import (FileField, LinkSubField, ObjectCombo, VectorField, candidate_objects,
+                         cell_problem, combo, enum_value, faces_problem, mm, object_ref,
+                         parse_faces, selected_object_and_faces, single_shot_timer, spin,
+                         split_names)
+
+LENGTH_LIMIT = 1000.0  # mm, the largest thickness, voxel, spacing the panel accepts
+INT_MAX = 2 ** 31 - 1
 
 
-def _mm(quantity):
-    return float(FreeCAD.Units.Quantity(quantity).getValueAs("mm"))
-
-
-def _spin(value, minimum, maximum, decimals=3, suffix=" mm", step=0.1):
-    box = QtGui.QDoubleSpinBox()
-    box.setDecimals(decimals)
-    box.setRange(minimum, maximum)
-    box.setSingleStep(step)
-    box.setSuffix(suffix)
-    box.setValue(value)
-    return box
-
-
-def _combo(items, current):
-    box = QtGui.QComboBox()
-    box.addItems(items)
-    box.setCurrentIndex(max(0, items.index(current) if current in items else 0))
-    return box
+def _form(parent):
+    form = QtGui.QFormLayout(parent)
+    form.setFieldGrowthPolicy(QtGui.QFormLayout.AllNonFixedFieldsGrow)
+    return form
 
 
 class TaskPanelJob:
     def __init__(self, job):
         self.job = job
+        self.doc_name = job.Document.Name
+        objects = candidate_objects(job)
         self.form = QtGui.QWidget()
         self.form.setWindowTitle("CurvedSlicer Job")
         layout = QtGui.QVBoxLayout(self.form)
+        self.status_label = QtGui.QLabel("Layers: %s\nPaths: %s" % (job.Status, job.PathsStatus))
+        self.status_label.setWordWrap(True)
+        layout.addWidget(self.status_label)
+        self.tabs = QtGui.QTabWidget()
+        layout.addWidget(self.tabs)
+        self.tabs.addTab(self._model_tab(job, objects), "Model")
+        self.tabs.addTab(self._layers_tab(job), "Layers")
+        self.tabs.addTab(self._paths_tab(job, objects), "Paths")
+        self.tabs.addTab(self._robot_tab(job), "Robot")
 
-        model = QtGui.QGroupBox("Model and start surface")
-        f = QtGui.QFormLayout(model)
-        self.solid_label = QtGui.QLabel(job.Solid.Label if job.Solid else "(none)")
-        f.addRow("Solid", self.solid_label)
-        self.start_mode = _combo(job_module.START_MODES, job.StartMode)
+        self.error_label = QtGui.QLabel("")
+        self.error_label.setObjectName("CurvedSlicerPanelError")
+        self.error_label.setWordWrap(True)
+        self.error_label.setStyleSheet("color: #b00000")
+        layout.addWidget(self.error_label)
+
+        self.initial = self.values()
+        for box in (self.plan_kind, self.start_mode, self.wall_edge, self.initial_path):
+            box.currentIndexChanged.connect(self.update_enabled)
+        self.solid.currentIndexChanged.connect(self.update_enabled)
+        self.update_enabled()
+
+        self.timer = single_shot_timer(400, self.update_estimate, self.form)
+        self.voxel_size.valueChanged.connect(self._estimate_soon)
+        self.alignment.currentIndexChanged.connect(self._estimate_soon)
+        self.memory.valueChanged.connect(self._estimate_soon)
+
+    # -- tabs -----------------------------------------------------------------------------------
+    def _model_tab(self, job, objects):
+        tab = QtGui.QWidget()
+        layout = QtGui.QVBoxLayout(tab)
+
+        model = QtGui.QGroupBox("Model")
+        f = _form(model)
+        self.solid = ObjectCombo(objects, job.Solid)
+        self.solid.setToolTip("The part to slice: a Part solid, a PartDesign Body or a closed "
+                              "Mesh (ThinWall: optional, carried by the positioner model)")
+        f.addRow("Solid", self.solid)
+        self.plan_kind = combo(job_module.PLAN_KINDS, job.PlanKind)
+        self.plan_kind.setToolTip("CurvedLayers: paths on curved layers grown from the start "
+                                  "surface; ThinWall: one bead per layer on the wall surface")
+        f.addRow("Plan kind", self.plan_kind)
+        layout.addWidget(model)
+
+        self.start_group = QtGui.QGroupBox("Start surface (curved layers)")
+        f = _form(self.start_group)
+        self.start_mode = combo(job_module.START_MODES, job.StartMode)
         f.addRow("Start", self.start_mode)
         faces = ",".join(s for (_, subs) in job.StartFaces for s in subs)
         self.start_faces = QtGui.QLineEdit(faces)
-        self.start_faces.setToolTip("Faces of the solid, e.g. Face1,Face6 (StartMode Faces)")
-        f.addRow("Start faces", self.start_faces)
-        self.surface = QtGui.QComboBox()
-        self.surface_names = [""]
-        self.surface.addItem("(none)")
-        for o in job.Document.Objects:
-            if o != job.Solid and not job_module.is_job(o) and (
-                    hasattr(o, "Shape") or o.isDerivedFrom("Mesh::Feature")) and \
-                    "LayerIndex" not in o.PropertiesList:
-                self.surface_names.append(o.Name)
-                self.surface.addItem(o.Label)
-        current = job.StartSurface[0].Name if job.StartSurface else ""
-        if current in self.surface_names:
-            self.surface.setCurrentIndex(self.surface_names.index(current))
-        f.addRow("Start surface object", self.surface)
-        p, n = job.StartPlanePoint, job.StartPlaneNormal
-        self.plane = [_spin(v, -1e6, 1e6) for v in (p.x, p.y, p.z)] + \
-                     [_spin(v, -1.0, 1.0, 4, "", 0.1) for v in (n.x, n.y, n.z)]
+        self.start_faces.setToolTip("Faces of the solid, e.g. Face1,Face6 (Start Faces)")
+        self.start_faces_pick = QtGui.QPushButton("From selection")
+        self.start_faces_pick.setToolTip("Take the faces selected on the solid in the 3D view")
+        self.start_faces_pick.clicked.connect(self.take_start_faces)
         row = QtGui.QHBoxLayout()
-        for w in self.plane:
-            row.addWidget(w)
-        f.addRow("Plane point, normal", row)
-        layout.addWidget(model)
+        row.addWidget(self.start_faces)
+        row.addWidget(self.start_faces_pick)
+        f.addRow("Start faces", row)
+        self.start_surface = LinkSubField(objects, job.StartSurface, "start surface")
+        f.addRow("Start surface", self.start_surface)
+        self.start_point = VectorField(job.StartPlanePoint, " mm")
+        f.addRow("Plane point", self.start_point)
+        self.start_normal = VectorField(job.StartPlaneNormal, "")
+        f.addRow("Plane normal", self.start_normal)
+        layout.addWidget(self.start_group)
 
-        layers = QtGui.QGroupBox("Layers")
-        f = QtGui.QFormLayout(layers)
-        self.layer_thickness = _spin(_mm(job.LayerThickness), 0.01, 1000.0)
+        self.wall_group = QtGui.QGroupBox("Thin wall")
+        f = _form(self.wall_group)
+        self.wall_surface = LinkSubField(objects, job.WallSurface, "wall surface")
+        f.addRow("Wall surface", self.wall_surface)
+        self.wall_edge = combo(job_module.WALL_EDGES, job.WallEdge)
+        self.wall_edge.setToolTip("Lowest: the boundary loop lowest along the axis; Nearest: the "
+                                  "loop nearest to the point")
+        f.addRow("Start edge", self.wall_edge)
+        self.wall_axis = VectorField(job.WallAxis, "")
+        f.addRow("Up axis", self.wall_axis)
+        self.wall_point = VectorField(job.WallPoint, " mm")
+        f.addRow("Point near edge", self.wall_point)
+        layout.addWidget(self.wall_group)
+        layout.addStretch(1)
+        return tab
+
+    def _layers_tab(self, job):
+        tab = QtGui.QWidget()
+        f = _form(tab)
+        self.layer_thickness = spin(mm(job.LayerThickness), 0.01, LENGTH_LIMIT)
         f.addRow("Layer thickness", self.layer_thickness)
-        self.voxel_size = _spin(_mm(job.VoxelSize), 0.01, 1000.0)
+        self.voxel_size = spin(mm(job.VoxelSize), 0.01, LENGTH_LIMIT)
+        self.voxel_size.setToolTip("Voxel edge length; time and memory grow as 1/L^3 (ThinWall: "
+                                   "sets the tessellation of the wall surface)")
         f.addRow("Voxel size", self.voxel_size)
-        self.method = _combo(job_module.METHODS, job.Method)
+        self.method = combo(job_module.METHODS, job.Method)
         f.addRow("Method", self.method)
-        self.alignment = _combo(job_module.ALIGNMENTS, job.GridAlignment)
+        self.alignment = combo(job_module.ALIGNMENTS, job.GridAlignment)
         f.addRow("Grid alignment", self.alignment)
         self.cap_holes = QtGui.QCheckBox("Close holes of an open mesh")
         self.cap_holes.setChecked(job.CapHoles)
         f.addRow("", self.cap_holes)
-        self.deflection = _spin(_mm(job.Deflection), 0.0, 100.0, 4)
+        self.deflection = spin(mm(job.Deflection), 0.0, 100.0, 4)
         self.deflection.setSpecialValueText("auto (voxel size / 4)")
         f.addRow("Tessellation deflection", self.deflection)
-        self.memory = _spin(float(job.MemoryBudget), 0.0, 1e7, 0, " MB", 100)
+        self.memory = spin(float(job.MemoryBudget), 0.0, 1e7, 0, " MB", 100)
         self.memory.setSpecialValueText("auto (80 % of RAM)")
         f.addRow("Memory budget", self.memory)
         self.estimate_label = QtGui.QLabel("")
@@ -96,53 +151,132 @@ class TaskPanelJob:
         self.estimate_button = QtGui.QPushButton("Estimate voxels and memory")
         self.estimate_button.clicked.connect(self.update_estimate)
         f.addRow(self.estimate_button, self.estimate_label)
-        layout.addWidget(layers)
+        return tab
 
-        paths = QtGui.QGroupBox("Paths")
-        paths.setToolTip("Bead paths on every layer (paper 3.1); a change replans the paths "
-                         "without rerunning the layers")
-        f = QtGui.QFormLayout(paths)
-        self.bead_spacing = _spin(_mm(job.BeadSpacing), 0.01, 100.0)
+    def _paths_tab(self, job, objects):
+        tab = QtGui.QWidget()
+        tab.setToolTip("Bead paths on every layer (paper 3.1); a change replans the paths "
+                       "without rerunning the layers")
+        f = _form(tab)
+        self.bead_spacing = spin(mm(job.BeadSpacing), 0.01, LENGTH_LIMIT)
         f.addRow("Bead spacing", self.bead_spacing)
-        self.point_spacing = _spin(_mm(job.PointSpacing), 0.01, 100.0)
+        self.point_spacing = spin(mm(job.PointSpacing), 0.01, LENGTH_LIMIT)
         f.addRow("Point spacing", self.point_spacing)
-        self.initial_path = _combo(job_module.INITIAL_PATHS, job.InitialPath)
-        f.addRow("Initial path", self.initial_path)
-        self.cell_file = QtGui.QLineEdit(job.CellFile)
+        self.fit_tolerance = spin(float(job.FitTolerance), 0.0001, 100.0, 4, " mm", 0.01)
+        f.addRow("Fit tolerance", self.fit_tolerance)
+        self.surface_method = combo(job_module.SURFACE_METHODS, job.SurfaceMethod)
+        self.surface_method.setToolTip("Surface geodesic field: Accurate, or Paper (the paper's "
+                                       "search, eq. 15)")
+        f.addRow("Surface method", self.surface_method)
+        self.path_display = combo(job_module.PATH_DISPLAYS, job.PathDisplay)
+        f.addRow("Display", self.path_display)
+        self.initial_group = QtGui.QGroupBox("Initial path (curved layers)")
+        g = _form(self.initial_group)
+        self.initial_path = combo(job_module.INITIAL_PATHS, job.InitialPath)
+        self.initial_path.setToolTip("Boundary: contour-parallel paths; Plane / Surface: the "
+                                     "section of every layer with it is the first path")
+        g.addRow("Initial path", self.initial_path)
+        self.initial_point = VectorField(job.InitialPlanePoint, " mm")
+        g.addRow("Plane point", self.initial_point)
+        self.initial_normal = VectorField(job.InitialPlaneNormal, "")
+        g.addRow("Plane normal", self.initial_normal)
+        self.initial_surface = LinkSubField(objects, job.InitialSurface, "initial surface")
+        g.addRow("Surface", self.initial_surface)
+        f.addRow(self.initial_group)
+        return tab
+
+    def _robot_tab(self, job):
+        tab = QtGui.QWidget()
+        f = _form(tab)
+        self.cell_file = FileField(job.CellFile, "Robot cell file",
+                                   "Cell JSON (*.json);;All files (*)")
+        self.cell_file.edit.setPlaceholderText("the paper's cell (Motoman HP20D)")
+        self.cell_file.setToolTip("Robot cell description (JSON); empty = the paper's cell")
+        self.cell_file.on_change.append(self.update_cell_status)
         f.addRow("Cell file", self.cell_file)
-        note = QtGui.QLabel("Stored with the Job; paths, poses and export arrive in the next "
-                            "version.")
-        note.setWordWrap(True)
-        f.addRow(note)
-        layout.addWidget(paths)
+        self.cell_status = QtGui.QLabel("")
+        self.cell_status.setWordWrap(True)
+        f.addRow("", self.cell_status)
+        self.tool_along_travel = QtGui.QCheckBox("Torch x axis along the travel direction")
+        self.tool_along_travel.setToolTip("Off: the torch orientation stays fixed while the "
+                                          "positioner turns the part (no wrist wind-up)")
+        self.tool_along_travel.setChecked(job.ToolAlongTravel)
+        f.addRow("Tool orientation", self.tool_along_travel)
+        self.pose_point = QtGui.QSpinBox()
+        count = int(job.PoseCount)
+        self.pose_point.setRange(0, count - 1 if count > 0 else INT_MAX)
+        self.pose_point.setValue(int(job.PosePoint))
+        self.pose_point.setToolTip("Motion point (0-based, execution order) the positioner model "
+                                   "shows; %s" % ("%d points planned" % count if count else
+                                                  "no plan yet (clamped when planned)"))
+        f.addRow("Pose point", self.pose_point)
+        self.update_cell_status()
+        return tab
 
-        self.error_label = QtGui.QLabel("")
-        self.error_label.setWordWrap(True)
-        self.error_label.setStyleSheet("color: #b00000")
-        layout.addWidget(self.error_label)
+    # -- modes ----------------------------------------------------------------------------------
+    def update_enabled(self, *args):
+        """Enables the fields the chosen plan kind, start mode, wall edge and initial path use."""
+        curved = self.plan_kind.currentText() == "CurvedLayers"
+        mode = self.start_mode.currentText()
+        self.start_group.setEnabled(curved)
+        self.start_faces.setEnabled(mode == "Faces")
+        self.start_faces_pick.setEnabled(mode == "Faces")
+        self.start_surface.setEnabled(mode == "Surface")
+        self.start_point.setEnabled(mode == "Plane")
+        self.start_normal.setEnabled(mode == "Plane")
+        self.wall_group.setEnabled(not curved)
+        lowest = self.wall_edge.currentText() == "Lowest"
+        self.wall_axis.setEnabled(lowest)
+        self.wall_point.setEnabled(not lowest)
+        for w in (self.layer_thickness, self.method, self.alignment, self.cap_holes, self.memory,
+                  self.estimate_button):
+            w.setEnabled(curved)
+        if not curved:
+            self.estimate_label.setText("no voxel grid: a thin wall is planned on its surface")
+        initial = self.initial_path.currentText()
+        self.initial_group.setEnabled(curved)
+        self.initial_point.setEnabled(initial == "Plane")
+        self.initial_normal.setEnabled(initial == "Plane")
+        self.initial_surface.setEnabled(initial == "Surface")
 
-        self.voxel_size.valueChanged.connect(self._estimate_soon)
-        self.alignment.currentIndexChanged.connect(self._estimate_soon)
-        self.memory.valueChanged.connect(self._estimate_soon)
-        self.timer = QtCore.QTimer()
-        self.timer.setSingleShot(True)
-        self.timer.setInterval(400)
-        self.timer.timeout.connect(self.update_estimate)
+    def take_start_faces(self):
+        """Start faces from the 3D selection (faces picked on the panel's solid)."""
+        obj, faces = selected_object_and_faces()
+        if obj is None or not faces:
+            self.error_label.setText("no faces selected: pick the start faces on the solid in "
+                                     "the 3D view, then press From selection")
+            return False
+        self.solid.set_object(obj)
+        self.start_faces.setText(",".join(faces))
+        return True
+
+    def update_cell_status(self):
+        problem = cell_problem(self.cell_file.text())
+        self.cell_status.setStyleSheet("color: #b00000" if problem else "")
+        self.cell_status.setText(problem or ("valid cell file" if self.cell_file.text() else
+                                             "the paper's cell (Motoman HP20D, tilt-rotate "
+                                             "positioner)"))
+        return problem
 
     # -- estimate -------------------------------------------------------------------------------
     def _estimate_soon(self, *args):
         self.timer.start()
 
-    def estimate(self):
-        """The estimate for the values in the panel (dict of api.estimate) or raises."""
-        from .. import api
+    def solid_object(self):
+        name = self.solid.name()
+        return self.job.Document.getObject(name) if name else None
 
+    def estimate(self):
+        """The estimate for the values in the panel (dict as api.estimate) or raises."""
         return api.estimate(self.job, voxel_size=self.voxel_size.value(),
                             grid_alignment=self.alignment.currentText(),
-                            memory_budget_mb=self.memory.value(),
-                            deflection=self.deflection.value())
+                            memory_budget_mb=float(self.memory.value()),
+                            deflection=self.deflection.value(), solid=self.solid_object(),
+                            cap_holes=self.cap_holes.isChecked())
 
     def update_estimate(self):
+        if self.plan_kind.currentText() != "CurvedLayers":
+            return None
         try:
             e = self.estimate()
         except CurvedSlicerError as error:
@@ -156,57 +290,161 @@ class TaskPanelJob:
         self.error_label.setText("" if e["fits"] else e["message"])
         return e
 
-    # -- apply ----------------------------------------------------------------------------------
-    def commands(self):
-        """The doCommand lines that apply the panel's values (without running anything)."""
-        name = self.job.Name
-        j = "App.getDocument(%r).getObject(%r)" % (self.job.Document.Name, name)
-        lines = [
-            "%s.LayerThickness = %r" % (j, self.layer_thickness.value()),
-            "%s.VoxelSize = %r" % (j, self.voxel_size.value()),
-            "%s.Method = %r" % (j, self.method.currentText()),
-            "%s.GridAlignment = %r" % (j, self.alignment.currentText()),
-            "%s.CapHoles = %r" % (j, self.cap_holes.isChecked()),
-            "%s.Deflection = %r" % (j, self.deflection.value()),
-            "%s.MemoryBudget = %r" % (j, self.memory.value()),
-            "%s.BeadSpacing = %r" % (j, self.bead_spacing.value()),
-            "%s.PointSpacing = %r" % (j, self.point_spacing.value()),
-            "%s.InitialPath = %r" % (j, self.initial_path.currentText()),
-            "%s.CellFile = %r" % (j, self.cell_file.text()),
-            "%s.StartMode = %r" % (j, self.start_mode.currentText()),
-        ]
+    # -- values ---------------------------------------------------------------------------------
+    def _start_faces_value(self):
+        return (self.solid.name(), split_names(self.start_faces.text()))
+
+    def values(self):
+        """{property: (comparable value, macro expression)} of the panel (face lists as
+        entered; validate() checks them)."""
+        d = self.doc_name
+        solid = self.solid.name()
+        faces = self._start_faces_value()
+        v = {
+            "Solid": (solid, object_ref(d, solid) if solid else "None"),
+            "PlanKind": self.plan_kind.currentText(),
+            "StartMode": self.start_mode.currentText(),
+            "StartFaces": (faces, "[(%s, %r)]" % (object_ref(d, solid), faces[1])
+                           if solid and faces[1] else "[]"),
+            "StartSurface": (self.start_surface.value(), self.start_surface.code(d)),
+            "StartPlanePoint": self.start_point,
+            "StartPlaneNormal": self.start_normal,
+            "LayerThickness": self.layer_thickness.value(),
+            "VoxelSize": self.voxel_size.value(),
+            "Method": self.method.currentText(),
+            "GridAlignment": self.alignment.currentText(),
+            "CapHoles": self.cap_holes.isChecked(),
+            "Deflection": self.deflection.value(),
+            "MemoryBudget": self.memory.value(),
+            "WallSurface": (self.wall_surface.value(), self.wall_surface.code(d)),
+            "WallEdge": self.wall_edge.currentText(),
+            "WallAxis": self.wall_axis,
+            "WallPoint": self.wall_point,
+            "BeadSpacing": self.bead_spacing.value(),
+            "PointSpacing": self.point_spacing.value(),
+            "FitTolerance": self.fit_tolerance.value(),
+            "InitialPath": self.initial_path.currentText(),
+            "InitialPlanePoint": self.initial_point,
+            "InitialPlaneNormal": self.initial_normal,
+            "InitialSurface": (self.initial_surface.value(), self.initial_surface.code(d)),
+            "SurfaceMethod": self.surface_method.currentText(),
+            "PathDisplay": self.path_display.currentText(),
+            "CellFile": self.cell_file.text(),
+            "ToolAlongTravel": self.tool_along_travel.isChecked(),
+            "PosePoint": self.pose_point.value(),
+        }
+        for name, value in v.items():
+            if isinstance(value, VectorField):
+                v[name] = (value.value(), value.code())
+            elif not isinstance(value, tuple):
+                v[name] = (value, repr(value))
+        return v
+
+    # -- validation -----------------------------------------------------------------------------
+    def problems(self):
+        """[(message, widget)] of what the panel would set wrongly, most basic first."""
+        found = []
+        doc = self.job.Document
+        curved = self.plan_kind.currentText() == "CurvedLayers"
+        solid = self.solid_object()
+        if curved:
+            try:
+                if not geometry.is_mesh_object(solid):
+                    geometry.solid_shape(solid)
+            except InvalidInput as error:
+                found.append(("%s; or choose Plan kind ThinWall" % error, self.solid))
         mode = self.start_mode.currentText()
-        if mode == "Faces":
-            faces = tuple(s.strip() for s in self.start_faces.text().split(",") if s.strip())
-            lines.append("%s.StartFaces = [(%s.Solid, %r)]" % (j, j, faces))
-        elif mode == "Surface":
-            surface = self.surface_names[self.surface.currentIndex()]
-            if surface:
-                lines.append("%s.StartSurface = (App.getDocument(%r).getObject(%r), [])"
-                             % (j, self.job.Document.Name, surface))
-        elif mode == "Plane":
-            v = [w.value() for w in self.plane]
-            lines.append("%s.StartPlanePoint = App.Vector(%r, %r, %r)" % (j, v[0], v[1], v[2]))
-            lines.append("%s.StartPlaneNormal = App.Vector(%r, %r, %r)" % (j, v[3], v[4], v[5]))
-        return lines
+        try:
+            faces = parse_faces(self.start_faces.text())
+        except ValueError as error:
+            found.append(("start face not understood: %s; enter faces as Face1,Face6, or pick "
+                          "them and press From selection" % error, self.start_faces))
+            faces = None
+        if curved and mode == "Faces" and faces is not None:
+            if not faces:
+                found.append(("no start faces: the list is empty; enter faces such as Face1 "
+                              "(or pick them and press From selection) or choose another start",
+                              self.start_faces))
+            elif solid is not None and geometry.is_mesh_object(solid):
+                found.append(("start faces on a mesh: %s is a mesh; use Start Surface with a "
+                              "separate surface object, or Plane" % solid.Label,
+                              self.start_faces))
+            elif solid is not None:
+                problem = faces_problem("start face", solid, faces)
+                if problem:
+                    found.append((problem, self.start_faces))
+        problem = self.start_surface.problem(doc, curved and mode == "Surface")
+        if not problem and curved and mode == "Surface" and \
+                self.start_surface.object.name() == self.solid.name():
+            problem = ("start surface is the solid itself: %s; use Start Faces to grow from "
+                       "faces of the solid" % solid.Label)
+        if problem:
+            found.append((problem, self.start_surface))
+        if curved and mode == "Plane" and self.start_normal.is_zero():
+            found.append(("start plane normal is zero: (0, 0, 0); enter the normal towards the "
+                          "part, e.g. (0, 0, 1)", self.start_normal))
+        problem = self.wall_surface.problem(doc, not curved)
+        if problem:
+            found.append((problem, self.wall_surface))
+        if not curved and self.wall_edge.currentText() == "Lowest" and self.wall_axis.is_zero():
+            found.append(("wall axis is zero: (0, 0, 0); enter the up direction, e.g. (0, 0, 1)",
+                          self.wall_axis))
+        initial = self.initial_path.currentText()
+        if curved and initial == "Plane" and self.initial_normal.is_zero():
+            found.append(("initial plane normal is zero: (0, 0, 0); enter the plane's normal, "
+                          "e.g. (1, 0, 0)", self.initial_normal))
+        problem = self.initial_surface.problem(doc, curved and initial == "Surface")
+        if problem:
+            found.append((problem, self.initial_surface))
+        problem = cell_problem(self.cell_file.text())
+        if problem:
+            found.append((problem, self.cell_file))
+        return found
 
     def validate(self):
-        if self.start_mode.currentText() == "Faces" and not self.start_faces.text().strip():
-            return ("no start faces: the list is empty; enter faces such as Face1 or choose "
-                    "another start")
-        if self.start_mode.currentText() == "Surface" and self.surface.currentIndex() == 0:
-            return "no start surface: none chosen; choose the object the part grows from"
-        if self.layer_thickness.value() <= 0 or self.voxel_size.value() <= 0:
-            return "layer thickness and voxel size must be positive"
-        return ""
+        """"" or the first problem's message (its tab is brought forward)."""
+        found = self.problems()
+        if not found:
+            return ""
+        message, widget = found[0]
+        for i in range(self.tabs.count()):
+            if self.tabs.widget(i).isAncestorOf(widget):
+                self.tabs.setCurrentIndex(i)
+        widget.setFocus()
+        return message
 
-    def accept(self):
+    # -- apply ----------------------------------------------------------------------------------
+    def commands(self):
+        """The doCommand lines that assign the properties the user changed (nothing runs)."""
+        j = object_ref(self.doc_name, self.job.Name)
+        current = self.values()
+        return ["%s.%s = %s" % (j, name, code) for (name, (value, code)) in current.items()
+                if value != self.initial[name][0]]
+
+    def apply(self):
+        """Validates, then applies the changed values in one transaction. True if applied."""
         problem = self.validate()
         if problem:
             self.error_label.setText(problem)
             return False
-        for line in self.commands():
-            FreeCADGui.doCommand(line)
+        lines = self.commands()
+        self.error_label.setText("")
+        if lines:
+            doc = self.job.Document
+            doc.openTransaction("Edit CurvedSlicer Job")
+            try:
+                for line in lines:
+                    FreeCADGui.doCommand(line)
+            finally:
+                doc.commitTransaction()
+            self.initial = self.values()
+        self.status_label.setText("Layers: %s\nPaths: %s" % (self.job.Status,
+                                                             self.job.PathsStatus))
+        return True
+
+    def accept(self):
+        if not self.apply():
+            return False
         FreeCADGui.ActiveDocument.resetEdit()
         return True
 
@@ -214,5 +452,10 @@ class TaskPanelJob:
         FreeCADGui.ActiveDocument.resetEdit()
         return True
 
+    def clicked(self, button):
+        if enum_value(button) == enum_value(QtGui.QDialogButtonBox.Apply):
+            self.apply()
+
     def getStandardButtons(self):
-        return QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel
+        return (QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Apply |
+                QtGui.QDialogButtonBox.Cancel)
