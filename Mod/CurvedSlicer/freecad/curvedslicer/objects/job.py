@@ -545,13 +545,7 @@ def _store_start_mesh(job, source):
 
 def prune_unused_layers(job):
     """Removes layer objects emptied by a recompute (call outside a recompute)."""
-    group = job.LayersGroup
-    if group is None:
-        return
-    for feature in [o for o in group.Group if "LayerIndex" in o.PropertiesList
-                    and o.LayerIndex == 0]:
-        group.removeObject(feature)
-        job.Document.removeObject(feature.Name)
+    plan_stage.prune_unused_features(job.LayersGroup)
 
 
 def layer_objects(job):

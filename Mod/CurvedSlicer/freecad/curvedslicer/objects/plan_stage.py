@@ -280,15 +280,21 @@ def draw_paths(job, prune=True):
         view_job.style_paths(job)
 
 
-def prune_unused_paths(job):
-    """Removes path features a smaller plan emptied inside a recompute."""
-    group = job.PathsGroup
+def prune_unused_features(group):
+    """Removes the features of a Job's group (Layers, Paths) that a smaller result emptied inside
+    a recompute: those with LayerIndex 0. Call outside a recompute (removing objects inside
+    execute() corrupts the document)."""
     if group is None:
         return
     for feature in [o for o in group.Group if "LayerIndex" in o.PropertiesList
                     and o.LayerIndex == 0]:
         group.removeObject(feature)
-        job.Document.removeObject(feature.Name)
+        group.Document.removeObject(feature.Name)
+
+
+def prune_unused_paths(job):
+    """Removes path features a smaller plan emptied inside a recompute."""
+    prune_unused_features(job.PathsGroup)
 
 
 def plan_spacing(job):
