@@ -45,12 +45,25 @@ constexpr std::uint8_t kDone = 1;
 constexpr std::uint8_t kVerified = 2;
 /// The cell is inside the solid (a copy of the mask, so relaxations read one byte per neighbour).
 constexpr std::uint8_t kInside = 4;
+/// Phase 1: inheriting line of sight failed because a reflex edge meets the swept region (the
+/// cell is at the edge of a shadow; phase 2 tests it).
+constexpr std::uint8_t kShadowEdge = 8;
+/// Phase 1: every neighbour it could inherit line of sight from is at or behind a shadow edge;
+/// phase 2 hands it to phase 3 without a test.
+constexpr std::uint8_t kShadowDown = 16;
 constexpr double kSqrt3 = 1.7320508075688772;
 /// Reflex edges considered at a line-of-sight failure lie within this many cells of the cell or
 /// of the point where its blocked segment meets the surface.
 constexpr double kEdgeReach = 2.5;
 /// A chord between two points of the surface may dip this many cells outside the solid.
 constexpr double kChordDepth = 0.02;
+/// Line of sight is inherited from a neighbour (see inheritsLineOfSight) only on closed models
+/// with at most this many reflex edges, which are then all tested per cell.
+constexpr std::size_t kInheritMaxReflexEdges = 64;
+/// Phase 2 runs its segment tests on all threads only when at least this many are pending.
+constexpr std::size_t kParallelTestsMin = 20000;
+/// Geometric tolerance of the inheritance test, cells (any doubt makes it fall back).
+constexpr double kInheritTolerance = 1e-6;
 
 struct Candidate {
   double value;         // total distance via this option, cells
@@ -148,13 +161,18 @@ class AnyAnglePropagator {
         state_(dist.size(), 0) {
     for (std::size_t n = 0; n < state_.size(); ++n) state_[n] = inside_[n] ? kInside : 0;
     if (boundary_) mailbox_ = boundary_->makeMailbox();
+    inheritSight_ = boundary_ && boundary_->closedManifold() &&
+                    boundary_->reflexEdgeCount() <= kInheritMaxReflexEdges;
     const auto& offs = neighbourOffsets26();
     for (int o = 0; o < 26; ++o) {
       offsets_[o] = offs[o].cast<double>();
       lengths_[o] = offs[o].cast<double>().norm();
       deltas_[o] = static_cast<std::ptrdiff_t>(offs[o].x()) * g_.strideX() +
                    static_cast<std::ptrdiff_t>(offs[o].y()) * g_.strideY() + offs[o].z();
+      byLength_[o] = o;
     }
+    std::stable_sort(byLength_, byLength_ + 26,
+                     [this](int a, int b) { return lengths_[a] < lengths_[b]; });
   }
 
   MethodStats run(const std::vector<std::uint32_t>& seeds, Progress progress) {
@@ -208,7 +226,9 @@ class AnyAnglePropagator {
         progress.report(static_cast<double>(finished) / static_cast<double>(insideCount),
                         "geodesic field: parent inheritance");
       }
-      relaxNeighbours(n, cellCentre(g_.cell(n)));
+      const Vec3 x = cellCentre(g_.cell(n));
+      if (inheritSight_ && !(state_[n] & kVerified)) state_[n] |= inheritLineOfSight(n, x);
+      relaxNeighbours(n, x);
     }
     heap_.clear();
   }
@@ -221,11 +241,17 @@ class AnyAnglePropagator {
   std::size_t checkInheritedParents(std::size_t& reset, Progress progress) {
     const int nx = g_.dims.x(), ny = g_.dims.y(), nz = g_.dims.z();
     const int batch = std::max(1, (nx + 7) / 8);
+    // Threads only pay off when there are segments to test (phase 1 may have verified nearly
+    // every cell by inheritance).
+    std::size_t pending = 0;
+    for (const std::uint8_t st : state_)
+      pending += (st & (kDone | kVerified | kShadowDown)) == kDone;
+    const bool threads = pending >= kParallelTestsMin;
     std::size_t finished = 0;
     for (int i0 = 0; i0 < nx; i0 += batch) {
       const int i1 = std::min(nx, i0 + batch);
       std::size_t passed = 0, tested = 0, failed = 0;
-#pragma omp parallel reduction(+ : passed, tested, failed)
+#pragma omp parallel reduction(+ : passed, tested, failed) if (threads)
       {
         SolidBoundary::Mailbox mailbox;
         if (boundary_) mailbox = boundary_->makeMailbox();
@@ -240,11 +266,15 @@ class AnyAnglePropagator {
                 ++passed;
                 continue;
               }
-              ++tested;
-              const Vec3 x = cellCentre(Vec3i(i, j, k));
-              Vec3 target;
-              evaluate(parent_[n], x, &target);
-              if (visible(x, target, slackFor(parent_[n]), mailbox, /*strict=*/true)) {
+              bool seen = false;
+              if (!(state_[n] & kShadowDown)) {
+                ++tested;
+                const Vec3 x = cellCentre(Vec3i(i, j, k));
+                Vec3 target;
+                evaluate(parent_[n], x, &target);
+                seen = visible(x, target, slackFor(parent_[n]), mailbox, /*strict=*/true);
+              }
+              if (seen) {
                 state_[n] |= kVerified;
                 ++passed;
               } else {
@@ -278,10 +308,10 @@ class AnyAnglePropagator {
       const Vec3 x = cellCentre(g_.cell(n));
       if (!(state_[n] & kVerified)) {
         state_[n] |= kVerified;
-        ++stats_.lineOfSightTests;
-        Vec3 target;
-        evaluate(parent_[n], x, &target);
-        if (!visible(x, target, slackFor(parent_[n]), mailbox_)) {
+        // A cell that inherits its line of sight from a neighbour needs no segment test.
+        const bool inherited = inheritSight_ && (inheritLineOfSight(n, x) & kVerified);
+        if (!inherited) ++stats_.lineOfSightTests;
+        if (!inherited && !visibleVia(parent_[n], x)) {
           ++stats_.lineOfSightFailures;
           repair(n, x);
           push(dist_[n], n);  // its value grew: back into the queue, now verified
@@ -390,29 +420,38 @@ class AnyAnglePropagator {
   /// until one is visible; the neighbour-centre pivot (always admissible) bounds the search.
   void repair(std::uint32_t n, const Vec3& x) {
     const std::int32_t failed = parent_[n];
-    // (c) the best finished neighbour as a pivot.
-    double best = kInf;
-    std::uint32_t bestCell = 0;
     std::int32_t parents[27];
     double direct[27];  // evaluate(parents[i], x): a lower bound of every pivot through parents[i]
     int parentCount = 0;
     direct[parentCount] = evaluate(failed, x, nullptr);
     parents[parentCount++] = failed;
     candidates_.clear();
+    std::pair<double, int> via[26];  // (distance via the finished neighbour's centre, offset)
+    int viaCount = 0;
     for (int o = 0; o < 26; ++o) {
       const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
       if (!(state_[m] & kDone)) continue;
-      const double viaNeighbour = dist_[m] + lengths_[o];
-      if (viaNeighbour < best) {
-        best = viaNeighbour;
-        bestCell = static_cast<std::uint32_t>(m);
-      }
+      via[viaCount++] = {dist_[m] + lengths_[o], o};
       const std::int32_t q = parent_[m];
       if (std::find(parents, parents + parentCount, q) != parents + parentCount) continue;
       direct[parentCount] = evaluate(q, x, nullptr);
       parents[parentCount++] = q;
       // (a) the neighbour's parent.
       candidates_.push_back({direct[parentCount - 1], q, -1, Vec3::Zero()});
+    }
+    // (c) the best finished neighbour whose centre the cell sees, as a pivot: the bound of the
+    // search. Two neighbouring cell centres need not see each other: their segment can cut the
+    // corner of a reflex edge that passes between them.
+    std::sort(via, via + viaCount);
+    double best = kInf;
+    std::uint32_t bestCell = 0;
+    for (int k = 0; k < viaCount; ++k) {
+      const int o = via[k].second;
+      if (visible(x, x + offsets_[o], 0.0, mailbox_, /*strict=*/true)) {
+        best = via[k].first;
+        bestCell = static_cast<std::uint32_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
+        break;
+      }
     }
     // (b) pivots on reflex edges near the cell and near where its blocked segment hits the
     // surface, for every candidate parent.
@@ -458,14 +497,155 @@ class AnyAnglePropagator {
       }
     }
     if (best == kInf) {
-      // Cannot happen: a queued cell always has a finished neighbour or is a seed.
-      throw NumericalFailure("any-angle propagation lost the parent of a voxel; please report");
+      if (viaCount == 0) {
+        // Cannot happen: a queued cell always has a finished neighbour or is a seed.
+        throw NumericalFailure("any-angle propagation lost the parent of a voxel; please report");
+      }
+      // No neighbour centre in sight (a surface fold thinner than a cell between them): the
+      // nearest one, as the voxel graph connects them.
+      best = via[0].first;
+      bestCell =
+          static_cast<std::uint32_t>(static_cast<std::ptrdiff_t>(n) + deltas_[via[0].second]);
     }
     dist_[n] = static_cast<float>(best);
     parent_[n] = addPivot({cellCentre(g_.cell(bestCell)), dist_[bestCell], -1});
   }
 
+  /// Line of sight inherited from a neighbour, exactly. Let y be a finished neighbour with the
+  /// same parent whose segment was verified, and Q the planar region swept between the two
+  /// segments: the triangle (x, y, P) for a pivot P, or for a source triangle whose feet are
+  /// both interior (the two segments are then parallel, along the triangle's normal) the
+  /// trapezoid (x, y, y', x') whose far side y'x' is where the segments' tested part ends.
+  /// If the outside met Q without touching its verified sides, the point of the outside in Q
+  /// nearest to the side y–y' would be a locally convex corner of the outside, i.e. a point of
+  /// a reflex edge (on a closed manifold surface every other edge or face leaves the outside on
+  /// one side of a line that also has points nearer to y–y'). So x sees its parent if x–y and
+  /// y'–x' are clear and no reflex edge meets Q — for a pivot on a reflex edge, that edge's
+  /// outside wedge must miss the angle of Q at P instead. O(reflex edges) per call.
+  /// Returns the state bit to add: kVerified (seen), kShadowEdge (a reflex edge met a swept
+  /// region), kShadowDown (no verified neighbour with the same parent, but one at or behind a
+  /// shadow edge), or 0 (undecided: test the segment).
+  std::uint8_t inheritLineOfSight(std::uint32_t n, const Vec3& x) {
+    const std::int32_t q = parent_[n];
+    int tries = 0;
+    bool edgeMet = false, behindShadow = false;
+    for (int k = 0; k < 26 && tries < 3; ++k) {
+      const int o = byLength_[k];
+      const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
+      if (!(state_[m] & kDone) || parent_[m] != q) continue;
+      if (!(state_[m] & kVerified)) {
+        behindShadow = behindShadow || (state_[m] & (kShadowEdge | kShadowDown));
+        continue;
+      }
+      ++tries;
+      switch (sweptRegionClear(q, x, x + offsets_[o])) {
+        case Swept::Clear:
+          return kVerified;
+        case Swept::ReflexEdge:
+          edgeMet = true;
+          break;
+        case Swept::Undecided:
+          break;
+      }
+    }
+    if (edgeMet) return kShadowEdge;
+    return tries == 0 && behindShadow ? kShadowDown : 0;
+  }
+
+  enum class Swept { Clear, ReflexEdge, Undecided };
+
+  Swept sweptRegionClear(std::int32_t q, const Vec3& x, const Vec3& y) {
+    if (q < 0) {
+      const Triangle& t = source_[parentTriangle(q)];
+      Vec3 fx, fy;
+      const double dx = pointTriangleDistance(x, t[0], t[1], t[2], &fx);
+      if (dx <= slack_) return Swept::Clear;  // as visible(): within the seed band
+      pointTriangleDistance(y, t[0], t[1], t[2], &fy);
+      const Vec3 xe = shortened(x, fx, slack_), ye = shortened(y, fy, slack_);
+      const Vec3 quad[4] = {x, y, ye, xe};
+      if (!planarConvex(quad)) return Swept::Undecided;
+      if (boundary_->polygonMeetsReflexEdge(quad, 4, -1, kInheritTolerance))
+        return Swept::ReflexEdge;
+      return visible(x, y, 0.0, mailbox_, /*strict=*/true) &&
+                     boundary_->segmentClear(ye, xe, mailbox_, nullptr, 0.0)
+                 ? Swept::Clear
+                 : Swept::Undecided;
+    }
+    const Pivot& p = pivots_[static_cast<std::size_t>(q)];
+    const Vec3 tri[3] = {x, y, p.position};
+    if (boundary_->polygonMeetsReflexEdge(tri, 3, p.edge, kInheritTolerance))
+      return Swept::ReflexEdge;
+    if (p.edge >= 0 && !wedgeMissesAngle(static_cast<std::uint32_t>(p.edge), p.position,
+                                         y - p.position, x - p.position))
+      return Swept::ReflexEdge;
+    return visible(x, y, 0.0, mailbox_, /*strict=*/true) ? Swept::Clear : Swept::Undecided;
+  }
+
+  /// True if the quadrilateral q[0..3] (in order) is planar and convex within the tolerance
+  /// (sides of length 0 allowed: a triangle).
+  static bool planarConvex(const Vec3 (&q)[4]) {
+    const Vec3 m = (q[2] - q[0]).cross(q[3] - q[1]);
+    const double mm = m.norm();
+    if (!(mm > 1e-12)) return false;
+    const Vec3 n = m / mm;
+    double scale = 1.0;
+    for (int i = 1; i < 4; ++i) scale = std::max(scale, (q[i] - q[0]).norm());
+    for (int i = 1; i < 4; ++i) {
+      if (std::abs(n.dot(q[i] - q[0])) > kInheritTolerance * scale) return false;
+    }
+    for (int i = 0; i < 4; ++i) {
+      const Vec3 a = q[(i + 1) % 4] - q[i], b = q[(i + 2) % 4] - q[(i + 1) % 4];
+      if (n.dot(a.cross(b)) < -kInheritTolerance * a.norm() * b.norm()) return false;
+    }
+    return true;
+  }
+
+  /// True if the outside wedge of reflex edge e (in front of both faces) misses the angle
+  /// between directions a and b at point P of the edge, which must lie inside the edge (not at
+  /// its ends, where other faces meet) and the edge must not lie in the angle's plane.
+  bool wedgeMissesAngle(std::uint32_t e, const Vec3& P, const Vec3& a, const Vec3& b) const {
+    const auto& edge = boundary_->reflexEdge(e);
+    const Vec3 along = edge[1] - edge[0];
+    const double len = along.norm();
+    const double s = (P - edge[0]).dot(along) / (len * len);
+    if (!(s * len > 1e-3 && (1.0 - s) * len > 1e-3)) return false;
+    // The edge must cross the angle's plane (only at P); lying in it, it could bring its ends
+    // (where other faces meet) into the region.
+    const Vec3 planeNormal = a.cross(b);
+    const double pn = planeNormal.norm();
+    if (!(pn > 1e-12) || std::abs(planeNormal.dot(along)) <= 1e-6 * pn * len) return false;
+    const auto& normals = boundary_->reflexNormals(e);
+    // Directions w(t) = (1 − t)·â + t·b̂, t in [0, 1]; the wedge, widened by the tolerance, is
+    // where n_i·w(t) > −tol for both faces i; each condition holds on an interval of t.
+    const Vec3 ua = a.normalized(), ub = b.normalized();
+    double lo = 0.0, hi = 1.0;
+    for (int i = 0; i < 2; ++i) {
+      const double fa = normals[i].dot(ua) + kInheritTolerance;
+      const double fb = normals[i].dot(ub) + kInheritTolerance;
+      if (fa <= 0.0 && fb <= 0.0) return true;  // behind this face all along: outside the wedge
+      if (fa > 0.0 && fb > 0.0) continue;
+      const double root = fa / (fa - fb);
+      if (fa > 0.0) {
+        hi = std::min(hi, root);
+      } else {
+        lo = std::max(lo, root);
+      }
+    }
+    return lo >= hi;  // no direction in front of both faces
+  }
+
+  /// True if x lies in the outside wedge of the reflex edge that pivot `q` sits on: the segment
+  /// from the pivot to x leaves the solid at once (in front of both faces of the edge), so it
+  /// cannot be a line of sight. O(1); false for source triangles and cell-centre pivots.
+  bool behindPivotEdge(std::int32_t q, const Vec3& x) const {
+    if (q < 0 || !boundary_) return false;
+    const Pivot& p = pivots_[static_cast<std::size_t>(q)];
+    return p.edge >= 0 &&
+           boundary_->leavesSolidAt(static_cast<std::uint32_t>(p.edge), x - p.position, 0.0);
+  }
+
   bool visibleVia(std::int32_t q, const Vec3& x) const {
+    if (behindPivotEdge(q, x)) return false;
     Vec3 target;
     evaluate(q, x, &target);
     return visible(x, target, slackFor(q), mailbox_);
@@ -485,6 +665,7 @@ class AnyAnglePropagator {
                                                   c.point - target, kChordDepth))
         return false;
     }
+    if (boundary_->leavesSolidAt(e, x - c.point, 0.0)) return false;
     if (!boundary_->segmentClear(x, c.point, mailbox_)) return false;
     const Vec3 end = c.parent < 0 ? shortened(c.point, target, slack_) : target;
     return boundary_->segmentClear(c.point, end, mailbox_);
@@ -582,9 +763,11 @@ class AnyAnglePropagator {
   std::vector<Candidate> candidates_;
   MethodStats stats_;
   std::size_t edgePivots_ = 0;
+  bool inheritSight_ = false;  // inheritsLineOfSight applies (closed model, few reflex edges)
   Vec3 offsets_[26];
   double lengths_[26];
   std::ptrdiff_t deltas_[26];
+  int byLength_[26];  // neighbour indices, face neighbours first, then edge, then corner
 };
 
 }  // namespace

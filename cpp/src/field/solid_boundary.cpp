@@ -112,8 +112,13 @@ SolidBoundary::SolidBoundary(const GridGeometry& g, const TriMesh& model) {
     }
   }
   pairs.clear();
+  closed_ = !model.triangles.empty() &&
+            std::find(triOfModel.begin(), triOfModel.end(), UINT32_MAX) == triOfModel.end();
   for (const auto& [key, uses] : edges) {
-    if (uses.size() != 2 || uses[0].forward == uses[1].forward) continue;
+    if (uses.size() != 2 || uses[0].forward == uses[1].forward) {
+      closed_ = false;
+      continue;
+    }
     const Vec3& a = v[key.first];
     const Vec3& b = v[key.second];
     const Vec3 n1 = normals_[uses[0].tri].normalized();
@@ -240,6 +245,43 @@ void SolidBoundary::reflexEdgesNear(const Vec3& x, double radius,
     const double s = std::clamp((x - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
     if ((a + s * ab - x).norm() <= radius) out.push_back(e);
   }
+}
+
+bool SolidBoundary::polygonMeetsReflexEdge(const Vec3* poly, int count, std::int64_t skip,
+                                           double tolerance) const {
+  // Plane normal from the diagonals (quadrilateral) or two sides (triangle).
+  const Vec3 m = count == 4 ? (poly[2] - poly[0]).cross(poly[3] - poly[1])
+                            : (poly[1] - poly[0]).cross(poly[2] - poly[0]);
+  const double mm = m.norm();
+  if (!(mm > 1e-12)) return true;
+  const Vec3 n = m / mm;
+  Vec3 lo = poly[0], hi = poly[0];
+  for (int i = 1; i < count; ++i) {
+    lo = lo.cwiseMin(poly[i]);
+    hi = hi.cwiseMax(poly[i]);
+  }
+  lo.array() -= tolerance;
+  hi.array() += tolerance;
+  for (std::size_t e = 0; e < reflex_.size(); ++e) {
+    if (static_cast<std::int64_t>(e) == skip) continue;
+    const Vec3& a = reflex_[e][0];
+    const Vec3& b = reflex_[e][1];
+    if ((a.array() < lo.array() && b.array() < lo.array()).any() ||
+        (a.array() > hi.array() && b.array() > hi.array()).any())
+      continue;
+    const double sa = n.dot(a - poly[0]), sb = n.dot(b - poly[0]);
+    if ((sa > tolerance && sb > tolerance) || (sa < -tolerance && sb < -tolerance)) continue;
+    // Nearly in the plane: the bounding boxes overlap, so count it (conservative).
+    if (std::abs(sa - sb) <= tolerance) return true;
+    const Vec3 q = a + (b - a) * std::clamp(sa / (sa - sb), 0.0, 1.0);
+    bool inside = true;
+    for (int i = 0; i < count && inside; ++i) {
+      const Vec3 side = poly[(i + 1) % count] - poly[i];
+      inside = n.dot(side.cross(q - poly[i])) >= -tolerance * side.norm();
+    }
+    if (inside) return true;
+  }
+  return false;
 }
 
 }  // namespace curvedslicer::detail

@@ -48,6 +48,8 @@ class SolidBoundary {
   void reflexEdgesNear(const Vec3& x, double radius, std::vector<std::uint32_t>& out) const;
 
   const std::array<Vec3, 2>& reflexEdge(std::uint32_t e) const { return reflex_[e]; }
+  /// Unit outward normals of the two faces of reflex edge e.
+  const std::array<Vec3, 2>& reflexNormals(std::uint32_t e) const { return reflexNormals_[e]; }
 
   /// True if segment `d` (not normalised), leaving a point of reflex edge `e`, points into the
   /// outside wedge (in front of both faces of the edge) steeply enough to dip more than `depth`
@@ -59,6 +61,18 @@ class SolidBoundary {
     return reflexNormals_[e][0].dot(d) > limit && reflexNormals_[e][1].dot(d) > limit;
   }
   std::size_t reflexEdgeCount() const { return reflex_.size(); }
+
+  /// True if every edge of the model is shared by exactly two consistently oriented,
+  /// non-degenerate triangles: then only reflex edges can block a segment locally (see
+  /// polygonMeetsReflexEdge).
+  bool closedManifold() const { return closed_; }
+
+  /// True if a reflex edge other than `skip` (-1: none) meets the closed convex planar polygon
+  /// `poly[0..count)` (3 or 4 vertices in order, cell units) or passes within `tolerance` cells
+  /// of it; also true when the polygon is degenerate (conservative). Brute force over all
+  /// reflex edges: O(reflexEdgeCount()), for models with few of them.
+  bool polygonMeetsReflexEdge(const Vec3* poly, int count, std::int64_t skip,
+                              double tolerance) const;
 
  private:
   std::size_t brickIndex(const Vec3i& b) const {
@@ -75,6 +89,7 @@ class SolidBoundary {
   std::vector<std::array<Vec3, 2>> reflex_;
   std::vector<std::array<Vec3, 2>> reflexNormals_;   // unit outward normals of the two faces
   std::vector<std::uint32_t> edgeStart_, edgeList_;  // CSR: brick -> reflex edges
+  bool closed_ = false;
 };
 
 }  // namespace curvedslicer::detail

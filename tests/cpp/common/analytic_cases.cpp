@@ -101,6 +101,27 @@ AnalyticCase makeLShapeCase(int cells) {
   return c;
 }
 
+AnalyticCase makeUChannelCase(int cells) {
+  const double A = 50.3, B = 60.7, W = 14.1, H = 9.3;
+  Aabb box;
+  box.extend(Vec3(0, 0, 0));
+  box.extend(Vec3(A, B, H));
+  AnalyticCase c;
+  c.name = "U-channel";
+  c.grid = makeGridFromPredicate(box, B / cells, [=](const Vec3& p) {
+    if (p.z() < 0 || p.z() > H || p.x() < 0 || p.y() < 0 || p.y() > B) return false;
+    return (p.x() <= A && (p.y() <= W || p.y() >= B - W)) || p.x() <= W;
+  });
+  c.model = makeUChannel(A, B, W, H);
+  c.source = rectangle(Vec3(A, 0, 0), Vec3(A, W, 0), Vec3(A, W, H), Vec3(A, 0, H));
+  c.exact = [=](const Vec3& p) {
+    if (p.y() <= W) return A - p.x();  // lower arm: straight to the end face
+    if (p.x() <= W) return (A - W) + std::hypot(p.x() - W, p.y() - W);      // around (W, W)
+    return (A - W) + (B - 2 * W) + std::hypot(p.x() - W, p.y() - (B - W));  // and (W, B − W)
+  };
+  return c;
+}
+
 AnalyticCase makeUBendCase(int cells) {
   const double ri = 20.0, ro = 40.0, H = 10.0;
   Aabb box;

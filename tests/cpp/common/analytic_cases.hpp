@@ -32,6 +32,9 @@ AnalyticCase makeSphericalShellCase(int cellsAlongLongestSide = 128);
 AnalyticCase makeLShapeCase(int cellsAlongLongestSide = 128);
 /// U-bend: half annulus Ri <= r <= Ro, y >= 0, z in [0,H], grown from its end face y = 0, x > 0.
 AnalyticCase makeUBendCase(int cellsAlongLongestSide = 128);
+/// U-channel (makeUChannel: arms [0,A]×[0,W] and [0,A]×[B−W,B], base [0,W]×[0,B]) grown from the
+/// end face x = A of the lower arm: points of the upper arm reach it around both reflex edges.
+AnalyticCase makeUChannelCase(int cellsAlongLongestSide = 128);
 
 struct FieldError {
   double mean = 0.0;     ///< mean |computed − exact| in units of L over reached inside voxels

@@ -426,6 +426,18 @@ TriMesh makeLPrism(double a, double b, double w, double height) {
   return extrudePolygon(polygon, cap, edgeIds, height);
 }
 
+TriMesh makeUChannel(double a, double b, double w, double height) {
+  requireThat(w > 0 && a > w && b > 3 * w && height > 0,
+              "makeUChannel: need a > w > 0, b > 3w, height > 0");
+  // Counter-clockwise outline; (0, w) and (0, b − w) split the x = 0 side for the caps.
+  const std::vector<Eigen::Vector2d> polygon = {{0, 0},     {a, 0}, {a, w}, {w, w},     {w, b - w},
+                                                {a, b - w}, {a, b}, {0, b}, {0, b - w}, {0, w}};
+  const std::vector<Vec3i> cap = {{0, 1, 2}, {0, 2, 3}, {0, 3, 9}, {9, 3, 4},
+                                  {9, 4, 8}, {8, 4, 7}, {4, 6, 7}, {4, 5, 6}};
+  const std::vector<int> edgeIds = {0, 1, 0, 0, 0, 0, 0, 0, 0, 0};
+  return extrudePolygon(polygon, cap, edgeIds, height);
+}
+
 TriMesh makeHalfAnnulus(double ri, double ro, double height, int segments) {
   requireThat(ri > 0 && ro > ri && height > 0 && segments >= 1,
               "makeHalfAnnulus: need 0 < ri < ro, height > 0, segments >= 1");

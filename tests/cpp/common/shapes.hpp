@@ -57,6 +57,11 @@ TriMesh makeLPrism(double a, double b, double w, double height);
 /// has id 1, end face at θ = π (y = 0, x < 0) id 2, every other triangle 0.
 TriMesh makeHalfAnnulus(double ri, double ro, double height, int segments);
 
+/// U-channel prism in the xy-plane: arms [0,a]×[0,w] and [0,a]×[b−w,b] joined by [0,w]×[0,b],
+/// extruded over z ∈ [0, height]; two reflex edges at (w, w) and (w, b − w). Face id 1: the end
+/// face x = a of the lower arm.
+TriMesh makeUChannel(double a, double b, double w, double height);
+
 /// Removes every k-th triangle so that about `fraction` of them are gone (deterministic).
 TriMesh deleteTriangles(const TriMesh& mesh, double fraction);
 
