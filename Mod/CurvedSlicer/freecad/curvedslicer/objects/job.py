@@ -482,16 +482,9 @@ def apply_result(job, result, digest, prune=True):
         feature.ThicknessMin = -1.0 if t["min"] is None else float(t["min"])
         feature.ThicknessMax = -1.0 if t["max"] is None else float(t["max"])
         feature.purgeTouched()
-    for feature in existing[len(layers):]:
-        if prune:
-            group.removeObject(feature)
-            doc.removeObject(feature.Name)
-        else:
-            feature.Mesh = Mesh.Mesh()
-            feature.LayerIndex = 0
-            feature.Label = "%s unused layer" % job.Label
-            feature.Visibility = False
-            feature.purgeTouched()
+    plan_stage.retire_features(group, existing[len(layers):], prune,
+                               lambda f: setattr(f, "Mesh", Mesh.Mesh()),
+                               "%s unused layer" % job.Label)
     grid = result["grid"]
     job.LayerCount = len(layers)
     job.LayerHeights = [float(layer["height"]) for layer in layers]

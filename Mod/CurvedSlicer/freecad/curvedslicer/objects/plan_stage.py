@@ -252,16 +252,8 @@ def draw_paths(job, prune=True):
         feature.Height = float(layer["height"])
         feature.Visibility = True
         feature.purgeTouched()
-    for feature in existing[len(layers):]:
-        if prune:
-            group.removeObject(feature)
-            doc.removeObject(feature.Name)
-        else:
-            feature.Shape = Part.Shape()
-            feature.LayerIndex = 0
-            feature.Label = "%s unused paths" % job.Label
-            feature.Visibility = False
-            feature.purgeTouched()
+    retire_features(group, existing[len(layers):], prune,
+                    lambda f: setattr(f, "Shape", Part.Shape()), "%s unused paths" % job.Label)
     moves = travel_object(job)
     if moves is None:
         moves = doc.addObject("Part::Feature", "Travel")
@@ -278,6 +270,23 @@ def draw_paths(job, prune=True):
         from ..viewproviders import view_job
 
         view_job.style_paths(job)
+
+
+def retire_features(group, features, prune, clear, label):
+    """Features of a Job's group (Layers, Paths) that a smaller result no longer uses: removed when
+    `prune` (only outside a recompute: removing objects inside execute() corrupts the document),
+    else emptied by `clear(feature)`, marked LayerIndex 0, relabelled `label` and hidden (they are
+    pruned after the recompute, see prune_unused_features)."""
+    for feature in features:
+        if prune:
+            group.removeObject(feature)
+            group.Document.removeObject(feature.Name)
+        else:
+            clear(feature)
+            feature.LayerIndex = 0
+            feature.Label = label
+            feature.Visibility = False
+            feature.purgeTouched()
 
 
 def prune_unused_features(group):
