@@ -85,14 +85,16 @@ py::dict planLayersPy(const py::list& layers, const std::optional<DoubleArray>& 
                       const std::optional<std::vector<double>>& planeNormal,
                       const std::optional<DoubleArray>& surfaceVertices,
                       const std::optional<IntArray>& surfaceTriangles,
-                      const std::string& surfaceMethod, double layerThickness, double voxelSize,
-                      const std::string& fieldMethod, const std::string& model,
-                      const std::string& start, const py::object& progress) {
+                      const std::string& surfaceMethod, const std::string& narrowStrips,
+                      double layerThickness, double voxelSize, const std::string& fieldMethod,
+                      const std::string& model, const std::string& start,
+                      const py::object& progress) {
   PlannerOptions options;
   options.beadSpacing = beadSpacing;
   options.pointSpacing = pointSpacing;
   options.fitTolerance = fitTolerance;
   options.geodesic.method = surfaceMethodFromName(surfaceMethod);
+  options.narrowStrips = parseNarrowStripMode(narrowStrips);
   if (initialCurve == "boundary") {
     options.initialCurve.kind = InitialCurveKind::Boundary;
   } else if (initialCurve == "plane") {
@@ -341,6 +343,7 @@ py::dict planSummaryPy(const std::string& planJson) {
   params["field_method"] = p.fieldMethod;
   params["surface_method"] = p.surfaceMethod;
   params["initial_curve"] = p.initialCurve;
+  if (!p.narrowStrips.empty()) params["narrow_strips"] = p.narrowStrips;
   d["parameters"] = params;
   return d;
 }
@@ -389,7 +392,9 @@ void registerPlanBindings(py::module_& m) {
         "dicts {index (1-based), height mm, vertices (n,3), triangles (m,3)} bottom to top; "
         "start_vertices/start_triangles: the start surface (deposited material under layer 1, "
         "may be None); initial_curve 'boundary' | 'plane' (plane_point, plane_normal) | "
-        "'surface' (surface_vertices, surface_triangles); surface_method 'accurate' | 'paper'. "
+        "'surface' (surface_vertices, surface_triangles); surface_method 'accurate' | 'paper'; "
+        "narrow_strips 'centre_bead' (one bead where paths of one level come closer than "
+        "0.95·s) | 'overlap'. "
         "layer_thickness, voxel_size, field_method, model and start are recorded in the plan. "
         "Returns {plan_json, stats}.",
         py::arg("layers"), py::kw_only(), py::arg("start_vertices") = py::none(),
@@ -398,8 +403,9 @@ void registerPlanBindings(py::module_& m) {
         py::arg("initial_curve") = "boundary", py::arg("plane_point") = py::none(),
         py::arg("plane_normal") = py::none(), py::arg("surface_vertices") = py::none(),
         py::arg("surface_triangles") = py::none(), py::arg("surface_method") = "accurate",
-        py::arg("layer_thickness") = 0.0, py::arg("voxel_size") = 0.0, py::arg("field_method") = "",
-        py::arg("model") = "", py::arg("start") = "", py::arg("progress") = py::none());
+        py::arg("narrow_strips") = "centre_bead", py::arg("layer_thickness") = 0.0,
+        py::arg("voxel_size") = 0.0, py::arg("field_method") = "", py::arg("model") = "",
+        py::arg("start") = "", py::arg("progress") = py::none());
 
   m.def("plan_thin_wall", &planThinWallPy,
         "Paths of a thin wall (planThinWall, the paper's turbine base): one bead per plan layer "

@@ -196,6 +196,7 @@ int runPlanCommand(const PlanArguments& args) {
     planner.pointSpacing = checkedLength(args.pointSpacing, "point spacing");
     planner.fitTolerance = checkedLength(args.fitTolerance, "fit tolerance");
     planner.geodesic.method = parseSurfaceMethod(args.surfaceMethod);
+    planner.narrowStrips = parseNarrowStripMode(args.narrowStrips);
     ThinWallOptions wall;
     LayerJobOptions job;
     StartSurfaceSpec start;
@@ -324,6 +325,9 @@ int runPlanCommand(const PlanArguments& args) {
                                  {"fit_tolerance_mm", planned.plan.parameters.fitTolerance},
                                  {"initial_curve", planned.plan.parameters.initialCurve},
                                  {"surface_method", planned.plan.parameters.surfaceMethod}};
+    if (!planned.plan.parameters.narrowStrips.empty()) {
+      planSection["inputs"]["narrow_strips"] = planned.plan.parameters.narrowStrips;
+    }
     planSection["files"] = Json{{"json", kPlanJsonFile}, {"csv", kPlanCsvFile}};
     report["plan"] = planSection;
     const std::string planJson = formatPlanJson(planned.plan);

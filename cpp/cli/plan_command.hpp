@@ -18,6 +18,7 @@ struct PlanArguments {
   std::string fitTolerance = "0.05";
   std::string initialCurve = "boundary";
   std::string surfaceMethod = "accurate";
+  std::string narrowStrips = "centre_bead";
   std::string thinWall;  ///< empty: volume layers; else the edge spec (lowest[:AXIS]|nearest:P)
 };
 

@@ -70,6 +70,14 @@ void addPlanOptions(CLI::App& plan, PlanArguments& args) {
                   "Surface geodesic distance: accurate (default; the curve inserted\n"
                   "into the layer mesh, fast marching) or paper (eq. 15).")
       ->type_name("NAME");
+  plan.add_option("--narrow-strips", args.narrowStrips,
+                  "Where paths of one level come closer than 0.95*s (the innermost\n"
+                  "ring of a thin region, a hole's front meeting the rim's):\n"
+                  "  centre_bead  one bead on the strip's centre line instead,\n"
+                  "               joined to the ring piece it continues; every\n"
+                  "               change is reported per layer (default)\n"
+                  "  overlap      keep the paths; their beads overlap there")
+      ->type_name("MODE");
   plan.add_option("--thin-wall", args.thinWall,
                   "Thin-wall mode (the paper's turbine base): MODEL is the wall's\n"
                   "surface; beads are curves along it at k*s from an edge:\n"

@@ -4,6 +4,7 @@ rerunning the layers, save -> reopen in a new process -> byte-identical programs
 format written all or nothing, and the errors of bad export requests."""
 
 import glob
+import json
 import math
 import os
 import sys
@@ -15,11 +16,12 @@ import Part  # noqa: E402
 
 import cs_testing  # noqa: E402
 from freecad.curvedslicer import api  # noqa: E402
+from freecad.curvedslicer.core import native  # noqa: E402
 
 
 class PathTestCase(cs_testing.DocumentTestCase):
-    def box_job(self, bead_spacing=4.0):
-        box = self.box(40, 30, 6)
+    def box_job(self, bead_spacing=4.0, width=30):
+        box = self.box(40, width, 6)
         job = api.make_job(self.doc, box, layer_thickness=2.0, voxel_size=1.0,
                            bead_spacing=bead_spacing, point_spacing=2.0, cell_file="")
         api.run(job, progress=False)
@@ -47,7 +49,8 @@ class PathTestCase(cs_testing.DocumentTestCase):
 
 class TestPaths(PathTestCase):
     def test_curved_layer_beads_are_one_bead_spacing_apart(self):
-        job = self.box_job(bead_spacing=4.0)
+        # 32 mm wide: the innermost ring's sides are exactly s apart, so every path is a ring.
+        job = self.box_job(bead_spacing=4.0, width=32)
         self.assertEqual(job.LayerCount, 2)
         self.assertEqual(job.PlanLayerCount, 2)
         self.assertGreater(job.PathCount, 2)
@@ -55,6 +58,20 @@ class TestPaths(PathTestCase):
         self.assertTrue(spacing)
         # Contour-parallel rings on flat layers: neighbours exactly s apart (fit tolerance 0.05).
         self.assertLess(max(abs(d - 4.0) for d in spacing), 0.06, spacing)
+        # 30 mm wide, the innermost ring's sides would be 2 mm apart: one open centre bead on
+        # y = 15 instead (NarrowStrips CentreBead), s + 1 mm from the ring beside it, reported;
+        # with Overlap every path stays a closed ring.
+        narrow = self.box_job(bead_spacing=4.0, width=30)
+        spacing = sorted(api.path_spacing(narrow))
+        self.assertLess(abs(spacing[0] - 4.0), 0.06, spacing)
+        self.assertLess(abs(spacing[-1] - 5.0), 0.06, spacing)
+        self.assertTrue(any("centre bead" in w for layer in json.loads(narrow.PlanJson)["layers"]
+                            for w in layer["warnings"]))
+        self.assertEqual(sum(1 for p in native.plan_paths(narrow.PlanJson) if not p[2]), 2)
+        narrow.NarrowStrips = "Overlap"
+        self.doc.recompute()
+        self.assertTrue(all(p[2] for p in native.plan_paths(narrow.PlanJson)))
+        self.assertEqual(json.loads(narrow.PlanJson)["parameters"]["narrow_strips"], "overlap")
         features = api.path_features(job)
         self.assertEqual(len(features), 2)
         for feature in features:

@@ -28,9 +28,13 @@ out = {
     "schema": job.SchemaVersion,
     "has_point_spacing": "PointSpacing" in job.PropertiesList,
     "status": job.Status,
+    "narrow_strips": getattr(job, "NarrowStrips", None),
+    "path_count": job.PathCount,
 }
+plan_before = job.PlanJson
 doc.recompute()
 out["run_count_after_recompute"] = job.RunCount
+out["plan_unchanged_by_recompute"] = job.PlanJson == plan_before
 print("RESULT " + json.dumps(out))
 '''
 
@@ -58,9 +62,14 @@ class TestPersistence(cs_testing.DocumentTestCase):
 
     def test_job_of_an_older_schema_is_migrated_on_load(self):
         box = self.box(10, 10, 5)
-        job = api.make_job(self.doc, box, layer_thickness=2.0, voxel_size=1.0)
+        # Planned as a Job of the time did: narrow strips overlapping (the option did not exist).
+        job = api.make_job(self.doc, box, layer_thickness=2.0, voxel_size=1.0,
+                           narrow_strips="Overlap")
         api.run(job, progress=False)
+        paths = job.PathCount
+        self.assertGreater(paths, 0)
         job.removeProperty("PointSpacing")
+        job.removeProperty("NarrowStrips")
         job.SchemaVersion = 0
         path = cs_testing.tmp_path("old_schema.FCStd")
         self.doc.saveAs(path)
@@ -70,6 +79,10 @@ class TestPersistence(cs_testing.DocumentTestCase):
         self.assertEqual(out["schema"], SCHEMA_VERSION)
         self.assertEqual(out["layer_count"], 2)
         self.assertEqual(out["run_count_after_recompute"], 1)
+        # The new option arrives as Overlap, so the saved plan stays what it was: no replan.
+        self.assertEqual(out["narrow_strips"], "Overlap")
+        self.assertEqual(out["path_count"], paths)
+        self.assertTrue(out["plan_unchanged_by_recompute"])
 
 
 cs_testing.main(__name__)

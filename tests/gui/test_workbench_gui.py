@@ -236,6 +236,7 @@ def panel_edits_every_group(job, box):
     panel.initial_normal.set_value((0.0, 1.0, 0.0))
     panel.fit_tolerance.setValue(0.08)
     panel.surface_method.setCurrentIndex(job_module.SURFACE_METHODS.index("Paper"))
+    panel.narrow_strips.setCurrentIndex(job_module.NARROW_STRIPS.index("Overlap"))
     panel.path_display.setCurrentIndex(job_module.PATH_DISPLAYS.index("BSpline"))
     panel.cell_file.set_text(cell)
     check(panel.cell_status.text() == "valid cell file", "cell file status: %s"
@@ -245,7 +246,8 @@ def panel_edits_every_group(job, box):
     lines = panel.commands()
     expected = ["InitialPath = 'Plane'", "InitialPlanePoint = App.Vector(1.0, 2.0, 3.0)",
                 "InitialPlaneNormal = App.Vector(0.0, 1.0, 0.0)", "FitTolerance = 0.08",
-                "SurfaceMethod = 'Paper'", "PathDisplay = 'BSpline'", "CellFile = %r" % cell,
+                "SurfaceMethod = 'Paper'", "NarrowStrips = 'Overlap'",
+                "PathDisplay = 'BSpline'", "CellFile = %r" % cell,
                 "ToolAlongTravel = True", "PosePoint = %d" % pose]
     prefix = "App.getDocument(%r).getObject(%r)." % (job.Document.Name, job.Name)
     check(all(line.startswith(prefix) for line in lines)
@@ -258,7 +260,8 @@ def panel_edits_every_group(job, box):
     check(job.InitialPath == "Plane" and job.InitialPlanePoint == FreeCAD.Vector(1, 2, 3)
           and job.InitialPlaneNormal == FreeCAD.Vector(0, 1, 0)
           and abs(job.FitTolerance - 0.08) < 1e-12 and job.SurfaceMethod == "Paper"
-          and job.PathDisplay == "BSpline", "Apply set the path parameters")
+          and job.NarrowStrips == "Overlap" and job.PathDisplay == "BSpline",
+          "Apply set the path parameters")
     check(job.CellFile == cell and job.ToolAlongTravel and job.PosePoint == pose,
           "Apply set the robot parameters (cell, torch along travel, pose point %d)" % pose)
     check(panel.commands() == [], "nothing left to apply after Apply")

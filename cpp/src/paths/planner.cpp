@@ -14,6 +14,7 @@
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/geom/triangle_bvh.hpp"
 #include "curvedslicer/paths/iso_lines.hpp"
+#include "curvedslicer/paths/narrow_strips.hpp"
 #include "curvedslicer/paths/path_fit.hpp"
 #include "curvedslicer/paths/polyline.hpp"
 #include "curvedslicer/paths/surface_curves.hpp"
@@ -251,6 +252,49 @@ std::string InitialCurve::describe() const {
   return "boundary";
 }
 
+std::string narrowStripModeName(NarrowStripMode mode) {
+  return mode == NarrowStripMode::Overlap ? "overlap" : "centre_bead";
+}
+
+NarrowStripMode parseNarrowStripMode(const std::string& name) {
+  if (name == "centre_bead") return NarrowStripMode::CentreBead;
+  if (name == "overlap") return NarrowStripMode::Overlap;
+  throw InvalidInput("unknown narrow-strip mode: \"" + name +
+                     "\"; pass centre_bead (one bead where paths of one level come closer than "
+                     "0.95·s) or overlap (keep the overlapping paths)");
+}
+
+/// The narrow-strip notes of one layer: a summary line, then the first few notes in full.
+void reportNarrowStrips(const NarrowStripResult& strips, std::vector<std::string>& warnings) {
+  if (strips.warnings.empty()) return;
+  std::string summary =
+      "paths of one level closer than 0.95·s: " + std::to_string(strips.centreBeads) +
+      " centre bead(s) put instead";
+  if (strips.links > 0) {
+    summary += ", " + std::to_string(strips.links) + " of them joined to the path they continue";
+  }
+  if (strips.keptShortStretches > 0) {
+    summary += ", " + std::to_string(strips.keptShortStretches) +
+               " short stretch(es) (e.g. acute corners) kept overlapping";
+  }
+  if (strips.droppedCentreBeads > 0) {
+    summary += ", " + std::to_string(strips.droppedCentreBeads) +
+               " strip(s) too short or too narrow for a bead left empty";
+  }
+  if (strips.shortenedEnds > 0) {
+    summary += ", " + std::to_string(strips.shortenedEnds) + " path end(s) shortened";
+  }
+  warnings.push_back(summary + " (details follow)");
+  constexpr std::size_t kDetails = 3;
+  for (std::size_t i = 0; i < strips.warnings.size() && i < kDetails; ++i) {
+    warnings.push_back(strips.warnings[i]);
+  }
+  if (strips.warnings.size() > kDetails) {
+    warnings.push_back("… and " + std::to_string(strips.warnings.size() - kDetails) +
+                       " more such note(s) on this layer");
+  }
+}
+
 void validatePlannerOptions(const PlannerOptions& o) {
   checkPositive(o.beadSpacing, "bead spacing", "3.7");
   checkPositive(o.pointSpacing, "point spacing", "2");
@@ -301,6 +345,9 @@ PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& st
   PathFitOptions fit;
   fit.tolerance = options.fitTolerance;
   fit.pointSpacing = options.pointSpacing;
+  NarrowStripOptions narrowStrips;
+  narrowStrips.margin = 2.0 * options.fitTolerance;
+  narrowStrips.minLength = minLength;
   const bool fromBoundary = options.initialCurve.kind == InitialCurveKind::Boundary;
   const IsoValueStart isoStart =
       fromBoundary ? IsoValueStart::Boundary : IsoValueStart::InteriorCurve;
@@ -312,6 +359,7 @@ PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& st
   plan.parameters.fitTolerance = options.fitTolerance;
   plan.parameters.surfaceMethod = surfaceMethodName(options.geodesic.method);
   plan.parameters.initialCurve = options.initialCurve.describe();
+  plan.parameters.narrowStrips = narrowStripModeName(options.narrowStrips);
   StageTimer timer(result.stats);
 
   std::optional<TriangleBvh> support;  // material under the current layer
@@ -397,13 +445,35 @@ PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& st
       std::vector<RawBead> beads;
       std::size_t dropped = 0;
       const auto normalOf = [&](const ClosestPoint& c) { return query->normalAt(c); };
+      std::vector<std::vector<Polyline>> levelLines;
+      levelLines.reserve(values.size());
       for (const double value : values) {
-        std::vector<Polyline> lines;
         if (value <= 0.0) {
-          lines = curves;  // k = 0: the initial curve itself is the first bead
+          levelLines.push_back(curves);  // k = 0: the initial curve itself is the first bead
         } else {
-          lines = timer.run(kIso, [&] { return extractIsoLines(gdtc.mesh, gdtc.distance, value); });
+          levelLines.push_back(
+              timer.run(kIso, [&] { return extractIsoLines(gdtc.mesh, gdtc.distance, value); }));
         }
+        layerProgress.check();
+      }
+      if (options.narrowStrips == NarrowStripMode::CentreBead && !values.empty()) {
+        // Where the fronts meet (paths/narrow_strips.hpp): paths of one level closer than 0.95·s
+        // become one centre bead; the margin keeps the fitted paths at 0.95·s. The inner edges
+        // outline the strips beyond the beads where the next level has no ring.
+        std::vector<std::vector<Polyline>> innerEdges;
+        for (const double value : values) {
+          innerEdges.push_back(timer.run(kIso, [&] {
+            return extractIsoLines(gdtc.mesh, gdtc.distance,
+                                   value + 0.5 * s + narrowStrips.innerEdgeOffset);
+          }));
+        }
+        NarrowStripResult strips = timer.run(kIso, [&] {
+          return resolveNarrowStrips(levelLines, values, s, narrowStrips, innerEdges);
+        });
+        reportNarrowStrips(strips, layer.warnings);
+        levelLines = std::move(strips.levels);
+      }
+      for (const std::vector<Polyline>& lines : levelLines) {
         timer.run(kFit, [&] {
           fitBeads(lines, minLength, fit, query->bvh, normalOf, beads, result.stats, dropped);
           return 0;

@@ -141,8 +141,9 @@ class Reader {
   }
 
   /// Checks that `j` is an object with exactly `keys` (all required, no others).
-  void expectKeys(const Json& j, const std::string& where,
-                  std::initializer_list<const char*> keys) const {
+  /// `keys` must all be present; `optional` ones may be; nothing else.
+  void expectKeys(const Json& j, const std::string& where, std::initializer_list<const char*> keys,
+                  std::initializer_list<const char*> optional = {}) const {
     if (!j.is_object()) fail(where, "must be a JSON object, found " + std::string(j.type_name()));
     for (const char* key : keys) {
       if (!j.contains(key)) fail(where, std::string("lacks the key \"") + key + "\"");
@@ -150,6 +151,7 @@ class Reader {
     for (const auto& item : j.items()) {
       bool known = false;
       for (const char* key : keys) known = known || item.key() == key;
+      for (const char* key : optional) known = known || item.key() == key;
       if (!known) fail(where, "has an unknown key \"" + item.key() + "\"");
     }
   }
@@ -266,7 +268,8 @@ Plan readDocument(const Reader& r, const Json& doc) {
   const Json& pj = doc["parameters"];
   r.expectKeys(pj, "/parameters",
                {"layer_thickness_mm", "voxel_size_mm", "bead_spacing_mm", "point_spacing_mm",
-                "fit_tolerance_mm", "field_method", "surface_method", "initial_curve"});
+                "fit_tolerance_mm", "field_method", "surface_method", "initial_curve"},
+               {"narrow_strips"});
   PlanParameters& p = plan.parameters;
   p.layerThickness = r.number(pj["layer_thickness_mm"], "/parameters/layer_thickness_mm");
   p.voxelSize = r.number(pj["voxel_size_mm"], "/parameters/voxel_size_mm");
@@ -276,6 +279,13 @@ Plan readDocument(const Reader& r, const Json& doc) {
   p.fieldMethod = r.string(pj["field_method"], "/parameters/field_method");
   p.surfaceMethod = r.string(pj["surface_method"], "/parameters/surface_method");
   p.initialCurve = r.string(pj["initial_curve"], "/parameters/initial_curve");
+  if (pj.contains("narrow_strips")) {
+    p.narrowStrips = r.string(pj["narrow_strips"], "/parameters/narrow_strips");
+    if (p.narrowStrips != "centre_bead" && p.narrowStrips != "overlap") {
+      r.fail("/parameters/narrow_strips",
+             "is \"" + p.narrowStrips + "\": expected \"centre_bead\" or \"overlap\"");
+    }
+  }
   const Json& fields = r.array(doc["point_fields"], "/point_fields");
   bool fieldsOk = fields.size() == kPointFields.size();
   for (std::size_t i = 0; fieldsOk && i < fields.size(); ++i) {
@@ -352,6 +362,11 @@ std::string formatPlanJson(const Plan& plan) {
   out += ",\n";
   key("    ", "initial_curve");
   appendString(out, p.initialCurve, "initial curve");
+  if (!p.narrowStrips.empty()) {
+    out += ",\n";
+    key("    ", "narrow_strips");
+    appendString(out, p.narrowStrips, "narrow strips");
+  }
   out += "\n  },\n";
   key("  ", "point_fields");
   out += "[";

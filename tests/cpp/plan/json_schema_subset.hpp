@@ -1,6 +1,6 @@
 // Test helper: a validator for the subset of JSON Schema (2020-12) that
 // resources/schema/plan.schema.json uses — type (object, array, string, number, integer, boolean),
-// const, required, properties, additionalProperties (boolean), items, minItems, maxItems,
+// const, enum, required, properties, additionalProperties (boolean), items, minItems, maxItems,
 // minimum, and $ref to "#/$defs/<name>". Unknown keywords other than annotations ($schema, $id,
 // title, description, $defs) are reported as errors, so the schema cannot silently use more than
 // this checks. Returns the list of violations with their JSON pointers (empty = valid).
@@ -49,21 +49,10 @@ class SchemaSubsetValidator {
              std::vector<std::string>& errors) const {
     const nlohmann::json& schema = resolve(rawSchema);
     for (const auto& item : schema.items()) {
-      static const std::vector<std::string> known = {"$schema",
-                                                     "$id",
-                                                     "title",
-                                                     "description",
-                                                     "$defs",
-                                                     "$ref",
-                                                     "type",
-                                                     "const",
-                                                     "required",
-                                                     "properties",
-                                                     "additionalProperties",
-                                                     "items",
-                                                     "minItems",
-                                                     "maxItems",
-                                                     "minimum"};
+      static const std::vector<std::string> known = {
+          "$schema", "$id",      "title",    "description", "$defs",      "$ref",
+          "type",    "const",    "enum",     "required",    "properties", "additionalProperties",
+          "items",   "minItems", "maxItems", "minimum"};
       if (std::find(known.begin(), known.end(), item.key()) == known.end()) {
         throw std::runtime_error("schema keyword outside the supported subset: " + item.key());
       }
@@ -75,6 +64,12 @@ class SchemaSubsetValidator {
     }
     if (schema.contains("const") && v != schema["const"]) {
       errors.push_back(where + ": expected " + schema["const"].dump());
+    }
+    if (schema.contains("enum")) {
+      const auto& options = schema["enum"];
+      if (std::find(options.begin(), options.end(), v) == options.end()) {
+        errors.push_back(where + ": expected one of " + options.dump());
+      }
     }
     if (schema.contains("minimum") && v.is_number() &&
         v.get<double>() < schema["minimum"].get<double>()) {

@@ -185,6 +185,9 @@ TEST(PlanCliCases, BadInputsExitWithTheirMessage) {
   expectError({"--layer-thickness", "20", "--voxel", "5", "--bead-spacing", "3", "--surface-method",
                "exact"},
               "unknown surface geodesic method: 'exact'");
+  expectError({"--layer-thickness", "20", "--voxel", "5", "--bead-spacing", "3", "--narrow-strips",
+               "merge"},
+              "unknown narrow-strip mode: \"merge\"; pass centre_bead");
   // The box is 200 mm wide: a 500 mm bead does not fit any layer.
   expectError({"--layer-thickness", "20", "--voxel", "5", "--bead-spacing", "500"},
               "bead spacing is wider than every layer: 500 mm");

@@ -21,7 +21,7 @@ Plan makeSamplePlan() {
   Plan plan;
   plan.model = "resources/models/bunny \"closed\".stl";
   plan.start = "plane:bottom";
-  plan.parameters = {1.5, 0.5, 3.7, 2.0, 0.05, "anyangle", "accurate", "boundary"};
+  plan.parameters = {1.5, 0.5, 3.7, 2.0, 0.05, "anyangle", "accurate", "boundary", "centre_bead"};
   for (int l = 0; l < 2; ++l) {
     PlanLayer layer;
     layer.index = l;
@@ -115,6 +115,20 @@ TEST(PlanIo, JsonValidatesAgainstSchema) {
   broken["layers"][1]["paths"][0]["closed"] = "yes";
   broken["extra"] = 1;
   EXPECT_EQ(validator.validate(broken).size(), 3u);
+}
+
+TEST(PlanIo, NarrowStripModeIsOptionalAndChecked) {
+  // Written when set, read back; a plan without it (thin wall, or written before the option
+  // existed) round-trips without it; another value is refused with its location.
+  EXPECT_EQ(parsePlanJson(formatPlanJson(makeSamplePlan())).parameters.narrowStrips, "centre_bead");
+  Plan older = makeSamplePlan();
+  older.parameters.narrowStrips.clear();
+  const std::string text = formatPlanJson(older);
+  EXPECT_EQ(text.find("narrow_strips"), std::string::npos);
+  EXPECT_EQ(formatPlanJson(parsePlanJson(text)), text);
+  expectReadError(editedJson([](auto& d) { d["parameters"]["narrow_strips"] = "merge"; }),
+                  "/parameters/narrow_strips is \"merge\": expected \"centre_bead\" or "
+                  "\"overlap\"");
 }
 
 TEST(PlanIo, EmptyPlanRoundTrips) {

@@ -71,14 +71,17 @@ def make_job(doc, solid, start=None, layer_thickness=1.5, voxel_size=None, metho
              bead_spacing=3.7, point_spacing=2.0, initial_path="Boundary", cell_file=None,
              name="Job", plan_kind="CurvedLayers", wall_surface=None, wall_axis=(0, 0, 1),
              fit_tolerance=0.05, surface_method="Accurate", initial_plane=None,
-             initial_surface=None, path_display="Polyline", tool_along_travel=False):
+             initial_surface=None, path_display="Polyline", tool_along_travel=False,
+             narrow_strips="CentreBead"):
     """Creates a Job for `solid` in `doc` (no computation; call run() or doc.recompute()).
 
     start: see _set_start. voxel_size None = the preference (default 1 mm). method "AnyAngle" |
     "Paper"; grid_alignment "PCA" | "Model"; memory_budget_mb 0 = 80 % of physical memory.
     Paths: bead_spacing and point_spacing (mm), fit_tolerance (mm), surface_method "Accurate" |
     "Paper", initial_path "Boundary" | "Plane" (initial_plane = (point, normal)) | "Surface"
-    (initial_surface = object or (object, [faces])); path_display "Polyline" | "BSpline".
+    (initial_surface = object or (object, [faces])); path_display "Polyline" | "BSpline";
+    narrow_strips "CentreBead" (one bead where paths of one level come closer than 0.95 x
+    bead_spacing) | "Overlap".
     tool_along_travel: torch x along the travel (True) or fixed while the positioner turns.
     plan_kind "ThinWall": no volume layers; wall_surface (object or (object, [faces])) is planned
     as a thin wall from its lowest edge along wall_axis, one bead per bead_spacing; `solid` may
@@ -110,6 +113,7 @@ def make_job(doc, solid, start=None, layer_thickness=1.5, voxel_size=None, metho
     obj.PointSpacing = point_spacing
     obj.FitTolerance = fit_tolerance
     obj.SurfaceMethod = surface_method
+    obj.NarrowStrips = narrow_strips
     obj.InitialPath = initial_path
     if initial_plane is not None:
         obj.InitialPlanePoint = FreeCAD.Vector(*initial_plane[0])

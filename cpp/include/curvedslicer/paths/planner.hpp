@@ -9,7 +9,9 @@
 //      sides, k = 0 being the section itself;
 //   2. GDTC ("surface geodesic"): paths/surface_geodesic.hpp, the curve inserted into the mesh;
 //   3. iso-lines ("iso-lines"): paths/iso_lines.hpp; pieces shorter than `minPathLength` are
-//      dropped (counted in the layer's warnings);
+//      dropped (counted in the layer's warnings); where paths of one level come closer than
+//      0.95·s, `narrowStrips` (default CentreBead: paths/narrow_strips.hpp) puts one centre bead
+//      instead, joined to the ring piece it continues, and reports it in the layer's warnings;
 //   4. fit ("fit"): paths/path_fit.hpp (smoothing cubic B-spline within `fitTolerance`, resampled
 //      at `pointSpacing`); the points are then projected onto the layer surface and get its
 //      normal (area-weighted vertex normals interpolated on the closest triangle);
@@ -59,6 +61,18 @@ struct InitialCurve {
   std::string describe() const;      ///< e.g. "boundary", "plane:0,0,0,1,0,0", "surface"
 };
 
+/// What happens where contour-parallel fronts meet and paths of one level come closer than
+/// 0.95·s (the innermost ring of a thin region, a hole's front meeting the rim's).
+enum class NarrowStripMode {
+  CentreBead,  ///< paths/narrow_strips.hpp: one centre bead instead, joined to its ring piece
+  Overlap,     ///< keep the iso-lines as they are; their beads overlap there
+};
+
+/// "centre_bead" | "overlap" (the command line's and the plan file's names).
+std::string narrowStripModeName(NarrowStripMode mode);
+/// @throws InvalidInput for another name.
+NarrowStripMode parseNarrowStripMode(const std::string& name);
+
 struct PlannerOptions {
   double beadSpacing = 3.7;    ///< s, mm, distance between neighbouring bead centre lines (> 0)
   double pointSpacing = 2.0;   ///< mm, largest distance between robot points (> 0)
@@ -70,6 +84,8 @@ struct PlannerOptions {
   /// mm; smallest distance between seams of consecutive layers; < 0 means 2·s.
   double seamSeparation = -1.0;
   int improvementPasses = 4;  ///< 2-opt passes of the ordering (paths/ordering.hpp)
+  /// Where paths of one level come closer than 0.95·s (default: one centre bead).
+  NarrowStripMode narrowStrips = NarrowStripMode::CentreBead;
   DepositionOptions deposition;
 };
 

@@ -59,6 +59,9 @@ struct PlanParameters {
   std::string fieldMethod;      ///< volume geodesic method, e.g. "anyangle"
   std::string surfaceMethod;    ///< surface geodesic (GDTC) method
   std::string initialCurve;     ///< how initial curves were chosen, e.g. "boundary"
+  /// where paths of one level meet: "centre_bead" | "overlap"; empty for plans that do not
+  /// apply it (thin wall, plans written before it existed): then not written to the file
+  std::string narrowStrips;
 };
 
 struct Plan {

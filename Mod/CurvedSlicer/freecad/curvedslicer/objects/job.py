@@ -36,6 +36,7 @@ INITIAL_PATHS = ["Boundary", "Plane", "Surface"]
 PLAN_KINDS = plan_stage.PLAN_KINDS
 WALL_EDGES = plan_stage.WALL_EDGES
 SURFACE_METHODS = plan_stage.SURFACE_METHODS
+NARROW_STRIPS = plan_stage.NARROW_STRIPS
 PATH_DISPLAYS = plan_stage.PATH_DISPLAYS
 
 # (type, name, group, tooltip, default). Enumerations take their list as default (first = value).
@@ -101,6 +102,11 @@ PROPERTIES = [
     ("App::PropertyEnumeration", "SurfaceMethod", "Paths",
      "Surface geodesic field (GDTC): Accurate, or Paper (the paper's search, eq. 15)",
      SURFACE_METHODS),
+    ("App::PropertyEnumeration", "NarrowStrips", "Paths",
+     "Where paths of one level come closer than 0.95 x BeadSpacing (the innermost ring of a thin "
+     "region, a hole's front meeting the rim's): CentreBead puts one bead on the strip's centre "
+     "line, joined to the ring piece it continues, and reports it per layer; Overlap keeps the "
+     "paths and their beads overlap", NARROW_STRIPS),
     ("App::PropertyEnumeration", "PathDisplay", "Paths",
      "Draw the paths as Polyline (the robot points) or BSpline (interpolated)", PATH_DISPLAYS),
     ("App::PropertyFile", "CellFile", "Robot",
@@ -230,6 +236,9 @@ class JobProxy:
         self.Type = JOB_TYPE
         old = obj.SchemaVersion if "SchemaVersion" in obj.PropertiesList else 0
         added = add_missing_properties(obj)
+        if "NarrowStrips" in added:
+            # Planned before the option existed: keep what it planned (overlapping paths).
+            obj.NarrowStrips = "Overlap"
         if old < SCHEMA_VERSION or added:
             obj.SchemaVersion = SCHEMA_VERSION
             FreeCAD.Console.PrintLog("CurvedSlicer: migrated %s from schema %d (added %s)\n"

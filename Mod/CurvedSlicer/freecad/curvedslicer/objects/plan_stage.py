@@ -3,8 +3,9 @@
 Two kinds of Job plan paths:
  - CurvedLayers: the planner (paths/planner.hpp planLayers) on the layer meshes stored in the
    Job's "Layers" group and the start-surface triangles of the last layer run, with BeadSpacing,
-   PointSpacing, FitTolerance, SurfaceMethod and InitialPath (Boundary, or the section with
-   InitialPlane*/InitialSurface);
+   PointSpacing, FitTolerance, SurfaceMethod, InitialPath (Boundary, or the section with
+   InitialPlane*/InitialSurface) and NarrowStrips (where paths of one level come closer than
+   0.95·s: one centre bead, or the overlapping paths kept);
  - ThinWall: the thin-wall planner (planThinWall, the paper's turbine base) on WallSurface, paths
    at k·BeadSpacing from its lowest edge along WallAxis (or the edge nearest WallPoint).
 
@@ -26,6 +27,8 @@ from ..core import InvalidInput, native
 PLAN_KINDS = ["CurvedLayers", "ThinWall"]
 PATH_DISPLAYS = ["Polyline", "BSpline"]
 SURFACE_METHODS = ["Accurate", "Paper"]
+NARROW_STRIPS = ["CentreBead", "Overlap"]
+_NARROW_STRIP_NAMES = {"CentreBead": "centre_bead", "Overlap": "overlap"}
 WALL_EDGES = ["Lowest", "Nearest"]
 
 PATH_PROPERTIES = [
@@ -123,7 +126,11 @@ def path_inputs(job):
                            "stage) first" % job.Label)
     deflection = _deflection(job)
     curve, curve_digest = _initial_curve(job, deflection)
-    digest = _digest(["CurvedLayers", job.InputsDigest, sorted(common.items()), curve_digest])
+    narrow = _NARROW_STRIP_NAMES[job.NarrowStrips]
+    parts = ["CurvedLayers", job.InputsDigest, sorted(common.items()), curve_digest]
+    if narrow != "overlap":  # a Job saved before the option (migrated as Overlap) keeps its digest
+        parts.append(narrow)
+    digest = _digest(parts)
     start = start_mesh_object(job)
 
     def plan(progress):
@@ -134,6 +141,7 @@ def path_inputs(job):
                            "vertices": vertices, "triangles": triangles})
         kwargs = dict(common)
         kwargs.update(curve)
+        kwargs["narrow_strips"] = narrow
         if start is not None and start.Mesh.CountFacets:
             kwargs["start_vertices"], kwargs["start_triangles"] = geometry.mesh_arrays(
                 start.Mesh)

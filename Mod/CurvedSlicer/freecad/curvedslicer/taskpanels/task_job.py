@@ -176,6 +176,11 @@ class TaskPanelJob:
         self.initial_path.setToolTip("Boundary: contour-parallel paths; Plane / Surface: the "
                                      "section of every layer with it is the first path")
         g.addRow("Initial path", self.initial_path)
+        self.narrow_strips = combo(job_module.NARROW_STRIPS, job.NarrowStrips)
+        self.narrow_strips.setToolTip("Where paths of one level come closer than 0.95 x bead "
+                                      "spacing: CentreBead puts one bead on the strip's centre "
+                                      "line (reported per layer); Overlap keeps the paths")
+        g.addRow("Narrow strips", self.narrow_strips)
         self.initial_point = VectorField(job.InitialPlanePoint, " mm")
         g.addRow("Plane point", self.initial_point)
         self.initial_normal = VectorField(job.InitialPlaneNormal, "")
@@ -328,6 +333,7 @@ class TaskPanelJob:
             "InitialPlaneNormal": self.initial_normal,
             "InitialSurface": (self.initial_surface.value(), self.initial_surface.code(d)),
             "SurfaceMethod": self.surface_method.currentText(),
+            "NarrowStrips": self.narrow_strips.currentText(),
             "PathDisplay": self.path_display.currentText(),
             "CellFile": self.cell_file.text(),
             "ToolAlongTravel": self.tool_along_travel.isChecked(),

@@ -1,0 +1,1013 @@
+#include "curvedslicer/paths/narrow_strips.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <numbers>
+#include <unordered_map>
+
+#include "curvedslicer/core/error.hpp"
+
+namespace curvedslicer {
+
+namespace {
+
+std::string formatMm(double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.3g", value);
+  return buffer;
+}
+
+std::string formatPoint(const Vec3& p) {
+  char buffer[128];
+  std::snprintf(buffer, sizeof(buffer), "(%.1f, %.1f, %.1f)", p.x(), p.y(), p.z());
+  return buffer;
+}
+
+/// A line with its arc lengths and evenly spaced samples (sample k at arc k·step).
+struct Track {
+  Polyline line;
+  std::vector<double> cum;  // computeCumulativeLengths
+  double length = 0.0;
+  std::vector<Vec3> samples;
+  double step = 0.0;
+  int level = 0;
+  bool centre = false;
+
+  double arcOf(std::size_t k) const { return std::min(length, static_cast<double>(k) * step); }
+  double arcDistance(double a, double b) const {
+    const double d = std::abs(a - b);
+    return line.closed ? std::min(d, length - d) : d;
+  }
+};
+
+/// The point at arc length t along the line (t unwrapped: for closed lines 0 ≤ t < 2·length).
+Vec3 pointAt(const Track& t, double arc) {
+  const std::size_t n = t.line.points.size();
+  if (n == 1 || !(t.length > 0.0)) return t.line.points.front();
+  const std::size_t segments = t.line.segmentCount();
+  if (t.line.closed) {
+    arc = std::fmod(arc, t.length);
+    if (arc < 0.0) arc += t.length;
+  } else {
+    arc = std::clamp(arc, 0.0, t.length);
+  }
+  // cum has segments + 1 entries; find the segment holding arc.
+  const auto it = std::upper_bound(t.cum.begin(), t.cum.begin() + segments + 1, arc);
+  std::size_t i = it == t.cum.begin() ? 0 : static_cast<std::size_t>(it - t.cum.begin()) - 1;
+  i = std::min(i, segments - 1);
+  const double a = t.cum[i], b = t.cum[i + 1];
+  const double u = b > a ? std::clamp((arc - a) / (b - a), 0.0, 1.0) : 0.0;
+  return (1.0 - u) * t.line.segmentStart(i) + u * t.line.segmentEnd(i);
+}
+
+Track makeTrack(Polyline line, int level, bool centre, double spacing) {
+  Track t;
+  t.line = std::move(line);
+  t.level = level;
+  t.centre = centre;
+  t.cum = computeCumulativeLengths(t.line);
+  t.length = t.line.length();
+  const std::size_t n =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(t.length / spacing)));
+  t.step = t.length / static_cast<double>(n);
+  const std::size_t count = t.line.closed && t.length > 0.0 ? n : n + 1;
+  t.samples.reserve(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    t.samples.push_back(pointAt(t, static_cast<double>(k) * t.step));
+  }
+  return t;
+}
+
+/// The stretch [a, b] of arc length (closed lines: b < a wraps past the start), as an open line.
+Polyline cutLine(const Track& t, double a, double b) {
+  Polyline out;
+  if (t.line.closed && b < a) b += t.length;
+  out.points.push_back(pointAt(t, a));
+  const std::size_t n = t.line.points.size();
+  const std::size_t rounds = t.line.closed ? 2 : 1;
+  for (std::size_t r = 0; r < rounds; ++r) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const double arc = t.cum[i] + static_cast<double>(r) * t.length;
+      if (arc > a && arc < b) out.points.push_back(t.line.points[i]);
+    }
+  }
+  out.points.push_back(pointAt(t, b));
+  // Drop repeats (a cut next to a raw point).
+  std::size_t w = 0;
+  for (std::size_t i = 0; i < out.points.size(); ++i) {
+    if (w > 0 && (out.points[i] - out.points[w - 1]).norm() <= 1e-7) continue;
+    out.points[w++] = out.points[i];
+  }
+  out.points.resize(w);
+  return out;
+}
+
+/// Uniform hash grid of track samples.
+class SampleGrid {
+ public:
+  explicit SampleGrid(double cell) : cell_(cell) {}
+
+  void add(std::uint32_t track, std::uint32_t sample, const Vec3& p) {
+    cells_[key(cellOf(p))].push_back({track, sample});
+  }
+
+  /// Calls f(track, sample) for every sample in the cells within `radius` of p.
+  template <typename F>
+  void visit(const Vec3& p, double radius, F&& f) const {
+    const Eigen::Vector3i lo = cellOf(p - Vec3::Constant(radius));
+    const Eigen::Vector3i hi = cellOf(p + Vec3::Constant(radius));
+    for (int x = lo.x(); x <= hi.x(); ++x) {
+      for (int y = lo.y(); y <= hi.y(); ++y) {
+        for (int z = lo.z(); z <= hi.z(); ++z) {
+          const auto it = cells_.find(key(Eigen::Vector3i(x, y, z)));
+          if (it == cells_.end()) continue;
+          for (const auto& [track, sample] : it->second) f(track, sample);
+        }
+      }
+    }
+  }
+
+ private:
+  Eigen::Vector3i cellOf(const Vec3& p) const {
+    return Eigen::Vector3i(static_cast<int>(std::floor(p.x() / cell_)),
+                           static_cast<int>(std::floor(p.y() / cell_)),
+                           static_cast<int>(std::floor(p.z() / cell_)));
+  }
+  static std::uint64_t key(const Eigen::Vector3i& c) {
+    const auto u = [](int v) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(v)); };
+    return (u(c.x()) * 73856093ULL) ^ (u(c.y()) * 19349663ULL << 1) ^ (u(c.z()) * 83492791ULL << 2);
+  }
+  double cell_;
+  std::unordered_map<std::uint64_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>> cells_;
+};
+
+Vec3 closestOnSegment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double u = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return a + u * ab;
+}
+
+/// A narrow sample's nearest point on another part of its level.
+struct Partner {
+  int track = -1;
+  std::size_t sample = 0;
+  Vec3 point = Vec3::Zero();  // refined onto the facing segments
+  double distance = kInf;
+};
+
+/// A maximal stretch of narrow samples of one track.
+struct Run {
+  int track = 0;
+  std::size_t first = 0;  // sample index (closed tracks: may wrap)
+  std::size_t count = 0;
+  bool whole = false;  // every sample of a closed track
+  int partner = -1;    // run holding most of the partners
+};
+
+/// Narrow samples, their runs and partners within one group of tracks (one level).
+struct Narrowing {
+  std::vector<std::vector<Partner>> partners;  // per track, per sample
+  std::vector<Run> runs;
+  std::vector<std::vector<int>> runOf;      // per track, per sample: run or −1
+  std::vector<std::vector<int>> trackRuns;  // per track, its runs in order along it
+  double closest = kInf;
+
+  bool mutual(int a, int b) const { return a != b && runs[a].partner == b && runs[b].partner == a; }
+  /// Arc length from run a's last sample to run b's first (same track, forwards).
+  double gapLength(const std::vector<Track>& tracks, int a, int b) const {
+    const Track& tr = tracks[runs[a].track];
+    const std::size_t n = tr.samples.size();
+    const std::size_t last = (runs[a].first + runs[a].count - 1) % n;
+    return static_cast<double>((runs[b].first + n - last) % n) * tr.step;
+  }
+  /// The run before run r on its track (cyclic).
+  int previousRun(int r) const {
+    const std::vector<int>& rs = trackRuns[runs[r].track];
+    const auto at = static_cast<std::size_t>(std::find(rs.begin(), rs.end(), r) - rs.begin());
+    return rs[(at + rs.size() - 1) % rs.size()];
+  }
+};
+
+/// `bridge`: a stretch of wide samples shorter than this (mm) between narrow ones of the same
+/// track, whose samples all face a point within 1.25 × threshold, counts as narrow (so one strip
+/// whose width wavers around the threshold gives one centre bead, not pieces and gaps).
+/// `wide` (optional): per track, per sample, non-zero = never narrow (set after bridging).
+Narrowing findNarrowing(const std::vector<Track>& tracks, double threshold, double exclusion,
+                        double bridge, const std::vector<std::vector<char>>* wide = nullptr) {
+  Narrowing g;
+  const double reach = 1.25 * threshold;
+  SampleGrid grid(reach);
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    for (std::size_t k = 0; k < tracks[t].samples.size(); ++k) {
+      grid.add(static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(k), tracks[t].samples[k]);
+    }
+  }
+  std::vector<std::vector<Partner>> nearest(tracks.size());
+  g.partners.resize(tracks.size());
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    const Track& tr = tracks[t];
+    g.partners[t].resize(tr.samples.size());
+    nearest[t].resize(tr.samples.size());
+    for (std::size_t k = 0; k < tr.samples.size(); ++k) {
+      const Vec3& p = tr.samples[k];
+      Partner best;
+      grid.visit(p, reach, [&](std::uint32_t ot, std::uint32_t ok) {
+        if (ot == t && tr.arcDistance(tr.arcOf(k), tr.arcOf(ok)) <= exclusion) return;
+        const double d = (tracks[ot].samples[ok] - p).norm();
+        if (d < best.distance) best = {static_cast<int>(ot), ok, tracks[ot].samples[ok], d};
+      });
+      if (best.distance >= reach) continue;
+      // Refine onto the partner's neighbouring segments.
+      const Track& o = tracks[best.track];
+      const std::size_t m = o.samples.size();
+      const std::size_t at = best.sample;
+      for (const int side : {-1, 1}) {
+        if (!o.line.closed && ((side < 0 && at == 0) || (side > 0 && at + 1 >= m))) continue;
+        const std::size_t j = side < 0 ? (at + m - 1) % m : (at + 1) % m;
+        const Vec3 q = closestOnSegment(p, o.samples[at], o.samples[j]);
+        if ((q - p).norm() < best.distance) {
+          best.point = q;
+          best.distance = (q - p).norm();
+        }
+      }
+      nearest[t][k] = best;
+      if (best.distance < threshold) {
+        g.closest = std::min(g.closest, best.distance);
+        g.partners[t][k] = best;
+      }
+    }
+    // Bridge short wide stretches between narrow samples.
+    const std::size_t n = tr.samples.size();
+    const auto narrow = [&](std::size_t k) { return g.partners[t][k % n].track >= 0; };
+    const std::size_t maxGap =
+        tr.step > 0.0 ? static_cast<std::size_t>(std::min(bridge / tr.step, double(n))) : 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (!narrow(k) || narrow(k + 1)) continue;
+      if (!tr.line.closed && k + 1 >= n) break;
+      std::size_t gap = 1;  // wide samples after k
+      while (gap <= maxGap && gap < n && !narrow(k + 1 + gap)) ++gap;
+      if (gap > maxGap || gap >= n) continue;
+      if (!tr.line.closed && k + 1 + gap >= n) continue;
+      bool near = true;
+      for (std::size_t i = 1; i <= gap; ++i) near = near && nearest[t][(k + i) % n].track >= 0;
+      if (!near) continue;
+      for (std::size_t i = 1; i <= gap; ++i) g.partners[t][(k + i) % n] = nearest[t][(k + i) % n];
+    }
+    if (wide != nullptr) {
+      for (std::size_t k = 0; k < n; ++k) {
+        if ((*wide)[t][k]) g.partners[t][k] = Partner{};
+      }
+    }
+  }
+  g.runOf.resize(tracks.size());
+  g.trackRuns.resize(tracks.size());
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    const std::size_t n = tracks[t].samples.size();
+    g.runOf[t].assign(n, -1);
+    const auto narrow = [&](std::size_t k) { return g.partners[t][k % n].track >= 0; };
+    std::size_t start = 0;
+    if (tracks[t].line.closed) {
+      std::size_t wide = n;
+      for (std::size_t k = 0; k < n && wide == n; ++k) {
+        if (!narrow(k)) wide = k;
+      }
+      if (wide == n) {
+        g.runs.push_back({static_cast<int>(t), 0, n, true, -1});
+        std::fill(g.runOf[t].begin(), g.runOf[t].end(), static_cast<int>(g.runs.size()) - 1);
+        g.trackRuns[t].push_back(static_cast<int>(g.runs.size()) - 1);
+        continue;
+      }
+      start = wide;
+    }
+    for (std::size_t i = 0; i < n;) {
+      if (!narrow(start + i)) {
+        ++i;
+        continue;
+      }
+      Run run{static_cast<int>(t), (start + i) % n, 0, false, -1};
+      while (i < n && narrow(start + i)) {
+        g.runOf[t][(start + i) % n] = static_cast<int>(g.runs.size());
+        ++run.count;
+        ++i;
+      }
+      g.trackRuns[t].push_back(static_cast<int>(g.runs.size()));
+      g.runs.push_back(run);
+    }
+  }
+  for (Run& run : g.runs) {
+    std::map<int, std::size_t> votes;
+    const std::size_t n = tracks[run.track].samples.size();
+    for (std::size_t i = 0; i < run.count; ++i) {
+      const Partner& p = g.partners[run.track][(run.first + i) % n];
+      const int pr = g.runOf[p.track][p.sample];
+      if (pr >= 0) ++votes[pr];
+    }
+    std::size_t most = 0;
+    for (const auto& [pr, count] : votes) {
+      if (count > most) {
+        most = count;
+        run.partner = pr;
+      }
+    }
+  }
+  return g;
+}
+
+/// The midline of run r and the points facing it; caps (short turns to the partner run on the
+/// same track, flagged in capAfter) extend it to the turn's middle. dMin/dMax: separations.
+Polyline drawMidline(const std::vector<Track>& tracks, const Narrowing& g, int r,
+                     const std::vector<bool>& capAfter, double& dMin, double& dMax) {
+  const Run& run = g.runs[r];
+  const Track& tr = tracks[run.track];
+  const std::size_t n = tr.samples.size();
+  Polyline centre;
+  centre.closed = run.whole && run.partner >= 0 && g.runs[run.partner].whole;
+  dMin = kInf;
+  dMax = 0.0;
+  for (std::size_t i = 0; i < run.count; ++i) {
+    const std::size_t k = (run.first + i) % n;
+    const Partner& p = g.partners[run.track][k];
+    // A run facing itself (a thin U without a break at its turn): draw only up to the fold.
+    if (g.runOf[p.track][p.sample] == r && (p.sample + n - run.first) % n <= i) continue;
+    centre.points.push_back(0.5 * (tr.samples[k] + p.point));
+    dMin = std::min(dMin, p.distance);
+    dMax = std::max(dMax, p.distance);
+  }
+  const auto turnMiddle = [&](int a, int b) {  // middle of the turn from run a to run b
+    const double from = tr.arcOf((g.runs[a].first + g.runs[a].count - 1) % n);
+    double to = tr.arcOf(g.runs[b].first);
+    if (to < from) to += tr.length;
+    return pointAt(tr, 0.5 * (from + to));
+  };
+  if (!run.whole && capAfter[r]) centre.points.push_back(turnMiddle(r, run.partner));
+  if (!run.whole && run.partner >= 0 && capAfter[run.partner] && tr.line.closed &&
+      g.runs[run.partner].track == run.track && g.previousRun(r) == run.partner) {
+    centre.points.insert(centre.points.begin(), turnMiddle(run.partner, r));
+  }
+  std::size_t w = 0;
+  for (std::size_t i = 0; i < centre.points.size(); ++i) {
+    if (w > 0 && (centre.points[i] - centre.points[w - 1]).norm() <= 1e-7) continue;
+    centre.points[w++] = centre.points[i];
+  }
+  centre.points.resize(w);
+  if (centre.closed && centre.points.size() < 3) centre.closed = false;
+  return centre;
+}
+
+/// Does run r draw the bead of its pair? The longer run of a mutual pair does (ties: lower index).
+bool drawsBead(const Narrowing& g, int r) {
+  const Run& run = g.runs[r];
+  if (run.partner < 0 || !g.mutual(r, run.partner)) return true;
+  const Run& other = g.runs[run.partner];
+  return !(other.count > run.count || (other.count == run.count && run.partner < r));
+}
+
+/// The kept pieces of a track: the stretches between its runs that are not caps.
+void collectPieces(const std::vector<Track>& tracks, const Narrowing& g, std::size_t t,
+                   const std::vector<bool>& capAfter, std::vector<Polyline>& pieces) {
+  const Track& tr = tracks[t];
+  const std::vector<int>& rs = g.trackRuns[t];
+  if (rs.empty()) {
+    pieces.push_back(tr.line);
+    return;
+  }
+  if (g.runs[rs[0]].whole) return;
+  const std::size_t n = tr.samples.size();
+  const std::size_t m = rs.size();
+  const auto add = [&](double a, double b) {
+    Polyline piece = cutLine(tr, a, b);
+    if (piece.points.size() >= 2) pieces.push_back(std::move(piece));
+  };
+  if (tr.line.closed) {
+    for (std::size_t i = 0; i < m; ++i) {
+      if (capAfter[rs[i]]) continue;
+      const Run& a = g.runs[rs[i]];
+      const Run& b = g.runs[rs[(i + 1) % m]];
+      add(tr.arcOf((a.first + a.count) % n), tr.arcOf((b.first + n - 1) % n));
+    }
+    return;
+  }
+  if (g.runs[rs[0]].first > 0) add(0.0, tr.arcOf(g.runs[rs[0]].first - 1));
+  for (std::size_t i = 0; i + 1 < m; ++i) {
+    if (capAfter[rs[i]]) continue;
+    const Run& a = g.runs[rs[i]];
+    add(tr.arcOf(a.first + a.count), tr.arcOf(g.runs[rs[i + 1]].first - 1));
+  }
+  const Run& last = g.runs[rs[m - 1]];
+  if (last.first + last.count < n) add(tr.arcOf(last.first + last.count), tr.length);
+}
+
+/// Marks caps: short turns of a track between two runs that face each other.
+std::vector<bool> findCaps(const std::vector<Track>& tracks, const Narrowing& g, double capLimit,
+                           std::size_t& caps) {
+  std::vector<bool> capAfter(g.runs.size(), false);
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    const std::vector<int>& rs = g.trackRuns[t];
+    if (rs.empty() || g.runs[rs[0]].whole) continue;
+    const std::size_t m = rs.size();
+    for (std::size_t i = 0; i < m; ++i) {
+      if (!tracks[t].line.closed && i + 1 == m) break;
+      const int a = rs[i], b = rs[(i + 1) % m];
+      if (g.mutual(a, b) && g.gapLength(tracks, a, b) <= capLimit) {
+        capAfter[a] = true;
+        ++caps;
+      }
+    }
+  }
+  return capAfter;
+}
+
+/// An output path being built: a track with the arc ranges it keeps.
+struct OutPath {
+  Track track;
+  bool centre = false;
+  std::vector<std::pair<double, double>> keep;
+  std::string what;  // for warnings: "GDTC x mm near (…)"
+};
+
+/// Smallest distance from the segment a–b, sampled every `step`, to the lines other than
+/// `skipA` and `skipB`.
+double connectorClearance(const std::vector<Polyline>& lines, std::size_t skipA, std::size_t skipB,
+                          const Vec3& a, const Vec3& b, double step) {
+  const double length = (b - a).norm();
+  const std::size_t n =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(length / step)));
+  double nearest = kInf;
+  for (std::size_t k = 0; k <= n; ++k) {
+    const Vec3 p = a + (static_cast<double>(k) / static_cast<double>(n)) * (b - a);
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      if (i == skipA || i == skipB) continue;
+      nearest = std::min(nearest, closestPointOnPolyline(lines[i], p).distance);
+    }
+  }
+  return nearest;
+}
+
+/// Joins open lines end to end by straight connectors: a pair of ends at most `reach` apart, one
+/// of them a centre bead's, is joined nearest first, when the connector keeps `clearance` from
+/// every other line of the level and the join does not close a chain on itself. Joined lines
+/// replace the first of the two; `centre` says whether a line holds a centre bead.
+/// Returns the number of connectors.
+std::size_t linkOpenEnds(std::vector<Polyline>& lines, std::vector<bool>& centre, double reach,
+                         double clearance, double step) {
+  struct End {
+    std::size_t line;
+    bool atEnd;  // the line's last point (else its first)
+  };
+  struct Pair {
+    double distance;
+    End a, b;
+  };
+  const auto endPoint = [&](const End& e) -> const Vec3& {
+    return e.atEnd ? lines[e.line].points.back() : lines[e.line].points.front();
+  };
+  std::vector<Pair> pairs;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    if (lines[i].closed || lines[i].points.size() < 2) continue;
+    for (std::size_t j = i + 1; j < lines.size(); ++j) {
+      if (lines[j].closed || lines[j].points.size() < 2 || !(centre[i] || centre[j])) continue;
+      for (const bool ei : {false, true}) {
+        for (const bool ej : {false, true}) {
+          const End a{i, ei}, b{j, ej};
+          const double d = (endPoint(a) - endPoint(b)).norm();
+          if (d <= reach) pairs.push_back({d, a, b});
+        }
+      }
+    }
+  }
+  if (pairs.empty()) return 0;
+  std::sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) {
+    if (x.distance != y.distance) return x.distance < y.distance;
+    if (x.a.line != y.a.line) return x.a.line < y.a.line;
+    if (x.b.line != y.b.line) return x.b.line < y.b.line;
+    return x.a.atEnd < y.a.atEnd || (x.a.atEnd == y.a.atEnd && x.b.atEnd < y.b.atEnd);
+  });
+  // Chains: every original line belongs to one chain (its current owner line index); an end can
+  // take one connector.
+  std::vector<std::size_t> owner(lines.size());
+  for (std::size_t i = 0; i < lines.size(); ++i) owner[i] = i;
+  const auto root = [&](std::size_t i) {
+    while (owner[i] != i) i = owner[i];
+    return i;
+  };
+  std::vector<std::array<bool, 2>> used(lines.size(), {false, false});
+  // Where each original end now sits: its chain's line and whether at that line's end.
+  std::vector<std::array<End, 2>> at(lines.size());
+  for (std::size_t i = 0; i < lines.size(); ++i) at[i] = {End{i, false}, End{i, true}};
+  std::size_t links = 0;
+  for (const Pair& pair : pairs) {
+    if (used[pair.a.line][pair.a.atEnd] || used[pair.b.line][pair.b.atEnd]) continue;
+    const std::size_t ra = root(pair.a.line), rb = root(pair.b.line);
+    if (ra == rb) continue;
+    const End ea = at[pair.a.line][pair.a.atEnd], eb = at[pair.b.line][pair.b.atEnd];
+    if (connectorClearance(lines, ra, rb, endPoint(ea), endPoint(eb), step) < clearance) continue;
+    // New chain line = (ra oriented to end at ea) + (rb oriented to start at eb).
+    Polyline& la = lines[ra];
+    Polyline& lb = lines[rb];
+    const bool flipA = !ea.atEnd, flipB = eb.atEnd;
+    if (flipA) std::reverse(la.points.begin(), la.points.end());
+    if (flipB) std::reverse(lb.points.begin(), lb.points.end());
+    // Ends of the original lines that sat in ra or rb move.
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      for (End& e : at[i]) {
+        if (e.line == ra && flipA) e.atEnd = !e.atEnd;
+        if (e.line == rb && flipB) e.atEnd = !e.atEnd;
+      }
+    }
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      for (End& e : at[i]) {
+        if (e.line == rb) e = End{ra, e.atEnd};  // rb's end stays an end; its start is joined
+      }
+    }
+    la.points.insert(la.points.end(), lb.points.begin(), lb.points.end());
+    lb.points.clear();
+    centre[ra] = centre[ra] || centre[rb];
+    owner[rb] = ra;
+    used[pair.a.line][pair.a.atEnd] = true;
+    used[pair.b.line][pair.b.atEnd] = true;
+    ++links;
+  }
+  std::size_t w = 0;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    if (lines[i].points.empty()) continue;
+    if (w != i) {
+      lines[w] = std::move(lines[i]);
+      centre[w] = centre[i];
+    }
+    ++w;
+  }
+  lines.resize(w);
+  centre.resize(w);
+  return links;
+}
+
+/// Shortens the open lines' ends that come closer than `delta` to another line of the level, or
+/// to their own line further than `exclusion` along it (a connector passing the other end of the
+/// ring piece it joined). Lines left shorter than `minLength` are removed. Returns the number of
+/// ends shortened and the longest cut (mm).
+std::size_t shortenCrowdedEnds(std::vector<Polyline>& lines, std::vector<bool>& centre,
+                               double delta, double exclusion, double minLength, double step,
+                               double& longestCut) {
+  std::size_t cut = 0;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    if (lines[i].closed || lines[i].points.size() < 2) continue;
+    const Track tr = makeTrack(lines[i], 0, false, step);
+    const std::size_t n = tr.samples.size();
+    const auto clear = [&](std::size_t k) {
+      const Vec3& p = tr.samples[k];
+      for (std::size_t j = 0; j < lines.size(); ++j) {
+        if (j == i || lines[j].points.size() < 2) continue;
+        if (closestPointOnPolyline(lines[j], p).distance < delta) return false;
+      }
+      for (std::size_t m = 0; m < n; ++m) {
+        if (tr.arcDistance(tr.arcOf(k), tr.arcOf(m)) > exclusion &&
+            (tr.samples[m] - p).norm() < delta) {
+          return false;
+        }
+      }
+      return true;
+    };
+    std::size_t a = 0;
+    while (a < n && !clear(a)) ++a;
+    if (a == n) {
+      lines[i].points.clear();
+      ++cut;
+      longestCut = std::max(longestCut, tr.length);
+      continue;
+    }
+    std::size_t b = n - 1;
+    while (b > a && !clear(b)) --b;
+    if (a == 0 && b == n - 1) continue;
+    const double from = tr.arcOf(a), to = b + 1 == n ? tr.length : tr.arcOf(b);
+    cut += (a > 0 ? 1 : 0) + (b + 1 < n ? 1 : 0);
+    longestCut = std::max({longestCut, from, tr.length - to});
+    lines[i] = to - from >= minLength ? cutLine(tr, from, to) : Polyline{};
+  }
+  std::size_t w = 0;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    if (lines[i].points.size() < 2) continue;
+    if (w != i) {
+      lines[w] = std::move(lines[i]);
+      centre[w] = centre[i];
+    }
+    ++w;
+  }
+  lines.resize(w);
+  centre.resize(w);
+  return cut;
+}
+
+}  // namespace
+
+NarrowStripResult resolveNarrowStrips(const std::vector<std::vector<Polyline>>& levels,
+                                      const std::vector<double>& levelValues, double spacing,
+                                      const NarrowStripOptions& options,
+                                      const std::vector<std::vector<Polyline>>& innerEdges) {
+  if (!std::isfinite(spacing) || spacing <= 0.0) {
+    throw InvalidInput("bead spacing must be a positive number of mm: " + formatMm(spacing) +
+                       "; pass a value such as 3.7");
+  }
+  if (levelValues.size() != levels.size() ||
+      (!innerEdges.empty() && innerEdges.size() != levels.size())) {
+    throw InvalidInput("narrow strips need one iso-value (and inner edge) per level: " +
+                       std::to_string(levelValues.size()) + " values, " +
+                       std::to_string(innerEdges.size()) + " inner edges for " +
+                       std::to_string(levels.size()) + " levels; pass one per level");
+  }
+  if (!std::isfinite(options.minSeparation) || options.minSeparation <= 0.0 ||
+      !std::isfinite(options.margin) || options.margin < 0.0 ||
+      !std::isfinite(options.innerEdgeOffset) || options.innerEdgeOffset <= 0.0) {
+    throw InvalidInput(
+        "narrow-strip separation and inner-edge offset must be positive, the margin not "
+        "negative: " +
+        formatMm(options.minSeparation) + ", " + formatMm(options.innerEdgeOffset) + ", " +
+        formatMm(options.margin) + "; pass e.g. 0.95, 0.1 and 0.1");
+  }
+  const double s = spacing;
+  const double delta = options.minSeparation * s + options.margin;
+  const double exclusion =
+      options.arcExclusion < 0.0 ? 0.5 * std::numbers::pi * s : options.arcExclusion;
+  const double h = options.sampleSpacing > 0.0 ? options.sampleSpacing : s / 16.0;
+  const double minLength = options.minLength < 0.0 ? s : options.minLength;
+  const double capLimit = 1.5 * exclusion;
+  const double u = options.innerEdgeOffset;
+
+  NarrowStripResult result;
+  std::vector<OutPath> out;
+  const auto addOut = [&](Polyline line, int level, bool centre, std::string what) {
+    OutPath o;
+    o.track = makeTrack(std::move(line), level, centre, h);
+    o.centre = centre;
+    o.keep = {{0.0, o.track.length}};
+    o.what = std::move(what);
+    out.push_back(std::move(o));
+  };
+  const auto where = [&](std::size_t level, const Polyline& line) {
+    return "GDTC " + formatMm(levelValues[level]) + " mm near " +
+           formatPoint(line.points[line.points.size() / 2]);
+  };
+
+  for (std::size_t level = 0; level < levels.size(); ++level) {
+    const int lv = static_cast<int>(level);
+    // ---- thin rings: lines of the level closer than δ to themselves or each other ----
+    std::vector<Track> tracks;
+    for (const Polyline& line : levels[level]) {
+      if (line.points.size() >= 2) tracks.push_back(makeTrack(line, lv, false, h));
+    }
+    Narrowing g = findNarrowing(tracks, delta, exclusion, minLength);
+    result.closestBefore = std::min(result.closestBefore, g.closest);
+    std::size_t caps = 0;
+    std::vector<bool> capAfter = findCaps(tracks, g, capLimit, caps);
+    // Short narrow stretches (an acute corner of a ring, a brief pinch): the centre bead would
+    // lose about δ at every end that meets a kept piece (clearance, step 5) and be dropped for
+    // its length, leaving a hole where the ring was. There the ring is kept as it is.
+    std::vector<std::vector<char>> keepAsIs(tracks.size());
+    for (std::size_t t = 0; t < tracks.size(); ++t) keepAsIs[t].assign(tracks[t].samples.size(), 0);
+    std::size_t shortStretches = 0;
+    double shortest = kInf;
+    for (std::size_t r = 0; r < g.runs.size(); ++r) {
+      const Run& run = g.runs[r];
+      if (run.whole || !drawsBead(g, static_cast<int>(r))) continue;
+      double dMin = 0.0, dMax = 0.0;
+      const Polyline centre = drawMidline(tracks, g, static_cast<int>(r), capAfter, dMin, dMax);
+      int openEnds = 2;
+      if (capAfter[r]) --openEnds;
+      if (run.partner >= 0 && capAfter[run.partner] && g.runs[run.partner].track == run.track &&
+          g.previousRun(static_cast<int>(r)) == run.partner) {
+        --openEnds;
+      }
+      if (centre.length() - openEnds * delta >= minLength) continue;
+      ++shortStretches;
+      shortest = std::min(shortest, dMin);
+      for (const int k : {static_cast<int>(r), run.partner}) {
+        if (k < 0) continue;
+        const Run& q = g.runs[k];
+        const std::size_t n = tracks[q.track].samples.size();
+        for (std::size_t i = 0; i < q.count; ++i) keepAsIs[q.track][(q.first + i) % n] = 1;
+      }
+    }
+    if (shortStretches > 0) {
+      g = findNarrowing(tracks, delta, exclusion, minLength, &keepAsIs);
+      caps = 0;
+      capAfter = findCaps(tracks, g, capLimit, caps);
+      result.keptShortStretches += shortStretches;
+      result.warnings.push_back("GDTC " + formatMm(levelValues[level]) +
+                                " mm: " + std::to_string(shortStretches) +
+                                " short stretch(es) where paths come " + formatMm(shortest) +
+                                " mm close (under " + formatMm(delta) +
+                                " mm; e.g. an acute corner) kept as they are: a centre bead there "
+                                "would be shorter than " +
+                                formatMm(minLength) + " mm; the beads overlap locally");
+    }
+    result.droppedCaps += caps;
+    std::vector<Polyline> pieces;
+    for (std::size_t t = 0; t < tracks.size(); ++t) collectPieces(tracks, g, t, capAfter, pieces);
+    std::size_t shortPieces = 0;
+    for (Polyline& piece : pieces) {
+      // Dropped now, not after the centre beads have kept clear of them.
+      if (piece.length() < minLength) {
+        ++shortPieces;
+        continue;
+      }
+      addOut(std::move(piece), lv, false, "");
+    }
+    if (shortPieces > 0) {
+      result.warnings.push_back("GDTC " + formatMm(levelValues[level]) +
+                                " mm: " + std::to_string(shortPieces) +
+                                " piece(s) of paths between narrow stretches shorter than " +
+                                formatMm(minLength) + " mm not deposited");
+    }
+    for (std::size_t r = 0; r < g.runs.size(); ++r) {
+      if (!drawsBead(g, static_cast<int>(r))) continue;
+      double dMin = 0.0, dMax = 0.0;
+      Polyline centre = drawMidline(tracks, g, static_cast<int>(r), capAfter, dMin, dMax);
+      if (centre.points.size() < 2) continue;
+      const std::string what = where(level, centre) + ": paths " + formatMm(dMin) + "–" +
+                               formatMm(dMax) + " mm apart (under " + formatMm(delta) +
+                               " mm = 0.95·s + margin)";
+      if (centre.length() < minLength) {
+        ++result.droppedCentreBeads;
+        result.warnings.push_back(what + " replaced by nothing: a centre bead would be " +
+                                  formatMm(centre.length()) + " mm long, under " +
+                                  formatMm(minLength) + " mm; under-filled there");
+        continue;
+      }
+      result.widestUnderfill = std::max(result.widestUnderfill, 0.5 * dMax);
+      result.warnings.push_back(what + " replaced by one centre bead of " +
+                                formatMm(centre.length()) +
+                                " mm; the strip beside it is under-filled by up to " +
+                                formatMm(0.5 * dMax) + " mm on each side");
+      addOut(std::move(centre), lv, true, what);
+    }
+
+    // ---- leftover strips: beyond the inner edge of the beads at this level ----
+    if (innerEdges.empty() || innerEdges[level].empty()) continue;
+    // Where the next level has a ring, the inner edge runs s/2 − u outside it: not a leftover.
+    std::vector<Track> next;
+    if (level + 1 < levels.size()) {
+      for (const Polyline& line : levels[level + 1]) {
+        if (line.points.size() >= 2) next.push_back(makeTrack(line, lv + 1, false, h));
+      }
+    }
+    const double reach = 0.5 * s - u + 0.25 * s;
+    SampleGrid nextGrid(reach);
+    for (std::size_t t = 0; t < next.size(); ++t) {
+      for (std::size_t k = 0; k < next[t].samples.size(); ++k) {
+        nextGrid.add(static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(k),
+                     next[t].samples[k]);
+      }
+    }
+    std::vector<Track> edges;
+    for (const Polyline& line : innerEdges[level]) {
+      if (line.points.size() < 2) continue;
+      const Track tr = makeTrack(line, lv, false, h);
+      const std::size_t n = tr.samples.size();
+      std::vector<bool> free(n, true);
+      for (std::size_t k = 0; k < n; ++k) {
+        nextGrid.visit(tr.samples[k], reach, [&](std::uint32_t ot, std::uint32_t ok) {
+          if ((next[ot].samples[ok] - tr.samples[k]).norm() < reach) free[k] = false;
+        });
+      }
+      if (std::all_of(free.begin(), free.end(), [](bool f) { return f; })) {
+        edges.push_back(tr);
+        continue;
+      }
+      // Free stretches as open lines.
+      std::size_t start = 0;
+      if (tr.line.closed) {
+        while (free[start]) ++start;  // a taken sample exists
+      }
+      for (std::size_t i = 0; i < n;) {
+        if (!free[(start + i) % n]) {
+          ++i;
+          continue;
+        }
+        const std::size_t a = start + i;
+        while (i < n && free[(start + i) % n]) ++i;
+        const std::size_t b = start + i - 1;
+        if (b > a) {
+          Polyline piece = cutLine(tr, tr.arcOf(a % n), tr.arcOf(b % n));
+          if (piece.points.size() >= 2) edges.push_back(makeTrack(std::move(piece), lv, false, h));
+        }
+      }
+    }
+    if (edges.empty()) continue;
+    // The two sides of a leftover strip are less than s − 2u apart; its width is that + 2u.
+    const Narrowing e = findNarrowing(edges, s, exclusion, minLength);
+    const std::vector<bool> edgeCaps = findCaps(edges, e, capLimit, result.droppedCaps);
+    std::size_t shortLeftovers = 0;
+    for (std::size_t r = 0; r < e.runs.size(); ++r) {
+      if (!drawsBead(e, static_cast<int>(r))) continue;
+      double dMin = 0.0, dMax = 0.0;
+      Polyline centre = drawMidline(edges, e, static_cast<int>(r), edgeCaps, dMin, dMax);
+      if (centre.points.size() < 2) continue;
+      if (centre.length() < minLength) {  // a spot, like an iso-line fragment: counted only
+        ++shortLeftovers;
+        continue;
+      }
+      const std::string what = where(level, centre) + ": a leftover strip " +
+                               formatMm(dMin + 2 * u) + "–" + formatMm(dMax + 2 * u) +
+                               " mm wide and about " + formatMm(centre.length()) + " mm long";
+      result.warnings.push_back(what +
+                                " lies beyond the inner edge of these beads; a centre bead "
+                                "fills it where it is at least " +
+                                formatMm(2 * delta - s) + " mm wide (" + formatMm(delta) +
+                                " mm from the beads beside it), the rest is left empty");
+      addOut(std::move(centre), lv, true, what);
+    }
+    if (shortLeftovers > 0) {
+      result.warnings.push_back("GDTC " + formatMm(levelValues[level]) +
+                                " mm: " + std::to_string(shortLeftovers) +
+                                " leftover strip(s) shorter than " + formatMm(minLength) +
+                                " mm beyond the inner edge of these beads left empty");
+    }
+  }
+
+  // ---- clearance: centre beads split (longest first), then piece ends shortened ----
+  SampleGrid grid(delta);
+  for (std::size_t t = 0; t < out.size(); ++t) {
+    for (std::size_t k = 0; k < out[t].track.samples.size(); ++k) {
+      grid.add(static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(k),
+               out[t].track.samples[k]);
+    }
+  }
+  // A centre bead yields to the pieces and to the centre beads settled before it (longer ones),
+  // so two beads drawn on one ridge keep the longer one whole.
+  std::vector<bool> settled(out.size(), false);
+  const auto active = [&](std::size_t t, std::size_t k) {
+    const double arc = out[t].track.arcOf(k);
+    for (const auto& [a, b] : out[t].keep) {
+      if (arc >= a - 1e-9 && arc <= b + 1e-9) return true;
+    }
+    return false;
+  };
+  const auto clear = [&](std::size_t t, std::size_t k) {
+    const Track& tr = out[t].track;
+    const Vec3& p = tr.samples[k];
+    bool ok = true;
+    grid.visit(p, delta, [&](std::uint32_t ot, std::uint32_t ok2) {
+      if (!ok) return;
+      const Track& o = out[ot].track;
+      const int dl = std::abs(o.level - tr.level);
+      if (dl > 1 || (dl == 1 && !out[t].centre)) return;
+      if (ot == t && tr.arcDistance(tr.arcOf(k), tr.arcOf(ok2)) <= exclusion) return;
+      if (ot != t && out[ot].centre && !settled[ot]) return;
+      if (!active(ot, ok2)) return;
+      if ((o.samples[ok2] - p).norm() < delta) ok = false;
+    });
+    return ok;
+  };
+  std::vector<std::size_t> order(out.size());
+  for (std::size_t t = 0; t < out.size(); ++t) order[t] = t;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (out[a].centre != out[b].centre) return out[a].centre;
+    return out[a].centre && out[a].track.length > out[b].track.length;
+  });
+  std::vector<double> longestCut(levels.size(), 0.0);
+  std::vector<std::size_t> cutEnds(levels.size(), 0);
+  for (const std::size_t t : order) {
+    OutPath& o = out[t];
+    const Track& tr = o.track;
+    if (tr.line.closed && !o.centre) {
+      settled[t] = true;
+      continue;
+    }
+    const std::size_t n = tr.samples.size();
+    std::vector<std::pair<double, double>> keep;
+    if (o.centre) {
+      // Every clear stretch.
+      for (std::size_t k = 0; k < n;) {
+        if (!clear(t, k)) {
+          ++k;
+          continue;
+        }
+        const std::size_t a = k;
+        while (k < n && clear(t, k)) ++k;
+        // A closed centre ring clear all round stays closed; otherwise its stretches are open.
+        keep.emplace_back(tr.arcOf(a),
+                          a == 0 && k == n && tr.line.closed ? tr.length : tr.arcOf(k - 1));
+      }
+    } else {
+      std::size_t a = 0;
+      while (a < n && !clear(t, a)) ++a;
+      if (a < n) {
+        std::size_t b = n - 1;
+        while (b > a && !clear(t, b)) --b;
+        keep.emplace_back(tr.arcOf(a), tr.arcOf(b));
+        for (const double cut : {tr.arcOf(a), tr.length - tr.arcOf(b)}) {
+          if (cut > 0.0) {
+            ++cutEnds[tr.level];
+            longestCut[tr.level] = std::max(longestCut[tr.level], cut);
+          }
+        }
+      }
+    }
+    double keptLength = 0.0;
+    std::vector<std::pair<double, double>> longEnough;
+    const auto take = [&](double a, double b) {
+      if (b - a >= minLength) {
+        longEnough.emplace_back(a, b);
+        keptLength += b - a;
+      }
+    };
+    if (!o.centre || keep.size() <= 1) {
+      for (const auto& [a, b] : keep) take(a, b);
+    } else {
+      // The stretches of one bead become separate paths: each keeps δ from those kept before
+      // it (where the midline folds back, the arc exclusion no longer applies between them).
+      const auto nearKept = [&](std::size_t k) {
+        for (const auto& [a, b] : longEnough) {
+          for (std::size_t j = 0; j < n; ++j) {
+            const double arc = tr.arcOf(j);
+            if (arc >= a - 1e-9 && arc <= b + 1e-9 &&
+                (tr.samples[j] - tr.samples[k]).norm() < delta) {
+              return true;
+            }
+          }
+        }
+        return false;
+      };
+      for (const auto& [a, b] : keep) {
+        std::size_t k = static_cast<std::size_t>(std::llround(a / tr.step));
+        const std::size_t last =
+            std::min(n - 1, static_cast<std::size_t>(std::llround(b / tr.step)));
+        while (k <= last) {
+          if (nearKept(k)) {
+            ++k;
+            continue;
+          }
+          const std::size_t first = k;
+          while (k <= last && !nearKept(k)) ++k;
+          take(tr.arcOf(first), k > last && b >= tr.length ? b : tr.arcOf(k - 1));
+        }
+      }
+    }
+    o.keep = std::move(longEnough);
+    settled[t] = true;
+    if (o.centre && o.keep.empty()) {
+      ++result.droppedCentreBeads;
+      result.warnings.push_back(o.what + ": the centre bead (" + formatMm(tr.length) +
+                                " mm) has no stretch of at least " + formatMm(minLength) +
+                                " mm that is " + formatMm(delta) +
+                                " mm from the other paths; dropped, the strip is left empty");
+    } else if (o.centre && keptLength < tr.length - 1e-9) {
+      result.warnings.push_back(o.what + ": the centre bead keeps " + formatMm(keptLength) +
+                                " of " + formatMm(tr.length) + " mm in " +
+                                std::to_string(o.keep.size()) + " piece(s) (" + formatMm(delta) +
+                                " mm from the other paths)");
+    }
+  }
+  for (std::size_t level = 0; level < levels.size(); ++level) {
+    result.shortenedEnds += cutEnds[level];
+    if (cutEnds[level] > 0) {
+      result.warnings.push_back(
+          "GDTC " + formatMm(levelValues[level]) + " mm: " + std::to_string(cutEnds[level]) +
+          " path end(s) shortened by up to " + formatMm(longestCut[level]) + " mm to keep " +
+          formatMm(delta) + " mm from the neighbouring paths; under-filled there");
+    }
+  }
+
+  // ---- output ----
+  result.levels.assign(levels.size(), {});
+  result.centreBead.assign(levels.size(), {});
+  for (const OutPath& o : out) {
+    const Track& tr = o.track;
+    for (const auto& [a, b] : o.keep) {
+      const bool whole = a <= 0.0 && b >= tr.length;
+      Polyline line = whole || (tr.line.closed && !o.centre) ? tr.line : cutLine(tr, a, b);
+      if (line.points.size() < 2) continue;
+      if (o.centre) ++result.centreBeads;
+      result.levels[tr.level].push_back(std::move(line));
+      result.centreBead[tr.level].push_back(o.centre);
+    }
+  }
+  // ---- linking: a centre bead continues the open path whose end is next to its own ----
+  const double linkDistance = options.linkDistance < 0.0 ? 1.25 * delta : options.linkDistance;
+  if (linkDistance > 0.0) {
+    for (std::size_t level = 0; level < levels.size(); ++level) {
+      const std::size_t links =
+          linkOpenEnds(result.levels[level], result.centreBead[level], linkDistance, 0.5 * s, h);
+      if (links == 0) continue;
+      result.links += links;
+      // A connector passes the other end of the piece it joined at about 0.87·δ.
+      double longest = 0.0;
+      const std::size_t cut = shortenCrowdedEnds(result.levels[level], result.centreBead[level],
+                                                 delta, exclusion, minLength, h, longest);
+      if (cut > 0) {
+        result.shortenedEnds += cut;
+        result.warnings.push_back("GDTC " + formatMm(levelValues[level]) + " mm: " +
+                                  std::to_string(cut) + " path end(s) beside a joined centre " +
+                                  "bead shortened by up to " + formatMm(longest) + " mm to keep " +
+                                  formatMm(delta) + " mm from it; under-filled there");
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace curvedslicer
