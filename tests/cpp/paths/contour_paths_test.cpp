@@ -310,6 +310,56 @@ TEST(ContourPaths, PlannerReportsTheCentreBead) {
   EXPECT_TRUE(reported);
 }
 
+TEST(ContourPaths, AnyRectangleKeepsTheSpacingWithTheDefaultPlanner) {
+  // The acceptance rule on rectangles of every width between 12 mm and 41 mm (s = 3.7, so the
+  // GDTC ridge falls anywhere between two rings): the planner's output paths (fitted, resampled,
+  // ordered) are never closer than 0.95·s — between paths, or within one path beyond π·s/2 along
+  // it —, and the outermost ring sits s/2 from the edge. With `overlap` the innermost ring's
+  // sides come closer on most widths (the case the default rule exists for).
+  const double s = 3.7;
+  int overlapping = 0;
+  double closestCentre = kInf;
+  for (double width = 12.0; width <= 41.0; width += 1.3) {
+    LayerSurface layer;
+    layer.index = 1;
+    const int ny = static_cast<int>(std::lround(width / 0.5));
+    layer.mesh = makeRectangleMesh(0, 60, 0, width, 120, ny);
+    for (const NarrowStripMode mode : {NarrowStripMode::CentreBead, NarrowStripMode::Overlap}) {
+      PlannerOptions options;
+      options.narrowStrips = mode;
+      const PlanResult result = planLayers({layer}, TriMesh{}, options);
+      ASSERT_EQ(result.plan.layers.size(), 1u);
+      std::vector<Polyline> paths;
+      for (const PlanPath& p : result.plan.layers[0].paths) {
+        Polyline line;
+        line.closed = p.closed;
+        for (const PathPoint& q : p.points) line.points.push_back(q.position);
+        paths.push_back(std::move(line));
+      }
+      double closest = kInf, outer = kInf;
+      for (std::size_t i = 0; i < paths.size(); ++i) {
+        closest = std::min(closest, computeSelfClearance(paths[i], 0.5 * std::numbers::pi * s));
+        for (std::size_t j = i + 1; j < paths.size(); ++j) {
+          closest = std::min(closest, computePolylineDistance(paths[i], paths[j]));
+        }
+        for (const Vec3& q : paths[i].points) {
+          outer = std::min({outer, q.x(), 60.0 - q.x(), q.y(), width - q.y()});
+        }
+      }
+      if (mode == NarrowStripMode::CentreBead) {
+        closestCentre = std::min(closestCentre, closest);
+        EXPECT_GE(closest, 0.95 * s) << "width " << width;
+        EXPECT_NEAR(outer, 0.5 * s, 0.05) << "width " << width;
+      } else if (closest < 0.95 * s) {
+        ++overlapping;
+      }
+    }
+  }
+  std::cout << "rectangles 60 x 12..41 mm: overlap mode closer than 0.95·s on " << overlapping
+            << " of 23 widths; centre-bead mode closest " << closestCentre << " mm\n";
+  EXPECT_GE(overlapping, 8);  // the sweep does cover the case the rule is for
+}
+
 TEST(NarrowStrips, BadInput) {
   EXPECT_THROW(resolveNarrowStrips({}, {}, 0.0), InvalidInput);
   EXPECT_THROW(resolveNarrowStrips({{}}, {}, 3.7), InvalidInput);
