@@ -54,6 +54,7 @@
 #include "curvedslicer/paths/path_fit.hpp"
 #include "curvedslicer/paths/planner.hpp"
 #include "curvedslicer/paths/polyline.hpp"
+#include "curvedslicer/paths/surface_curves.hpp"
 #include "curvedslicer/paths/surface_geodesic.hpp"
 #include "curvedslicer/pipeline/layer_output.hpp"
 #include "curvedslicer/pipeline/layer_pipeline.hpp"
@@ -290,31 +291,6 @@ double threadCpuSeconds() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
-/// Vertices on edges used by exactly one triangle (the planner's boundary sources), sorted.
-std::vector<std::int32_t> boundaryVerticesOf(const TriMesh& mesh) {
-  std::vector<std::pair<std::int32_t, std::int32_t>> edges;
-  edges.reserve(3 * mesh.triangleCount());
-  for (const Vec3i& t : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      edges.emplace_back(std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3]));
-    }
-  }
-  std::sort(edges.begin(), edges.end());
-  std::vector<std::int32_t> vertices;
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    if (j - i == 1) {
-      vertices.push_back(edges[i].first);
-      vertices.push_back(edges[i].second);
-    }
-    i = j;
-  }
-  std::sort(vertices.begin(), vertices.end());
-  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-  return vertices;
-}
-
 /// The largest angle (degrees) between the chord from arc length t − 0.5 mm to t and the chord from
 /// t to t + 0.5 mm, over the raw points t of a line (open lines: where both chords fit): corners
 /// show as large angles, point-to-point zigzag below 0.5 mm hardly at all.
@@ -368,7 +344,7 @@ void BM_FitLayers(benchmark::State& state) {
       const int layer = std::stoi(file.stem().string().substr(6));
       double c0 = threadCpuSeconds();
       const SurfaceGeodesicResult field =
-          computeSurfaceGeodesicFromVertices(mesh, boundaryVerticesOf(mesh));
+          computeSurfaceGeodesicFromVertices(mesh, findBoundary(mesh).vertices);
       geodesicCpu += threadCpuSeconds() - c0;
       double maxDistance = 0.0;
       for (const double d : field.distance) {

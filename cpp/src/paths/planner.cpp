@@ -25,9 +25,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-const char* const kStages[] = {"initial curves", "surface geodesic", "iso-lines", "fit",
-                               "order",          "deposition"};
-enum Stage { kCurves, kGeodesic, kIso, kFit, kOrder, kDeposition, kStageCount };
+const char* const kStages[] = {"surface index", "initial curves", "surface geodesic", "iso-lines",
+                               "fit",           "order",          "deposition"};
+enum Stage { kIndex, kCurves, kGeodesic, kIso, kFit, kOrder, kDeposition, kStageCount };
 
 std::string formatMm(double value) {
   char buffer[64];
@@ -41,32 +41,6 @@ std::string formatVec(const Vec3& v) {
 
 std::string describeKind(InitialCurveKind kind) {
   return kind == InitialCurveKind::Plane ? "plane" : "surface";
-}
-
-/// Vertices on edges used by exactly one triangle (sorted, unique).
-std::vector<std::int32_t> findBoundaryVertices(const TriMesh& mesh) {
-  std::vector<std::pair<std::int32_t, std::int32_t>> edges;
-  edges.reserve(3 * mesh.triangleCount());
-  for (const Vec3i& t : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      const std::int32_t a = t[k], b = t[(k + 1) % 3];
-      edges.emplace_back(std::min(a, b), std::max(a, b));
-    }
-  }
-  std::sort(edges.begin(), edges.end());
-  std::vector<std::int32_t> vertices;
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    if (j - i == 1) {
-      vertices.push_back(edges[i].first);
-      vertices.push_back(edges[i].second);
-    }
-    i = j;
-  }
-  std::sort(vertices.begin(), vertices.end());
-  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-  return vertices;
 }
 
 std::string surfaceMethodName(SurfaceGeodesicMethod method) {
@@ -383,11 +357,17 @@ PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& st
 
     std::optional<SurfaceQuery> query;
     std::vector<Polyline> curves;
+    std::vector<std::int32_t> boundaryVertices;  // Boundary: the GDTC sources
     std::optional<SurfaceGeodesicResult> field;
     if (surface.mesh.empty()) {
       warn("the layer surface is empty; no paths");
     } else {
-      query.emplace(surface.mesh);
+      // ---- closest points and normals on the layer (fit projection, deposition) ----
+      layerProgress.report(0.0, kStages[kIndex]);
+      timer.run(kIndex, [&] {
+        query.emplace(surface.mesh);
+        return 0;
+      });
       // ---- initial curves ----
       layerProgress.report(0.0, kStages[kCurves]);
       curves = timer.run(kCurves, [&] {
@@ -400,7 +380,9 @@ PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& st
           case InitialCurveKind::Boundary:
             break;
         }
-        return extractBoundaryLoops(surface.mesh);
+        SurfaceBoundary boundary = findBoundary(surface.mesh);
+        boundaryVertices = std::move(boundary.vertices);
+        return std::move(boundary.loops);
       });
       if (curves.empty()) {
         warn(fromBoundary ? "the layer is a closed surface without a boundary; no paths (choose an "
@@ -416,9 +398,9 @@ PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& st
       // are (nothing to insert). Sections are inserted into the mesh.
       try {
         field = timer.run(kGeodesic, [&] {
-          return fromBoundary ? computeSurfaceGeodesicFromVertices(
-                                    surface.mesh, findBoundaryVertices(surface.mesh), {},
-                                    options.geodesic, layerProgress.sub(0.0, 0.7))
+          return fromBoundary ? computeSurfaceGeodesicFromVertices(surface.mesh, boundaryVertices,
+                                                                   {}, options.geodesic,
+                                                                   layerProgress.sub(0.0, 0.7))
                               : computeSurfaceGeodesic(surface.mesh, curves, options.geodesic,
                                                        layerProgress.sub(0.0, 0.7));
         });
@@ -624,7 +606,7 @@ PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options, 
   }
 
   // Growth direction: the GDTC gradient on the triangle under the point.
-  const TriangleBvh bvh(gdtc.mesh);
+  const TriangleBvh bvh = timer.run(kIndex, [&] { return TriangleBvh(gdtc.mesh); });
   const auto growthDirection = [&](const ClosestPoint& c) -> Vec3 {
     const Vec3i& t = gdtc.mesh.triangles[c.triangle];
     const Vec3 a = gdtc.mesh.vertices[t[0]], b = gdtc.mesh.vertices[t[1]],

@@ -16,6 +16,11 @@ namespace curvedslicer {
 using paths_detail::edgeKey;
 
 std::vector<Polyline> extractBoundaryLoops(const TriMesh& mesh) {
+  return findBoundary(mesh).loops;
+}
+
+SurfaceBoundary findBoundary(const TriMesh& mesh) {
+  SurfaceBoundary boundary;
   // Count every undirected edge; boundary edges are used once, directed as in their triangle.
   std::unordered_map<std::uint64_t, int> uses;
   uses.reserve(mesh.triangleCount() * 3);
@@ -27,9 +32,15 @@ std::vector<Polyline> extractBoundaryLoops(const TriMesh& mesh) {
   for (const Vec3i& t : mesh.triangles) {
     for (int k = 0; k < 3; ++k) {
       const std::int32_t a = t[k], b = t[(k + 1) % 3];
-      if (a != b && uses[edgeKey(a, b)] == 1) next.emplace(a, b);
+      if (uses[edgeKey(a, b)] != 1) continue;
+      boundary.vertices.push_back(a);
+      boundary.vertices.push_back(b);
+      if (a != b) next.emplace(a, b);
     }
   }
+  std::sort(boundary.vertices.begin(), boundary.vertices.end());
+  boundary.vertices.erase(std::unique(boundary.vertices.begin(), boundary.vertices.end()),
+                          boundary.vertices.end());
   std::map<std::int32_t, int> inDegree;
   for (const auto& [a, b] : next) ++inDegree[b];
 
@@ -77,10 +88,9 @@ std::vector<Polyline> extractBoundaryLoops(const TriMesh& mesh) {
     if (lx != ly) return lx > ly;
     return x.smallest < y.smallest;
   });
-  std::vector<Polyline> result;
-  result.reserve(loops.size());
-  for (Loop& l : loops) result.push_back(std::move(l.line));
-  return result;
+  boundary.loops.reserve(loops.size());
+  for (Loop& l : loops) boundary.loops.push_back(std::move(l.line));
+  return boundary;
 }
 
 std::vector<Polyline> computePlaneSection(const TriMesh& mesh, const Vec3& point,

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -31,6 +32,20 @@ TEST(SurfaceCurves, BoundaryLoopsOfAnnulus) {
   for (const Vec3& p : loops[0].points) EXPECT_NEAR(std::hypot(p.x(), p.y()), 12.0, 1e-9);
   for (const Vec3& p : loops[1].points) EXPECT_NEAR(std::hypot(p.x(), p.y()), 5.0, 1e-9);
   EXPECT_NEAR(loops[0].length(), 2 * std::numbers::pi * 12.0, 0.05);
+  // One pass also gives the boundary vertices (the planner's GDTC sources): exactly the loops'
+  // points, each once, sorted.
+  const SurfaceBoundary boundary = findBoundary(mesh);
+  ASSERT_EQ(boundary.loops.size(), 2u);
+  EXPECT_EQ(boundary.loops[0].points, loops[0].points);
+  EXPECT_EQ(boundary.vertices.size(), loops[0].points.size() + loops[1].points.size());
+  EXPECT_TRUE(std::is_sorted(boundary.vertices.begin(), boundary.vertices.end()));
+  for (std::size_t i = 1; i < boundary.vertices.size(); ++i) {
+    EXPECT_LT(boundary.vertices[i - 1], boundary.vertices[i]);
+  }
+  for (const std::int32_t v : boundary.vertices) {
+    const double r = std::hypot(mesh.vertices[v].x(), mesh.vertices[v].y());
+    EXPECT_TRUE(std::abs(r - 5.0) < 1e-9 || std::abs(r - 12.0) < 1e-9) << r;
+  }
 }
 
 TEST(SurfaceCurves, BoundaryOfRectangleIsOneLoopAndClosedMeshHasNone) {

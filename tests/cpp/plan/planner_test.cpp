@@ -112,8 +112,9 @@ TEST(Planner, FlatFirstLayerAbovePlate) {
   EXPECT_EQ(plan.parameters.beadSpacing, 3.7);
   EXPECT_NO_THROW(validatePlan(plan));
   // Stage times are reported for every stage.
-  ASSERT_EQ(result.stats.stageTimes.size(), 6u);
-  EXPECT_EQ(result.stats.stageTimes[1].name, "surface geodesic");
+  ASSERT_EQ(result.stats.stageTimes.size(), 7u);
+  EXPECT_EQ(result.stats.stageTimes[0].name, "surface index");
+  EXPECT_EQ(result.stats.stageTimes[2].name, "surface geodesic");
 }
 
 TEST(Planner, SphericalShellLayersPointRadiallyInward) {

@@ -2,6 +2,7 @@
 // every curved layer, ordered, with seams staggered and a deposition direction per point.
 //
 // Per layer (`planLayers`), bottom to top:
+//   0. surface index ("surface index"): the layer's closest-point tree and vertex normals;
 //   1. initial curve ("initial curves"): (a) Boundary — the layer's boundary loops (the paper's
 //      blade case), paths at GDTC = (k + ½)·s so the outer bead's edge sits on the part edge;
 //      (b) Plane / Surface — the section of the layer with a user plane or surface mesh (the
@@ -111,7 +112,8 @@ struct ThinWallOptions {
 
 /// Wall time of one planner stage, summed over layers.
 struct PlanStageTime {
-  std::string name;  ///< "initial curves", "surface geodesic", "iso-lines", "fit", "order",
+  std::string name;  ///< "surface index" (closest-point tree and normals of the layer),
+                     ///< "initial curves", "surface geodesic", "iso-lines", "fit", "order",
                      ///< "deposition"
   double seconds = 0.0;
 };

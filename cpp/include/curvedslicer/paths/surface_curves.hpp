@@ -15,6 +15,7 @@
 // surface plus ~30 per crossed edge for user-surface sections.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "curvedslicer/core/types.hpp"
@@ -29,6 +30,15 @@ namespace curvedslicer {
 /// Longest loop first; loops of equal length in order of their smallest vertex index.
 /// A closed mesh gives no loop. Open chains (at non-manifold vertices) are returned open.
 std::vector<Polyline> extractBoundaryLoops(const TriMesh& mesh);
+
+/// The boundary of a surface found in one pass: its loops (as extractBoundaryLoops) and the
+/// vertices on its boundary edges (edges used by exactly one triangle; sorted, unique), e.g. the
+/// sources of the surface distance from the boundary.
+struct SurfaceBoundary {
+  std::vector<Polyline> loops;
+  std::vector<std::int32_t> vertices;
+};
+SurfaceBoundary findBoundary(const TriMesh& mesh);
 
 /// The section of `mesh` with the plane through `point` with normal `normal` (part frame; the
 /// normal need not be unit length). Vertices exactly on the plane count as on its positive side.
