@@ -52,6 +52,7 @@ constexpr std::uint8_t kShadowEdge = 8;
 /// phase 2 hands it to phase 3 without a test.
 constexpr std::uint8_t kShadowDown = 16;
 constexpr double kSqrt3 = 1.7320508075688772;
+constexpr double kHalfSqrt3 = 0.5 * kSqrt3;
 /// Reflex edges considered at a line-of-sight failure lie within this many cells of the cell or
 /// of the point where its blocked segment meets the surface.
 constexpr double kEdgeReach = 2.5;
@@ -173,6 +174,12 @@ class AnyAnglePropagator {
     }
     std::stable_sort(byLength_, byLength_ + 26,
                      [this](int a, int b) { return lengths_[a] < lengths_[b]; });
+    if (inheritSight_) {
+      // Four x slabs of the grid, 2^12 to 2^16 entries of 40 bytes.
+      const std::size_t want = std::clamp<std::size_t>(4 * g_.strideX(), 4096, 65536);
+      feet_.resize(std::bit_ceil(want));
+      feetMask_ = feet_.size() - 1;
+    }
   }
 
   MethodStats run(const std::vector<std::uint32_t>& seeds, Progress progress) {
@@ -190,20 +197,52 @@ class AnyAnglePropagator {
  private:
   /// Offers the parent of finished cell n (centre x) to its unfinished inside neighbours.
   void relaxNeighbours(std::uint32_t n, const Vec3& x) {
-    const std::int32_t p = parent_[n];
+    // Raw pointers: the byte stores below would make the compiler reload the vectors' data.
+    std::uint8_t* const state = state_.data();
+    std::int32_t* const parent = parent_.data();
+    float* const dist = dist_.data();
+    const std::int32_t p = parent[n];
+    const Pivot* pivot = p >= 0 ? &pivots_[static_cast<std::size_t>(p)] : nullptr;
+    const Triangle* triangle = p < 0 ? &source_[parentTriangle(p)] : nullptr;
     for (int o = 0; o < 26; ++o) {
       const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
       // A neighbour with the same parent already holds exactly this candidate.
-      if ((state_[m] & (kInside | kDone)) != kInside || parent_[m] == p) continue;
+      if ((state[m] & (kInside | kDone)) != kInside || parent[m] == p) continue;
+      const Vec3 y = x + offsets_[o];
+      Vec3 foot;
+      double value;  // evaluate(p, y)
+      if (pivot) {
+        if (!pivotMayImprove(*pivot, y, dist[m])) continue;
+        value = pivot->distance + (y - pivot->position).norm();
+      } else {
+        const Triangle& t = *triangle;
+        value = pointTriangleDistance(y, t[0], t[1], t[2], &foot);
+      }
       // Compare as stored (float): an equal candidate must not count as an improvement.
-      const float cand = static_cast<float>(evaluate(p, x + offsets_[o], nullptr));
-      if (cand < dist_[m]) {
-        dist_[m] = cand;
-        parent_[m] = p;
-        state_[m] &= static_cast<std::uint8_t>(~kVerified);
-        push(dist_[m], static_cast<std::uint32_t>(m));
+      const float cand = static_cast<float>(value);
+      if (cand < dist[m]) {
+        if (triangle && inheritSight_)
+          feet_[m & feetMask_] = {static_cast<std::uint32_t>(m), p, value, foot};
+        dist[m] = cand;
+        parent[m] = p;
+        state[m] &= static_cast<std::uint8_t>(~kVerified);
+        push(cand, static_cast<std::uint32_t>(m));
       }
     }
+  }
+
+  /// False only if the pivot's value at y, as relaxNeighbours computes and rounds it, is surely
+  /// not below `current`: pivot.distance + |y − P| >= current, decided from |y − P|² with a
+  /// relative margin of 1e-9 that covers every rounding (no square root); true when in doubt.
+  /// If r = current − distance > 0 and |y − P|² > r²·(1 + 1e-9), then |y − P| > r·(1 + 4e-10)
+  /// even after rounding the square root, the sum exceeds `current`, and its rounding to double
+  /// and to float cannot go below the float `current`.
+  static bool pivotMayImprove(const Pivot& pivot, const Vec3& y, float current) {
+    if (!(current < kInfF)) return true;
+    const double r = static_cast<double>(current) - pivot.distance;
+    if (r <= 0.0) return false;   // the sum is at least pivot.distance >= current
+    if (r < 1e-100) return true;  // r² could underflow
+    return !((y - pivot.position).squaredNorm() > r * r * (1.0 + 1e-9));
   }
 
   // ---- geodesic field: parent inheritance ------------------------------------------------
@@ -327,18 +366,42 @@ class AnyAnglePropagator {
     }
   }
 
-  /// Unfinished inside cells next to finished ones get their finished neighbours' parents.
+  /// Unfinished inside cells next to finished ones get their finished neighbours' parents (the
+  /// finished cells in increasing index order). A finished cell can have an unfinished inside
+  /// neighbour only if one of the nine z rows around its own holds an unfinished inside cell, so
+  /// the rows far from the shadow are skipped after one pass over the states.
   void pushShadowFrontier() {
-    const std::size_t count = inside_.size();
-    for (std::size_t n = 0; n < count; ++n) {
-      if (!(state_[n] & kDone)) continue;
-      bool frontier = false;
-      for (int o = 0; o < 26 && !frontier; ++o) {
-        const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
-        frontier = (state_[m] & (kInside | kDone)) == kInside;
+    const int nx = g_.dims.x(), ny = g_.dims.y(), nz = g_.dims.z();
+    std::vector<std::uint8_t> openRow(static_cast<std::size_t>(nx) * ny, 0);
+    for (int i = 0; i < nx; ++i)
+      for (int j = 0; j < ny; ++j) {
+        const std::uint8_t* row = state_.data() + g_.index(i, j, 0);
+        std::uint8_t open = 0;
+        for (int k = 0; k < nz; ++k) open |= (row[k] & (kInside | kDone)) == kInside;
+        openRow[static_cast<std::size_t>(i) * ny + j] = open;
       }
-      if (frontier) relaxNeighbours(static_cast<std::uint32_t>(n), cellCentre(g_.cell(n)));
-    }
+    // Inside (and so finished) cells never touch the grid border.
+    for (int i = 1; i + 1 < nx; ++i)
+      for (int j = 1; j + 1 < ny; ++j) {
+        std::uint8_t openNearby = 0;
+        for (int di = -1; di <= 1; ++di) {
+          const std::uint8_t* r = openRow.data() + static_cast<std::size_t>(i + di) * ny + j;
+          openNearby |= r[-1] | r[0] | r[1];
+        }
+        if (!openNearby) continue;
+        const std::size_t row = g_.index(i, j, 0);
+        for (int k = 0; k < nz; ++k) {
+          const std::size_t n = row + static_cast<std::size_t>(k);
+          if (!(state_[n] & kDone)) continue;
+          bool frontier = false;
+          for (int o = 0; o < 26 && !frontier; ++o) {
+            const std::size_t m =
+                static_cast<std::size_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
+            frontier = (state_[m] & (kInside | kDone)) == kInside;
+          }
+          if (frontier) relaxNeighbours(static_cast<std::uint32_t>(n), cellCentre(Vec3i(i, j, k)));
+        }
+      }
   }
 
   void push(float d, std::uint32_t n) {
@@ -538,7 +601,7 @@ class AnyAnglePropagator {
         continue;
       }
       ++tries;
-      switch (sweptRegionClear(q, x, x + offsets_[o])) {
+      switch (sweptRegionClear(q, n, static_cast<std::uint32_t>(m), o, x)) {
         case Swept::Clear:
           return kVerified;
         case Swept::ReflexEdge:
@@ -554,20 +617,21 @@ class AnyAnglePropagator {
 
   enum class Swept { Clear, ReflexEdge, Undecided };
 
-  Swept sweptRegionClear(std::int32_t q, const Vec3& x, const Vec3& y) {
+  /// The swept region between the segments of cell n (centre x, parent q) and of its finished
+  /// neighbour m = n + deltas_[o] (same parent, verified); see inheritLineOfSight.
+  Swept sweptRegionClear(std::int32_t q, std::uint32_t n, std::uint32_t m, int o, const Vec3& x) {
+    const Vec3 y = x + offsets_[o];
     if (q < 0) {
-      const Triangle& t = source_[parentTriangle(q)];
       Vec3 fx, fy;
-      const double dx = pointTriangleDistance(x, t[0], t[1], t[2], &fx);
+      const double dx = footOnTriangle(n, q, x, &fx);
       if (dx <= slack_) return Swept::Clear;  // as visible(): within the seed band
-      pointTriangleDistance(y, t[0], t[1], t[2], &fy);
+      footOnTriangle(m, q, y, &fy);
       const Vec3 xe = shortened(x, fx, slack_), ye = shortened(y, fy, slack_);
       const Vec3 quad[4] = {x, y, ye, xe};
       if (!planarConvex(quad)) return Swept::Undecided;
       if (boundary_->polygonMeetsReflexEdge(quad, 4, -1, kInheritTolerance))
         return Swept::ReflexEdge;
-      return visible(x, y, 0.0, mailbox_, /*strict=*/true) &&
-                     boundary_->segmentClear(ye, xe, mailbox_, nullptr, 0.0)
+      return neighbourVisible(n, m, o, x) && boundary_->segmentClear(ye, xe, mailbox_, nullptr, 0.0)
                  ? Swept::Clear
                  : Swept::Undecided;
     }
@@ -578,7 +642,34 @@ class AnyAnglePropagator {
     if (p.edge >= 0 && !wedgeMissesAngle(static_cast<std::uint32_t>(p.edge), p.position,
                                          y - p.position, x - p.position))
       return Swept::ReflexEdge;
-    return visible(x, y, 0.0, mailbox_, /*strict=*/true) ? Swept::Clear : Swept::Undecided;
+    return neighbourVisible(n, m, o, x) ? Swept::Clear : Swept::Undecided;
+  }
+
+  /// Line of sight (strict, as visible()) between the centres of inside cell n (x) and of its
+  /// neighbour m = n + deltas_[o]. Every point of the segment lies within half its length ℓ of
+  /// one of the two centres c, so it is at least clearance(c) − ℓ/2 from every outside cell
+  /// centre: when that is at least √3/2 + ½ for both ends, the segment has the guarantee of
+  /// visible()'s sphere tracing (see there) and needs no step; otherwise visible() decides.
+  bool neighbourVisible(std::uint32_t n, std::uint32_t m, int o, const Vec3& x) const {
+    const double c = std::min(clearance_[n], clearance_[m]);
+    if (c - 0.5 * lengths_[o] >= kHalfSqrt3 + 0.5) return true;
+    return visible(x, x + offsets_[o], 0.0, mailbox_, /*strict=*/true);
+  }
+
+  /// Distance from the centre x of cell n to source triangle `q` (a parent code < 0) and the
+  /// closest point, exactly pointTriangleDistance: from the cache of recent values that
+  /// relaxNeighbours fills (phase 1 values every cell once there and asks again for the cell and
+  /// for its neighbours in inheritLineOfSight), else computed and cached.
+  double footOnTriangle(std::uint32_t n, std::int32_t q, const Vec3& x, Vec3* foot) {
+    FootEntry& e = feet_[n & feetMask_];
+    if (e.cell != n || e.parent != q) {
+      const Triangle& t = source_[parentTriangle(q)];
+      e.distance = pointTriangleDistance(x, t[0], t[1], t[2], &e.foot);
+      e.cell = n;
+      e.parent = q;
+    }
+    *foot = e.foot;
+    return e.distance;
   }
 
   /// True if the quadrilateral q[0..3] (in order) is planar and convex within the tolerance
@@ -588,14 +679,25 @@ class AnyAnglePropagator {
     const double mm = m.norm();
     if (!(mm > 1e-12)) return false;
     const Vec3 n = m / mm;
-    double scale = 1.0;
-    for (int i = 1; i < 4; ++i) scale = std::max(scale, (q[i] - q[0]).norm());
+    // The thresholds need lengths (square roots) only near them: scale >= 1, so an offset within
+    // the tolerance passes, and a turn of sign >= 0 passes whatever the sides' lengths.
+    double off[3];
+    bool flat = true;
     for (int i = 1; i < 4; ++i) {
-      if (std::abs(n.dot(q[i] - q[0])) > kInheritTolerance * scale) return false;
+      off[i - 1] = std::abs(n.dot(q[i] - q[0]));
+      flat = flat && off[i - 1] <= kInheritTolerance;
+    }
+    if (!flat) {
+      double scale = 1.0;
+      for (int i = 1; i < 4; ++i) scale = std::max(scale, (q[i] - q[0]).norm());
+      for (int i = 0; i < 3; ++i) {
+        if (off[i] > kInheritTolerance * scale) return false;
+      }
     }
     for (int i = 0; i < 4; ++i) {
       const Vec3 a = q[(i + 1) % 4] - q[i], b = q[(i + 2) % 4] - q[(i + 1) % 4];
-      if (n.dot(a.cross(b)) < -kInheritTolerance * a.norm() * b.norm()) return false;
+      const double turn = n.dot(a.cross(b));
+      if (!(turn >= 0.0) && turn < -kInheritTolerance * a.norm() * b.norm()) return false;
     }
     return true;
   }
@@ -691,11 +793,19 @@ class AnyAnglePropagator {
     const Vec3 dir = d / len;
     double t = 0.0;
     while (true) {
+      const Vec3 p = from + t * dir;
       std::size_t idx;
-      if (!insideCell(from + t * dir, &idx)) break;
-      // Every point within `safe` of the current point lies in an inside cell, with half a cell
-      // to spare (see clearance.hpp).
-      const double safe = clearance_[idx] - kSqrt3 - 0.5;
+      Vec3 centre;
+      if (!insideCell(p, &idx, &centre)) break;
+      // Every point q within `safe` of p is at least √3/2 + ½ cells from every outside cell
+      // centre o, so q lies in an inside cell with half a cell to spare (see clearance.hpp):
+      // |q − o| ≥ |o − c| − |c − p| − |p − q| ≥ clearance(c) − |c − p| − safe ≥ √3/2 + ½, with
+      // c the centre of p's cell and |c − p| bounded by min(|c − p|₁, √3/2) (no square root; 0
+      // at a cell centre, where the segments start, so a first step goes √3/2 further than
+      // with the bound √3/2 alone).
+      const Vec3 offset = (p - centre).cwiseAbs();
+      const double reach = std::min(offset.x() + offset.y() + offset.z(), kHalfSqrt3);
+      const double safe = clearance_[idx] - reach - kHalfSqrt3 - 0.5;
       if (t + safe >= len) return true;
       if (safe < 1.0) break;
       t += safe;
@@ -708,12 +818,15 @@ class AnyAnglePropagator {
     return visibleThroughCells(rest, end);
   }
 
-  bool insideCell(const Vec3& p, std::size_t* index) const {
+  /// True if p lies in an inside cell; its index in `index` and, if given, its centre in
+  /// `centre`.
+  bool insideCell(const Vec3& p, std::size_t* index, Vec3* centre = nullptr) const {
     const int i = static_cast<int>(std::floor(p.x()));
     const int j = static_cast<int>(std::floor(p.y()));
     const int k = static_cast<int>(std::floor(p.z()));
     if (!g_.contains(i, j, k)) return false;
     *index = g_.index(i, j, k);
+    if (centre) *centre = cellCentre(Vec3i(i, j, k));
     return inside_[*index] != 0;
   }
 
@@ -761,6 +874,16 @@ class AnyAnglePropagator {
   std::vector<Pivot> pivots_;
   std::vector<std::uint32_t> edges_, moreEdges_;
   std::vector<Candidate> candidates_;
+  /// Cache of point–triangle distances and closest points for triangle parents, indexed by the
+  /// low bits of the cell index (sized for a few x slabs of the grid: the Dijkstra front).
+  struct FootEntry {
+    std::uint32_t cell = UINT32_MAX;
+    std::int32_t parent = kNoParent;
+    double distance = 0.0;
+    Vec3 foot = Vec3::Zero();
+  };
+  std::vector<FootEntry> feet_;
+  std::size_t feetMask_ = 0;
   MethodStats stats_;
   std::size_t edgePivots_ = 0;
   bool inheritSight_ = false;  // inheritsLineOfSight applies (closed model, few reflex edges)
@@ -775,8 +898,9 @@ class AnyAnglePropagator {
 std::vector<std::uint8_t> computeClearanceCells(const VoxelGrid& grid, Progress progress) {
   std::vector<std::uint8_t> clearance(grid.inside.size());
   const std::vector<float> exact = computeClearance(grid, progress);
+  // The transform is >= 0, so truncation is its floor (values from 255 up, and NaN, give 255).
   for (std::size_t i = 0; i < exact.size(); ++i)
-    clearance[i] = static_cast<std::uint8_t>(std::min(255.0f, std::floor(exact[i])));
+    clearance[i] = exact[i] < 255.0f ? static_cast<std::uint8_t>(exact[i]) : std::uint8_t{255};
   return clearance;
 }
 

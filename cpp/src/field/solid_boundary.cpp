@@ -64,6 +64,7 @@ SolidBoundary::SolidBoundary(const GridGeometry& g, const TriMesh& model) {
     area += 0.5 * (v[f[1]] - v[f[0]]).cross(v[f[2]] - v[f[0]]).norm();
   const double meanArea = model.triangles.empty() ? 0.0 : area / model.triangles.size();
   brick_ = meanArea < 16.0 ? 2 : meanArea < 64.0 ? 4 : 8;
+  inverseBrick_ = 1.0 / brick_;
   bdims_ = (g.dims.array() + brick_ - 1) / brick_;
   const std::size_t bricks = static_cast<std::size_t>(bdims_.x()) * bdims_.y() * bdims_.z();
 
@@ -143,7 +144,7 @@ SolidBoundary::SolidBoundary(const GridGeometry& g, const TriMesh& model) {
 Vec3i SolidBoundary::brickOf(const Vec3& p) const {
   Vec3i b;
   for (int a = 0; a < 3; ++a) {
-    const int i = static_cast<int>(std::floor(p[a] / brick_));
+    const int i = static_cast<int>(std::floor(p[a] * inverseBrick_));
     b[a] = std::clamp(i, 0, bdims_[a] - 1);
   }
   return b;
@@ -176,15 +177,32 @@ bool SolidBoundary::crossesTriangle(const Vec3& a, const Vec3& b, std::uint32_t 
 
 bool SolidBoundary::segmentClear(const Vec3& a, const Vec3& b, Mailbox& mailbox, Vec3* hit,
                                  double startTolerance) const {
-  // 3D DDA over bricks from a to b.
-  const Vec3 d = b - a;
-  const Vec3 pa = a / brick_;
+  // The point where the segment crosses triangle t (which it does).
+  auto crossing = [&](std::uint32_t t) {
+    const Triangle& tri = tris_[t];
+    const Vec3& n = normals_[t];
+    const double da = n.dot(a - tri[0]), db = n.dot(b - tri[0]);
+    return Vec3(a + (da / (da - db)) * (b - a));
+  };
   Vec3i cell = brickOf(a);
   const Vec3i last = brickOf(b);
+  if (cell == last) {
+    // Within one brick (most short segments): its list holds each triangle once, so no marks.
+    const std::size_t bi = brickIndex(cell);
+    for (std::uint32_t i = triStart_[bi]; i < triStart_[bi + 1]; ++i) {
+      if (!crossesTriangle(a, b, triList_[i], startTolerance)) continue;
+      if (hit) *hit = crossing(triList_[i]);
+      return false;
+    }
+    return true;
+  }
+  // 3D DDA over bricks from a to b.
+  const Vec3 d = b - a;
+  const Vec3 pa = a * inverseBrick_;
   Vec3i step;
   Vec3 tMax, tDelta;
   for (int k = 0; k < 3; ++k) {
-    const double dk = d[k] / brick_;
+    const double dk = d[k] * inverseBrick_;
     if (dk > 0) {
       step[k] = 1;
       tMax[k] = (std::floor(pa[k]) + 1 - pa[k]) / dk;
@@ -214,12 +232,7 @@ bool SolidBoundary::segmentClear(const Vec3& a, const Vec3& b, Mailbox& mailbox,
       if (stamp[t] == epoch) continue;
       stamp[t] = epoch;
       if (!crossesTriangle(a, b, t, startTolerance)) continue;
-      if (hit) {
-        const Triangle& tri = tris_[triList_[i]];
-        const Vec3& n = normals_[triList_[i]];
-        const double da = n.dot(a - tri[0]), db = n.dot(b - tri[0]);
-        *hit = a + (da / (da - db)) * (b - a);
-      }
+      if (hit) *hit = crossing(t);
       return false;
     }
     if (cell == last || budget-- <= 0) break;
@@ -252,9 +265,10 @@ bool SolidBoundary::polygonMeetsReflexEdge(const Vec3* poly, int count, std::int
   // Plane normal from the diagonals (quadrilateral) or two sides (triangle).
   const Vec3 m = count == 4 ? (poly[2] - poly[0]).cross(poly[3] - poly[1])
                             : (poly[1] - poly[0]).cross(poly[2] - poly[0]);
-  const double mm = m.norm();
-  if (!(mm > 1e-12)) return true;
-  const Vec3 n = m / mm;
+  // Degenerate when |m| <= 1e-12; decided from |m|² away from the threshold (no square root),
+  // exactly as |m| > 1e-12 otherwise.
+  const double m2 = m.squaredNorm();
+  if (!(m2 > 1.001e-24) && !(m.norm() > 1e-12)) return true;
   Vec3 lo = poly[0], hi = poly[0];
   for (int i = 1; i < count; ++i) {
     lo = lo.cwiseMin(poly[i]);
@@ -262,6 +276,8 @@ bool SolidBoundary::polygonMeetsReflexEdge(const Vec3* poly, int count, std::int
   }
   lo.array() -= tolerance;
   hi.array() += tolerance;
+  Vec3 n = Vec3::Zero();  // unit normal, computed for the first edge that passes the box test
+  bool haveNormal = false;
   for (std::size_t e = 0; e < reflex_.size(); ++e) {
     if (static_cast<std::int64_t>(e) == skip) continue;
     const Vec3& a = reflex_[e][0];
@@ -269,6 +285,10 @@ bool SolidBoundary::polygonMeetsReflexEdge(const Vec3* poly, int count, std::int
     if ((a.array() < lo.array() && b.array() < lo.array()).any() ||
         (a.array() > hi.array() && b.array() > hi.array()).any())
       continue;
+    if (!haveNormal) {
+      n = m / m.norm();
+      haveNormal = true;
+    }
     const double sa = n.dot(a - poly[0]), sb = n.dot(b - poly[0]);
     if ((sa > tolerance && sb > tolerance) || (sa < -tolerance && sb < -tolerance)) continue;
     // Nearly in the plane: the bounding boxes overlap, so count it (conservative).

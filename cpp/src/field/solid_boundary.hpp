@@ -82,6 +82,8 @@ class SolidBoundary {
   bool crossesTriangle(const Vec3& a, const Vec3& b, std::uint32_t t, double startTolerance) const;
 
   int brick_ = 2;  // cells per brick edge: 2, 4 or 8 (from the mean triangle area)
+  // 1 / brick_: a power of two, so multiplying by it rounds exactly as dividing by brick_.
+  double inverseBrick_ = 0.5;
   Vec3i bdims_;
   std::vector<Triangle> tris_;
   std::vector<Vec3> normals_;                      // unnormalised

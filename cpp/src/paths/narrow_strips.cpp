@@ -196,9 +196,9 @@ struct Narrowing {
 /// `bridge`: a stretch of wide samples shorter than this (mm) between narrow ones of the same
 /// track, whose samples all face a point within 1.25 × threshold, counts as narrow (so one strip
 /// whose width wavers around the threshold gives one centre bead, not pieces and gaps).
-/// `wide` (optional): per track, per sample, non-zero = never narrow (set after bridging).
+/// `keepWide` (optional): per track, per sample, non-zero = never narrow (set after bridging).
 Narrowing findNarrowing(const std::vector<Track>& tracks, double threshold, double exclusion,
-                        double bridge, const std::vector<std::vector<char>>* wide = nullptr) {
+                        double bridge, const std::vector<std::vector<char>>* keepWide = nullptr) {
   Narrowing g;
   const double reach = 1.25 * threshold;
   SampleGrid grid(reach);
@@ -258,9 +258,9 @@ Narrowing findNarrowing(const std::vector<Track>& tracks, double threshold, doub
       if (!near) continue;
       for (std::size_t i = 1; i <= gap; ++i) g.partners[t][(k + i) % n] = nearest[t][(k + i) % n];
     }
-    if (wide != nullptr) {
+    if (keepWide != nullptr) {
       for (std::size_t k = 0; k < n; ++k) {
-        if ((*wide)[t][k]) g.partners[t][k] = Partner{};
+        if ((*keepWide)[t][k]) g.partners[t][k] = Partner{};
       }
     }
   }
