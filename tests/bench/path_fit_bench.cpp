@@ -1,7 +1,9 @@
 // Path spline fit (`fitPath`) on synthetic raw iso-lines of the sizes the planner produces. Not a
 // test. Usage: path_fit_bench [--benchmark_repetitions=5 ...] (Google Benchmark flags).
 // Cases: a closed ring with small or large zigzag noise (smooth, a few thousand raw points), a
-// closed square ring (four sharp corners, like the simple_box layers) and an open wavy line.
+// closed square ring (four sharp corners, like the simple_box layers), an open wavy line, and
+// iso-line-like rings of four bulged sides meeting at 53° corners (0.1 mm raw spacing, with and
+// without sub-micrometre segments; the bunny's iso-lines have such corners where fronts meet).
 // Counters: raw points, fit rounds, resampled points, achieved fit deviation (mm). Results are in
 // tests/bench/README.md ("Paths").
 #include <benchmark/benchmark.h>
@@ -52,6 +54,30 @@ Polyline makeWave(int n) {
   return p;
 }
 
+/// Closed ring of four parabolic arcs (sagitta side / 12) bulging out from the sides of a square of
+/// side `side` (mm), raw points 0.1 mm apart, a z wave, corners of 53° at the square's vertices;
+/// with `micro`, every tenth raw point gets a twin 0.5 µm further on.
+Polyline makeCornerRing(double side, bool micro) {
+  Polyline p;
+  p.closed = true;
+  const double h = 0.5 * side, bulge = side / 12.0;
+  const Vec3 v[4] = {Vec3(-h, -h, 0), Vec3(h, -h, 0), Vec3(h, h, 0), Vec3(-h, h, 0)};
+  const int perSide = static_cast<int>(std::lround(side / 0.1));
+  int count = 0;
+  for (int c = 0; c < 4; ++c) {
+    const Vec3 a = v[c], b = v[(c + 1) % 4];
+    const Vec3 outward = (0.5 * (a + b)).normalized();
+    for (int i = 0; i < perSide; ++i) {
+      const double t = static_cast<double>(i) / perSide;
+      Vec3 q = a + (b - a) * t + outward * (4.0 * bulge * t * (1.0 - t));
+      q.z() = 0.8 * std::sin(0.05 * q.x()) * std::cos(0.04 * q.y());
+      p.points.push_back(q);
+      if (micro && ++count % 10 == 0) p.points.push_back(q + (b - a).normalized() * 5e-4);
+    }
+  }
+  return p;
+}
+
 void runFit(benchmark::State& state, const Polyline& raw) {
   curvedslicer::PathFitResult fit;
   for (auto _ : state) {
@@ -79,6 +105,15 @@ void BM_FitSquare(benchmark::State& state) {
   runFit(state, makeSquare(static_cast<double>(state.range(0)), 0.5));
 }
 BENCHMARK(BM_FitSquare)->Arg(20)->Arg(60)->Unit(benchmark::kMillisecond);
+
+void BM_FitCornerRing(benchmark::State& state) {
+  runFit(state, makeCornerRing(static_cast<double>(state.range(0)), state.range(1) != 0));
+}
+BENCHMARK(BM_FitCornerRing)
+    ->Args({40, 0})
+    ->Args({120, 0})
+    ->Args({120, 1})
+    ->Unit(benchmark::kMillisecond);
 
 void BM_FitWave(benchmark::State& state) {
   runFit(state, makeWave(static_cast<int>(state.range(0))));

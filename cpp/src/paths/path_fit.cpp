@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <utility>
@@ -17,6 +19,10 @@ namespace curvedslicer {
 namespace {
 
 constexpr int kP = BSplineCurve::kDegree;
+/// Raw vertices closer than this fraction of the tolerance to the previous kept one are merged.
+constexpr double kMergeFraction = 1.0 / 50.0;
+/// Corners are turns measured over this multiple of the tolerance of arc length on each side.
+constexpr double kCornerReachFactor = 4.0;
 
 /// Uniform cubic B-spline weights and their derivatives at local t in [0, 1].
 void uniformWeights(double t, double w[4], double dw[4]) {
@@ -125,6 +131,7 @@ BSplineCurve fitControlPoints(const std::vector<Vec3>& pts, const std::vector<do
     c.controlPoints.back() = pts.back();
   }
   std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(16 * static_cast<std::size_t>(n) + 10 * static_cast<std::size_t>(m));
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m, 3);
   auto unknown = [&](int index) { return index - first; };
   auto isUnknown = [&](int index) { return closed || (index >= 1 && index <= k - 2); };
@@ -406,49 +413,51 @@ Polyline resamplePolyline(const Polyline& polyline, double spacing) {
   return out;
 }
 
-PathFitResult fitPath(const Polyline& raw, const PathFitOptions& options) {
-  if (!(options.tolerance > 0.0) || !std::isfinite(options.tolerance)) {
-    throw InvalidInput("fit tolerance must be positive: " + num(options.tolerance) +
-                       " mm; pass a value such as 0.05");
-  }
-  if (!(options.pointSpacing > 0.0) || !std::isfinite(options.pointSpacing)) {
-    throw InvalidInput("point spacing must be positive: " + num(options.pointSpacing) +
-                       " mm; pass a value such as 2");
-  }
-  if (!(options.smoothing >= 0.0) || !std::isfinite(options.smoothing)) {
-    throw InvalidInput("fit smoothing must be non-negative: " + num(options.smoothing) +
-                       "; pass a value such as 1e-4 or 0");
-  }
-  const double chordTolerance =
-      options.chordTolerance > 0.0 ? options.chordTolerance : options.tolerance;
-  // Drop repeated consecutive points.
-  std::vector<Vec3> pts;
-  for (const Vec3& p : raw.points) {
-    if (!p.allFinite()) {
-      throw InvalidInput("raw path has a non-finite point; pass finite coordinates");
-    }
-    if (pts.empty() || (p - pts.back()).squaredNorm() > 0.0) pts.push_back(p);
-  }
-  const bool closed = raw.closed;
-  if (closed && pts.size() > 1 && (pts.back() - pts.front()).squaredNorm() == 0.0) pts.pop_back();
-  const std::size_t minPoints = closed ? 3 : 2;
-  if (pts.size() < minPoints) {
-    throw InvalidInput(
-        std::string("raw path has too few distinct points: ") + std::to_string(pts.size()) +
-        (closed ? " (closed needs 3)" : " (open needs 2)") + "; drop the path or pass more points");
-  }
-  Polyline clean{pts, closed};
-  const std::vector<double> cum = computeCumulativeLengths(clean);
-  const double length = cum.back();
-  std::vector<double> u(pts.size());
-  for (std::size_t i = 0; i < pts.size(); ++i) u[i] = cum[i] / length;
+namespace {
 
-  // Distances to the raw polyline: its geometry stays the same when it is densified below.
-  const std::vector<Vec3> rawLine = pts;
-  const std::vector<double> rawU = u;
+/// A fitted piece of a path: its curve, the two-sided deviation measured against its raw part, the
+/// rounds it took, and, for a piece kept as a polyline, its vertices.
+struct PieceFit {
+  BSplineCurve spline;
+  double deviation = 0.0;
+  int rounds = 0;
+  std::vector<Vec3> polyline;  ///< non-empty: the piece is this polyline (exact, C0 at vertices)
+};
+
+/// Exact cubic B-spline of an open polyline: each segment a cubic Bézier with control points at
+/// thirds, knots of multiplicity 3 at the vertices (C0 there), parameter proportional to arc
+/// length.
+BSplineCurve makePolylineSpline(const std::vector<Vec3>& vertices) {
+  BSplineCurve c;
+  c.closed = false;
+  const std::size_t m = vertices.size() - 1;
+  std::vector<double> cum{0.0};
+  for (std::size_t i = 0; i < m; ++i)
+    cum.push_back(cum.back() + (vertices[i + 1] - vertices[i]).norm());
+  for (int r = 0; r <= kP; ++r) c.knots.push_back(0.0);
+  for (std::size_t i = 1; i < m; ++i) {
+    for (int r = 0; r < kP; ++r) c.knots.push_back(cum[i] / cum.back());
+  }
+  for (int r = 0; r <= kP; ++r) c.knots.push_back(1.0);
+  c.controlPoints.push_back(vertices.front());
+  for (std::size_t i = 0; i < m; ++i) {
+    const Vec3& a = vertices[i];
+    const Vec3& b = vertices[i + 1];
+    c.controlPoints.push_back(a + (b - a) / 3.0);
+    c.controlPoints.push_back(a + (b - a) * (2.0 / 3.0));
+    c.controlPoints.push_back(b);
+  }
+  return c;
+}
+
+/// The rounds of the uniform-knot fit (see the header) of the points `pts` (parameters `u`) of one
+/// piece, measured against its raw polyline `rawLine` (vertex parameters `rawU`, arc length
+/// `length`). Returns the best round; its deviation may exceed the tolerance.
+PieceFit fitUniformRounds(std::vector<Vec3> pts, std::vector<double> u,
+                          const std::vector<Vec3>& rawLine, const std::vector<double>& rawU,
+                          bool closed, double length, const PathFitOptions& options) {
+  PieceFit best;
   const double minCell = 0.5 * options.tolerance;
-
-  PathFitResult result;
   const int minK = 4;
   int n = static_cast<int>(pts.size());
   int maxK = std::max(n, minK);
@@ -458,16 +467,18 @@ PathFitResult fitPath(const Polyline& raw, const PathFitOptions& options) {
   for (;;) {
     const double lambda = k >= maxK ? 0.0 : options.smoothing * static_cast<double>(n) / k;
     BSplineCurve spline = fitControlPoints(pts, u, closed, k, lambda);
-    ++result.fitRounds;
-    // Measured against the raw polyline (its vertices and the spline's distance to it).
-    const double deviation = measureDeviation(spline, pts, u, rawLine, rawU, closed, minCell);
+    ++best.rounds;
+    // Measured against the raw polyline: every raw vertex (merged ones too) to the spline and the
+    // spline's samples to the raw polyline.
+    const double deviation =
+        measureDeviation(spline, rawLine, rawU, rawLine, rawU, closed, minCell);
     if (!std::isfinite(deviation)) {
       throw NumericalFailure("path spline fit is not finite: " + num(deviation) +
                              " mm deviation; check the raw path");
     }
-    if (result.spline.empty() || deviation < result.fitDeviation) {
-      result.spline = std::move(spline);
-      result.fitDeviation = deviation;
+    if (best.spline.empty() || deviation < best.deviation) {
+      best.spline = std::move(spline);
+      best.deviation = deviation;
     }
     if (deviation <= options.tolerance) break;
     if (k >= maxK) {
@@ -496,11 +507,144 @@ PathFitResult fitPath(const Polyline& raw, const PathFitOptions& options) {
       n = static_cast<int>(pts.size());
       maxK = n;
     }
-    k = std::min(maxK, std::max(k + 1, k + k / 2));
+    // Next control-point count: the deviation of a kink the knots cannot follow shrinks about in
+    // proportion to the knot spacing, so grow by the deviation / tolerance ratio, at least by half
+    // and at most 4× (a smooth stretch converges faster than that). A jump to interpolation stops
+    // at 2/3 of it first (interpolating unevenly spaced points can overshoot where less does not).
+    const double growth = std::clamp(deviation / options.tolerance, 1.5, 4.0);
+    int next = std::max(k + 1, static_cast<int>(std::ceil(k * growth)));
+    const int beforeInterpolation = 2 * maxK / 3;
+    if (next >= maxK && k < beforeInterpolation) next = beforeInterpolation;
+    k = std::min(maxK, next);
   }
+  return best;
+}
 
-  // Resampling: arc-length table of the spline.
-  const BSplineCurve& c = result.spline;
+/// Marks the vertices kept for fitting: a vertex closer than `mergeDistance` to the last kept one
+/// is dropped (open: the end point is always kept, replacing a kept vertex within the distance
+/// before it; closed: a last vertex within the distance of the first is dropped). Falls back to
+/// keeping every vertex if fewer than 2 (open) or 3 (closed) would remain.
+std::vector<char> markKeptVertices(const std::vector<Vec3>& pts, bool closed,
+                                   double mergeDistance) {
+  const std::size_t n = pts.size();
+  std::vector<char> keep(n, 0);
+  const double d2 = mergeDistance * mergeDistance;
+  std::size_t last = 0;
+  keep[0] = 1;
+  std::size_t count = 1;
+  for (std::size_t i = 1; i < n; ++i) {
+    if ((pts[i] - pts[last]).squaredNorm() > d2) {
+      keep[i] = 1;
+      last = i;
+      ++count;
+    }
+  }
+  if (!closed && !keep[n - 1]) {
+    if (last != 0) {
+      keep[last] = 0;
+      --count;
+    }
+    keep[n - 1] = 1;
+    ++count;
+  }
+  if (closed && last != 0 && (pts[last] - pts[0]).squaredNorm() <= d2) {
+    keep[last] = 0;
+    --count;
+  }
+  if (count < (closed ? 3u : 2u)) keep.assign(n, 1);
+  return keep;
+}
+
+/// Corners of a raw line (see the header): kept vertices where the chords from the points an arc
+/// length `reach` before and after turn by more than `angle` (radians), and that turn the most
+/// within `reach` of arc length on either side (ties: the first). Open lines: interior vertices,
+/// the chords clamped at the ends. Returns vertex indices in order. O(n) plus, per candidate, the
+/// candidates within `reach`.
+std::vector<std::size_t> findCorners(const std::vector<Vec3>& pts, const std::vector<double>& cum,
+                                     const std::vector<char>& keep, bool closed, double reach,
+                                     double angle) {
+  const std::size_t n = pts.size();
+  const double length = cum.back();
+  std::vector<std::size_t> corners;
+  if (!(angle < std::numbers::pi) || (closed && length <= 4.0 * reach)) return corners;
+  // The point at arc length s for increasing s (one cursor per stream, so O(n) in all): s may
+  // leave [0, length) by up to one length on a closed line (it wraps), and is clamped on an open.
+  const std::ptrdiff_t segments = static_cast<std::ptrdiff_t>(cum.size()) - 1;
+  struct Cursor {
+    std::ptrdiff_t g;  ///< segment index counted over laps (closed: may be negative)
+  };
+  auto start = [&](std::ptrdiff_t lap) -> double {  // arc length where lap `lap` begins
+    return static_cast<double>(lap) * length;
+  };
+  auto pointAt = [&](Cursor& cursor, double s) -> Vec3 {
+    if (!closed) s = std::clamp(s, 0.0, length);
+    auto lapOf = [&](std::ptrdiff_t g) {
+      return g >= 0 ? g / segments : -((-g + segments - 1) / segments);
+    };
+    auto segmentEnd = [&](std::ptrdiff_t g) {
+      const std::ptrdiff_t lap = lapOf(g);
+      return start(lap) + cum[static_cast<std::size_t>(g - lap * segments) + 1];
+    };
+    const std::ptrdiff_t last = closed ? std::numeric_limits<std::ptrdiff_t>::max() : segments - 1;
+    while (cursor.g < last && segmentEnd(cursor.g) <= s) ++cursor.g;
+    const std::ptrdiff_t lap = lapOf(cursor.g);
+    const std::size_t i = static_cast<std::size_t>(cursor.g - lap * segments);
+    const double s0 = start(lap) + cum[i];
+    const double len = cum[i + 1] - cum[i];
+    const double t = len > 0.0 ? std::clamp((s - s0) / len, 0.0, 1.0) : 0.0;
+    return pts[i] + (pts[(i + 1) % n] - pts[i]) * t;
+  };
+  const double cosAngle = std::cos(angle);
+  std::vector<std::pair<std::size_t, double>> candidates;  // vertex, turn (radians)
+  Cursor behind{closed ? -segments : 0}, ahead{0};
+  for (std::size_t i = closed ? 0 : 1; i < (closed ? n : n - 1); ++i) {
+    const Vec3 toVertex = pts[i] - pointAt(behind, cum[i] - reach);
+    const Vec3 fromVertex = pointAt(ahead, cum[i] + reach) - pts[i];
+    if (!keep[i]) continue;
+    const double dot = toVertex.dot(fromVertex);
+    if (dot >= cosAngle * toVertex.norm() * fromVertex.norm()) continue;  // turn ≤ angle
+    const double turn = std::atan2(toVertex.cross(fromVertex).norm(), dot);
+    if (turn > angle) candidates.emplace_back(i, turn);
+  }
+  const std::size_t c = candidates.size();
+  auto arcBetween = [&](std::size_t a, std::size_t b) {
+    const double d = std::abs(cum[b] - cum[a]);
+    return closed ? std::min(d, length - d) : d;
+  };
+  for (std::size_t j = 0; j < c; ++j) {
+    const auto [i, turn] = candidates[j];
+    bool best = true;
+    // Neighbouring candidates within `reach`, ahead and behind (wrapping for closed lines).
+    for (int dir = -1; dir <= 1 && best; dir += 2) {
+      for (std::size_t step = 1; step < c; ++step) {
+        std::size_t o;
+        if (closed) {
+          o = (j + c + dir * static_cast<std::ptrdiff_t>(step % c)) % c;
+        } else {
+          const std::ptrdiff_t q =
+              static_cast<std::ptrdiff_t>(j) + dir * static_cast<std::ptrdiff_t>(step);
+          if (q < 0 || q >= static_cast<std::ptrdiff_t>(c)) break;
+          o = static_cast<std::size_t>(q);
+        }
+        if (arcBetween(i, candidates[o].first) > reach) break;
+        const double other = candidates[o].second;
+        if (other > turn || (other == turn && o < j)) {
+          best = false;
+          break;
+        }
+      }
+    }
+    if (best) corners.push_back(i);
+  }
+  return corners;
+}
+
+/// Resamples a fitted spline piece at equal arc length with at most `spacing` between points and
+/// halves every interval whose chord leaves the spline by more than `chordTolerance`. Appends the
+/// points (open: both ends; closed: without repeating the first); raises `chordError`.
+void resampleSpline(const BSplineCurve& c, double spacing, double chordTolerance,
+                    std::vector<Vec3>& out, double& chordError) {
+  const bool closed = c.closed;
   const int tableCount = std::max(64 * static_cast<int>(c.controlPoints.size()), 1024);
   std::vector<double> tu(tableCount + 1), ts(tableCount + 1);
   Vec3 prev = c.evaluate(0.0);
@@ -520,13 +664,13 @@ PathFitResult fitPath(const Polyline& raw, const PathFitOptions& options) {
     const double t = len > 0.0 ? (s - ts[i]) / len : 0.0;
     return tu[i] + t * (tu[i + 1] - tu[i]);
   };
-  const int segments = std::max(
-      static_cast<int>(std::ceil(splineLength / options.pointSpacing - 1e-9)), closed ? 3 : 1);
+  const int segments =
+      std::max(static_cast<int>(std::ceil(splineLength / spacing - 1e-9)), closed ? 3 : 1);
   std::vector<double> params;
   for (int i = 0; i <= segments; ++i)
     params.push_back(i == segments ? 1.0 : paramAt(splineLength * i / segments));
   // Chord error of an interval: largest distance of interior spline samples from the chord.
-  auto chordError = [&](double ua, double ub) {
+  auto intervalChordError = [&](double ua, double ub) {
     const Vec3 a = c.evaluate(ua), b = c.evaluate(ub);
     double worst = 0.0;
     for (int j = 1; j < 8; ++j) {
@@ -536,31 +680,203 @@ PathFitResult fitPath(const Polyline& raw, const PathFitOptions& options) {
     return worst;
   };
   std::vector<double> refined{params.front()};
-  result.chordError = 0.0;
   for (std::size_t i = 0; i + 1 < params.size(); ++i) {
     // Halve the interval until its chord is within the tolerance (depth-limited).
     std::vector<std::pair<double, int>> stack{{params[i + 1], 0}};
     double ua = params[i];
     while (!stack.empty()) {
       const auto [ub, depth] = stack.back();
-      const double e = chordError(ua, ub);
+      const double e = intervalChordError(ua, ub);
       if (e > chordTolerance && depth < 30) {
         stack.push_back({0.5 * (ua + ub), depth + 1});
         continue;
       }
-      result.chordError = std::max(result.chordError, e);
+      chordError = std::max(chordError, e);
       refined.push_back(ub);
       ua = ub;
       stack.pop_back();
     }
   }
-  result.points.closed = closed;
   const std::size_t count = closed ? refined.size() - 1 : refined.size();
-  for (std::size_t i = 0; i < count; ++i) result.points.points.push_back(c.evaluate(refined[i]));
-  if (!closed) {
-    result.points.points.front() = pts.front();
-    result.points.points.back() = pts.back();
+  for (std::size_t i = 0; i < count; ++i) out.push_back(c.evaluate(refined[i]));
+}
+
+/// Appends an open polyline with every segment longer than `spacing` split evenly (both ends).
+void resampleVertices(const std::vector<Vec3>& vertices, double spacing, std::vector<Vec3>& out) {
+  out.push_back(vertices.front());
+  for (std::size_t i = 0; i + 1 < vertices.size(); ++i) {
+    const Vec3& a = vertices[i];
+    const Vec3& b = vertices[i + 1];
+    const int parts = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing - 1e-9)));
+    for (int q = 1; q < parts; ++q) out.push_back(a + (b - a) * (static_cast<double>(q) / parts));
+    out.push_back(b);
   }
+}
+
+/// One clamped spline of open pieces joined end to start (knots of multiplicity 3 at the joins,
+/// C0 there), each piece's parameter range proportional to its raw arc length `lengths`.
+BSplineCurve joinPieces(const std::vector<BSplineCurve>& pieces,
+                        const std::vector<double>& lengths) {
+  if (pieces.size() == 1) return pieces.front();
+  double total = 0.0;
+  for (const double l : lengths) total += l;
+  BSplineCurve c;
+  c.closed = false;
+  for (int r = 0; r <= kP; ++r) c.knots.push_back(0.0);
+  double start = 0.0;
+  for (std::size_t j = 0; j < pieces.size(); ++j) {
+    const BSplineCurve& p = pieces[j];
+    const double end = j + 1 == pieces.size() ? 1.0 : start + lengths[j] / total;
+    for (std::size_t q = kP + 1; q + kP + 1 < p.knots.size(); ++q)
+      c.knots.push_back(start + (end - start) * p.knots[q]);
+    const int repeat = j + 1 == pieces.size() ? kP + 1 : kP;
+    for (int r = 0; r < repeat; ++r) c.knots.push_back(end);
+    c.controlPoints.insert(c.controlPoints.end(), p.controlPoints.begin() + (j == 0 ? 0 : 1),
+                           p.controlPoints.end());
+    start = end;
+  }
+  return c;
+}
+
+}  // namespace
+
+PathFitResult fitPath(const Polyline& raw, const PathFitOptions& options) {
+  if (!(options.tolerance > 0.0) || !std::isfinite(options.tolerance)) {
+    throw InvalidInput("fit tolerance must be positive: " + num(options.tolerance) +
+                       " mm; pass a value such as 0.05");
+  }
+  if (!(options.pointSpacing > 0.0) || !std::isfinite(options.pointSpacing)) {
+    throw InvalidInput("point spacing must be positive: " + num(options.pointSpacing) +
+                       " mm; pass a value such as 2");
+  }
+  if (!(options.smoothing >= 0.0) || !std::isfinite(options.smoothing)) {
+    throw InvalidInput("fit smoothing must be non-negative: " + num(options.smoothing) +
+                       "; pass a value such as 1e-4 or 0");
+  }
+  if (!(options.cornerAngle > 0.0) || !std::isfinite(options.cornerAngle)) {
+    throw InvalidInput("corner angle must be positive: " + num(options.cornerAngle) +
+                       " degrees; pass a value such as 30, or 180 for no corners");
+  }
+  const double chordTolerance =
+      options.chordTolerance > 0.0 ? options.chordTolerance : options.tolerance;
+  // Drop repeated consecutive points.
+  std::vector<Vec3> pts;
+  for (const Vec3& p : raw.points) {
+    if (!p.allFinite()) {
+      throw InvalidInput("raw path has a non-finite point; pass finite coordinates");
+    }
+    if (pts.empty() || (p - pts.back()).squaredNorm() > 0.0) pts.push_back(p);
+  }
+  const bool closed = raw.closed;
+  if (closed && pts.size() > 1 && (pts.back() - pts.front()).squaredNorm() == 0.0) pts.pop_back();
+  const std::size_t minPoints = closed ? 3 : 2;
+  if (pts.size() < minPoints) {
+    throw InvalidInput(
+        std::string("raw path has too few distinct points: ") + std::to_string(pts.size()) +
+        (closed ? " (closed needs 3)" : " (open needs 2)") + "; drop the path or pass more points");
+  }
+  const std::size_t n = pts.size();
+  const std::vector<double> cum = computeCumulativeLengths(Polyline{pts, closed});
+  const double length = cum.back();
+  const std::vector<char> keep = markKeptVertices(pts, closed, kMergeFraction * options.tolerance);
+  std::vector<std::size_t> corners =
+      findCorners(pts, cum, keep, closed, kCornerReachFactor * options.tolerance,
+                  options.cornerAngle * std::numbers::pi / 180.0);
+
+  PathFitResult result;
+  if (closed && corners.empty()) {
+    // One periodic spline over the whole ring.
+    std::vector<double> rawU(n);
+    for (std::size_t i = 0; i < n; ++i) rawU[i] = cum[i] / length;
+    std::vector<Vec3> fitPts;
+    std::vector<double> fitU;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!keep[i]) continue;
+      fitPts.push_back(pts[i]);
+      fitU.push_back(rawU[i]);
+    }
+    PieceFit fit =
+        fitUniformRounds(std::move(fitPts), std::move(fitU), pts, rawU, true, length, options);
+    result.fitRounds = fit.rounds;
+    if (fit.deviation <= options.tolerance) {
+      result.fitDeviation = fit.deviation;
+      result.spline = std::move(fit.spline);
+      resampleSpline(result.spline, options.pointSpacing, chordTolerance, result.points.points,
+                     result.chordError);
+      result.points.closed = true;
+      return result;
+    }
+    // Not even the densified interpolation follows it: one open piece from vertex 0 around, kept
+    // as a polyline below if it fails again.
+    corners.push_back(0);
+  }
+
+  // Pieces between corners (open lines: also from and to the end points), each an open clamped
+  // spline through its two end vertices.
+  std::vector<std::size_t> breaks;
+  if (!closed) breaks.push_back(0);
+  breaks.insert(breaks.end(), corners.begin(), corners.end());
+  if (!closed) {
+    breaks.push_back(n - 1);
+  } else {
+    breaks.push_back(corners.front() + n);  // around to the first corner again
+  }
+  std::vector<BSplineCurve> splines;
+  std::vector<double> pieceLengths;
+  std::vector<Vec3>& out = result.points.points;
+  for (std::size_t b = 0; b + 1 < breaks.size(); ++b) {
+    std::vector<Vec3> rawLine;
+    std::vector<double> rawU{0.0};
+    std::vector<Vec3> fitPts;
+    std::vector<double> fitU;
+    for (std::size_t q = breaks[b]; q <= breaks[b + 1]; ++q) {
+      const Vec3& p = pts[q % n];
+      if (!rawLine.empty()) rawU.push_back(rawU.back() + (p - rawLine.back()).norm());
+      rawLine.push_back(p);
+    }
+    const double pieceLength = rawU.back();
+    for (double& x : rawU) x /= pieceLength;
+    for (std::size_t q = breaks[b]; q <= breaks[b + 1]; ++q) {
+      if (!keep[q % n]) continue;
+      fitPts.push_back(pts[q % n]);
+      fitU.push_back(rawU[q - breaks[b]]);
+    }
+    PieceFit fit;
+    if (fitPts.size() >= 4) {
+      fit = fitUniformRounds(fitPts, fitU, rawLine, rawU, false, pieceLength, options);
+    }
+    if (fit.spline.empty() || fit.deviation > options.tolerance) {
+      // Too few points for a cubic, or no spline within the tolerance: keep the (merged) raw
+      // vertices; the deviation of that polyline is measured like a spline's.
+      fit.spline = makePolylineSpline(fitPts);
+      fit.deviation = measureDeviation(fit.spline, rawLine, rawU, rawLine, rawU, false,
+                                       0.5 * options.tolerance);
+      fit.polyline = std::move(fitPts);
+    }
+    result.fitRounds += fit.rounds;
+    result.fitDeviation = std::max(result.fitDeviation, fit.deviation);
+    // Points of this piece, its first point shared with the previous piece's last.
+    std::vector<Vec3> piecePoints;
+    if (!fit.polyline.empty()) {
+      resampleVertices(fit.polyline, options.pointSpacing, piecePoints);
+    } else {
+      resampleSpline(fit.spline, options.pointSpacing, chordTolerance, piecePoints,
+                     result.chordError);
+    }
+    piecePoints.front() = rawLine.front();
+    piecePoints.back() = rawLine.back();
+    if (b > 0) {
+      result.corners.push_back(out.size() - 1);  // the previous piece's last point
+    } else if (closed) {
+      result.corners.push_back(0);
+    }
+    out.insert(out.end(), piecePoints.begin() + (b == 0 ? 0 : 1), piecePoints.end());
+    splines.push_back(std::move(fit.spline));
+    pieceLengths.push_back(pieceLength);
+  }
+  if (closed) out.pop_back();  // the first corner again
+  result.points.closed = closed;
+  result.spline = joinPieces(splines, pieceLengths);
   return result;
 }
 

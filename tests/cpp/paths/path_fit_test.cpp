@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "curvedslicer/core/error.hpp"
 
@@ -22,6 +23,58 @@ Polyline rawCircle(double r, int n, double zigzag) {
     p.points.emplace_back(rr * std::cos(a), rr * std::sin(a), 0.1 * std::sin(3 * a));
   }
   return p;
+}
+
+/// A closed ring of four circular arcs bulging outward from the sides of a square of side `side`
+/// (mm, sagitta `bulge`), raw points about `step` mm apart, with a z wave: iso-line-like, smooth
+/// except for four corners (the square's vertices, turns of 90° − 2·atan(4·bulge/side)).
+/// Returns the ring and sets `corners` to the corner points. If `microGap` > 0, every tenth raw
+/// point gets a twin `microGap` mm further along (a sub-micrometre segment).
+Polyline rawBulgedSquare(double side, double bulge, double step, double microGap,
+                         std::vector<Vec3>& corners) {
+  Polyline p;
+  p.closed = true;
+  corners.clear();
+  const double h = 0.5 * side;
+  const Vec3 v[4] = {Vec3(-h, -h, 0), Vec3(h, -h, 0), Vec3(h, h, 0), Vec3(-h, h, 0)};
+  const int perSide = static_cast<int>(std::lround(side / step));
+  auto zWave = [&](const Vec3& q) { return 0.8 * std::sin(0.05 * q.x()) * std::cos(0.04 * q.y()); };
+  int count = 0;
+  for (int c = 0; c < 4; ++c) {
+    const Vec3 a = v[c], b = v[(c + 1) % 4];
+    const Vec3 outward = (0.5 * (a + b)).normalized();
+    for (int i = 0; i < perSide; ++i) {
+      const double t = static_cast<double>(i) / perSide;
+      // Parabolic bulge, 0 at the corners.
+      Vec3 q = a + (b - a) * t + outward * (4.0 * bulge * t * (1.0 - t));
+      q.z() = zWave(q);
+      if (i == 0) corners.push_back(q);
+      p.points.push_back(q);
+      if (microGap > 0.0 && ++count % 10 == 0 && i + 1 < perSide) {
+        const Vec3 next = a + (b - a) * ((i + 1.0) / perSide);
+        p.points.push_back(q + (next - q).normalized() * microGap);
+      }
+    }
+  }
+  return p;
+}
+
+/// Dense samples of a fitted spline over u in [0, 1) as a closed polyline: `samples` uniform
+/// parameters and every knot (so the polyline has the corners, where the spline is only C0).
+Polyline sampleClosedSpline(const BSplineCurve& spline, int samples) {
+  std::vector<double> u;
+  for (int i = 0; i < samples; ++i) u.push_back(double(i) / samples);
+  if (!spline.closed) {
+    for (const double k : spline.knots) {
+      if (k < 1.0) u.push_back(k);
+    }
+  }
+  std::sort(u.begin(), u.end());
+  u.erase(std::unique(u.begin(), u.end()), u.end());
+  Polyline dense;
+  dense.closed = true;
+  for (const double x : u) dense.points.push_back(spline.evaluate(x));
+  return dense;
 }
 
 /// Largest distance from the segments between consecutive resampled points to the spline,
@@ -87,39 +140,135 @@ TEST(PathFit, OpenCurveKeepsItsEndPoints) {
   EXPECT_LT((fd - fit.spline.derivative(u)).norm(), 1e-4 * fd.norm());
 }
 
-TEST(PathFit, SharpCornerNeedsMoreControlPoints) {
-  // An L-shaped raw path: the fit must still follow the corner within the tolerance.
+TEST(PathFit, SharpCornerIsKeptExactly) {
+  // An L-shaped raw path: split at the corner, two straight pieces that one round each fits; the
+  // corner is a point of the path. Without corner detection the single spline needs more rounds.
   Polyline raw;
   for (int i = 0; i <= 40; ++i) raw.points.emplace_back(0.25 * i, 0.0, 0.0);
   for (int i = 1; i <= 40; ++i) raw.points.emplace_back(10.0, 0.25 * i, 0.0);
   const PathFitResult fit = fitPath(raw);
   EXPECT_LE(fit.fitDeviation, 0.05);
-  EXPECT_GT(fit.fitRounds, 1);
+  EXPECT_EQ(fit.fitRounds, 2);
+  ASSERT_EQ(fit.corners.size(), 1u);
+  EXPECT_EQ(fit.points.points[fit.corners[0]], Vec3(10.0, 0.0, 0.0));
+  EXPECT_EQ(fit.points.points.front(), raw.points.front());
+  EXPECT_EQ(fit.points.points.back(), raw.points.back());
+  EXPECT_LT((fit.spline.evaluate(0.5) - Vec3(10.0, 0.0, 0.0)).norm(), 1e-12);
+  PathFitOptions noCorners;
+  noCorners.cornerAngle = 180.0;
+  const PathFitResult single = fitPath(raw, noCorners);
+  EXPECT_TRUE(single.corners.empty());
+  EXPECT_LE(single.fitDeviation, 0.05);
+  EXPECT_GT(single.fitRounds, 1);
+  EXPECT_GT(single.spline.controlPoints.size(), 4 * fit.spline.controlPoints.size());
 }
 
-TEST(PathFit, FollowsNoiseLargerThanTheTolerance) {
-  // A ±0.08 mm zigzag cannot be smoothed away within 0.05 mm: the fit has to interpolate and then
-  // densify, and the deviation it reports must match an independent two-sided measurement.
-  const Polyline raw = rawCircle(4.0, 200, 0.08);
+TEST(PathFit, RingWithCornersKeepsThemWithinTolerance) {
+  // A 245 mm iso-line-like ring, 0.1 mm raw spacing, four 53° corners: each corner is a point of
+  // the path, the fit is within the tolerance both ways everywhere (independent measure), and
+  // the four smooth pieces need one round each (one uniform spline ends with > 4× the control
+  // points).
+  std::vector<Vec3> corners;
+  const Polyline raw = rawBulgedSquare(60.0, 5.0, 0.1, 0.0, corners);
   const PathFitResult fit = fitPath(raw);
   EXPECT_TRUE(fit.points.closed);
+  EXPECT_FALSE(fit.spline.closed);
+  ASSERT_EQ(fit.corners.size(), 4u);
+  for (std::size_t c = 0; c < 4; ++c) EXPECT_EQ(fit.points.points[fit.corners[c]], corners[c]);
+  EXPECT_LE(fit.fitRounds, 4 * 2);
+  PathFitOptions noCorners;
+  noCorners.cornerAngle = 180.0;
+  const PathFitResult single = fitPath(raw, noCorners);
+  EXPECT_TRUE(single.corners.empty());
+  EXPECT_GT(single.fitRounds, fit.fitRounds / 4);
+  EXPECT_GT(single.spline.controlPoints.size(), 4 * fit.spline.controlPoints.size());
   EXPECT_LE(fit.fitDeviation, 0.05);
-  EXPECT_GT(fit.fitRounds, 1);
-  Polyline dense;
-  dense.closed = true;
-  const int samples = 16 * static_cast<int>(fit.spline.controlPoints.size());
-  for (int i = 0; i < samples; ++i)
-    dense.points.push_back(fit.spline.evaluate(double(i) / samples));
+  const Polyline dense = sampleClosedSpline(fit.spline, 4000);
+  EXPECT_LT((fit.spline.evaluate(0.0) - fit.spline.evaluate(1.0)).norm(), 1e-12);
   const double rawToSpline = computeOneSidedHausdorff(raw, dense, 0);
   const double splineToRaw = computeOneSidedHausdorff(dense, raw, 0);
   EXPECT_LE(rawToSpline, 0.05 + 1e-3);
   EXPECT_LE(splineToRaw, 0.05 + 1e-3);
   EXPECT_NEAR(fit.fitDeviation, std::max(rawToSpline, splineToRaw), 2e-3);
+  // Resampled path: spacing, chord error (independent) and no self-intersection.
+  for (std::size_t i = 0; i < fit.points.segmentCount(); ++i) {
+    EXPECT_LE((fit.points.segmentEnd(i) - fit.points.segmentStart(i)).norm(), 2.0 + 1e-9);
+  }
+  EXPECT_LE(fit.chordError, 0.05);
+  EXPECT_LE(computeOneSidedHausdorff(dense, fit.points, 0), 0.05 + 1e-3);
+  EXPECT_LE(computeOneSidedHausdorff(fit.points, raw, 4), 0.05 + 0.05 + 1e-9);
+  EXPECT_FALSE(hasSelfIntersection(fit.points, 1e-6));
+  // Same corners starting the ring elsewhere (rotation of the raw vertices).
+  Polyline rotated = raw;
+  std::rotate(rotated.points.begin(), rotated.points.begin() + 377, rotated.points.end());
+  const PathFitResult again = fitPath(rotated);
+  ASSERT_EQ(again.corners.size(), 4u);
+  EXPECT_EQ(again.points.points[again.corners[0]], corners[1]);
+  EXPECT_LE(again.fitDeviation, 0.05);
+}
+
+TEST(PathFit, MicroSegmentsAreHarmless) {
+  // The same ring with a 0.5 µm segment every tenth raw point: merged before fitting, so the fit
+  // takes the same rounds, stays within the tolerance of every raw vertex, and the path has no
+  // sub-micrometre segment.
+  std::vector<Vec3> corners;
+  const Polyline clean = rawBulgedSquare(60.0, 5.0, 0.1, 0.0, corners);
+  const Polyline raw = rawBulgedSquare(60.0, 5.0, 0.1, 5e-4, corners);
+  ASSERT_GT(raw.points.size(), clean.points.size() + 200);
+  const PathFitResult reference = fitPath(clean);
+  const PathFitResult fit = fitPath(raw);
+  EXPECT_EQ(fit.fitRounds, reference.fitRounds);
+  EXPECT_LE(fit.fitDeviation, 0.05);
+  ASSERT_EQ(fit.corners.size(), 4u);
+  for (std::size_t c = 0; c < 4; ++c) EXPECT_EQ(fit.points.points[fit.corners[c]], corners[c]);
+  const Polyline dense = sampleClosedSpline(fit.spline, 4000);
+  EXPECT_LE(computeOneSidedHausdorff(raw, dense, 0), 0.05 + 1e-3);
+  double shortest = kInf;
+  for (std::size_t i = 0; i < fit.points.segmentCount(); ++i)
+    shortest = std::min(shortest, (fit.points.segmentEnd(i) - fit.points.segmentStart(i)).norm());
+  EXPECT_GT(shortest, 1e-3);
+  // An open line made only of micro-segments at one end still keeps its exact end points.
+  Polyline open;
+  for (int i = 0; i <= 100; ++i) open.points.emplace_back(0.2 * i, 0.01 * i * i * 0.04, 0.0);
+  open.points.emplace_back(20.0 + 1e-4, 4.0, 0.0);
+  const PathFitResult openFit = fitPath(open);
+  EXPECT_EQ(openFit.points.points.front(), open.points.front());
+  EXPECT_EQ(openFit.points.points.back(), open.points.back());
+  EXPECT_LE(openFit.fitDeviation, 0.05);
+}
+
+TEST(PathFit, FollowsNoiseLargerThanTheTolerance) {
+  // A ±0.08 mm zigzag cannot be smoothed away within 0.05 mm. By default it turns by more than
+  // the corner angle at every other raw point, so the path keeps those points; without corners
+  // the single spline has to interpolate and then densify. Either way the deviation it reports
+  // must match an independent two-sided measurement.
+  const Polyline raw = rawCircle(4.0, 200, 0.08);
+  for (const double cornerAngle : {30.0, 180.0}) {
+    PathFitOptions options;
+    options.cornerAngle = cornerAngle;
+    const PathFitResult fit = fitPath(raw, options);
+    EXPECT_TRUE(fit.points.closed);
+    EXPECT_LE(fit.fitDeviation, 0.05);
+    if (cornerAngle < 180.0) {
+      EXPECT_FALSE(fit.corners.empty());
+    } else {
+      EXPECT_TRUE(fit.corners.empty());
+      EXPECT_GT(fit.fitRounds, 1);
+    }
+    const Polyline dense =
+        sampleClosedSpline(fit.spline, 16 * static_cast<int>(fit.spline.controlPoints.size()));
+    const double rawToSpline = computeOneSidedHausdorff(raw, dense, 0);
+    const double splineToRaw = computeOneSidedHausdorff(dense, raw, 0);
+    EXPECT_LE(rawToSpline, 0.05 + 1e-3);
+    EXPECT_LE(splineToRaw, 0.05 + 1e-3);
+    EXPECT_NEAR(fit.fitDeviation, std::max(rawToSpline, splineToRaw), 2e-3);
+  }
 }
 
 TEST(PathFit, UnevenSamplingDeviationMatchesIndependentMeasure) {
   // Raw points bunched at one end of each side of a square (segments from 4e-4 mm to 1 mm): the
-  // reported deviation must be the two-sided distance measured independently.
+  // reported deviation must be the two-sided distance measured independently, with the corners
+  // kept (four straight pieces) and as one spline.
   Polyline raw;
   raw.closed = true;
   const Vec3 corners[4] = {Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(10, 10, 0), Vec3(0, 10, 0)};
@@ -129,16 +278,18 @@ TEST(PathFit, UnevenSamplingDeviationMatchesIndependentMeasure) {
       raw.points.push_back(corners[c] + (corners[(c + 1) % 4] - corners[c]) * t);
     }
   }
-  const PathFitResult fit = fitPath(raw);
-  Polyline dense;
-  dense.closed = true;
-  const int samples = 16 * static_cast<int>(fit.spline.controlPoints.size());
-  for (int i = 0; i < samples; ++i)
-    dense.points.push_back(fit.spline.evaluate(double(i) / samples));
-  const double measured =
-      std::max(computeOneSidedHausdorff(raw, dense, 0), computeOneSidedHausdorff(dense, raw, 0));
-  EXPECT_LE(fit.fitDeviation, 0.05);
-  EXPECT_NEAR(fit.fitDeviation, measured, 2e-3);
+  for (const double cornerAngle : {30.0, 180.0}) {
+    PathFitOptions options;
+    options.cornerAngle = cornerAngle;
+    const PathFitResult fit = fitPath(raw, options);
+    EXPECT_EQ(fit.corners.size(), cornerAngle < 180.0 ? 4u : 0u);
+    const Polyline dense =
+        sampleClosedSpline(fit.spline, 16 * static_cast<int>(fit.spline.controlPoints.size()));
+    const double measured =
+        std::max(computeOneSidedHausdorff(raw, dense, 0), computeOneSidedHausdorff(dense, raw, 0));
+    EXPECT_LE(fit.fitDeviation, 0.05);
+    EXPECT_NEAR(fit.fitDeviation, measured, 2e-3);
+  }
 }
 
 TEST(PathFit, ResamplePolyline) {
@@ -164,6 +315,9 @@ TEST(PathFit, BadInput) {
   bad = {};
   bad.smoothing = -1.0;
   EXPECT_THROW(fitPath(raw, bad), InvalidInput);
+  bad = {};
+  bad.cornerAngle = 0.0;
+  EXPECT_THROW(fitPath(raw, bad), InvalidInput);
   EXPECT_THROW(fitPath(Polyline{{Vec3::Zero()}, false}), InvalidInput);
   EXPECT_THROW(fitPath(Polyline{{Vec3::Zero(), Vec3::UnitX()}, true}), InvalidInput);
   EXPECT_THROW(fitPath(Polyline{{Vec3::Zero(), Vec3::Zero()}, false}), InvalidInput);
@@ -173,6 +327,11 @@ TEST(PathFit, Deterministic) {
   const Polyline raw = rawCircle(8.0, 120, 0.02);
   const PathFitResult a = fitPath(raw), b = fitPath(raw);
   EXPECT_EQ(a.points.points, b.points.points);
+  std::vector<Vec3> corners;
+  const Polyline ring = rawBulgedSquare(40.0, 3.0, 0.1, 5e-4, corners);
+  const PathFitResult c = fitPath(ring), d = fitPath(ring);
+  EXPECT_EQ(c.points.points, d.points.points);
+  EXPECT_EQ(c.corners, d.corners);
 }
 
 }  // namespace
