@@ -430,6 +430,21 @@ struct OutPath {
   std::string what;  // for warnings: "GDTC x mm near (…)"
 };
 
+/// Removes the lines with fewer than 2 points, and their `centre` flags, keeping the order.
+void dropShortLines(std::vector<Polyline>& lines, std::vector<bool>& centre) {
+  std::size_t w = 0;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    if (lines[i].points.size() < 2) continue;
+    if (w != i) {
+      lines[w] = std::move(lines[i]);
+      centre[w] = centre[i];
+    }
+    ++w;
+  }
+  lines.resize(w);
+  centre.resize(w);
+}
+
 /// Smallest distance from the segment a–b, sampled every `step`, to the lines other than
 /// `skipA` and `skipB`.
 double connectorClearance(const std::vector<Polyline>& lines, std::size_t skipA, std::size_t skipB,
@@ -532,17 +547,7 @@ std::size_t linkOpenEnds(std::vector<Polyline>& lines, std::vector<bool>& centre
     used[pair.b.line][pair.b.atEnd] = true;
     ++links;
   }
-  std::size_t w = 0;
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (lines[i].points.empty()) continue;
-    if (w != i) {
-      lines[w] = std::move(lines[i]);
-      centre[w] = centre[i];
-    }
-    ++w;
-  }
-  lines.resize(w);
-  centre.resize(w);
+  dropShortLines(lines, centre);
   return links;
 }
 
@@ -588,17 +593,7 @@ std::size_t shortenCrowdedEnds(std::vector<Polyline>& lines, std::vector<bool>& 
     longestCut = std::max({longestCut, from, tr.length - to});
     lines[i] = to - from >= minLength ? cutLine(tr, from, to) : Polyline{};
   }
-  std::size_t w = 0;
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (lines[i].points.size() < 2) continue;
-    if (w != i) {
-      lines[w] = std::move(lines[i]);
-      centre[w] = centre[i];
-    }
-    ++w;
-  }
-  lines.resize(w);
-  centre.resize(w);
+  dropShortLines(lines, centre);
   return cut;
 }
 
