@@ -10,7 +10,9 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
+#include "common/raw_paths.hpp"
 #include "curvedslicer/paths/path_fit.hpp"
 
 namespace {
@@ -54,28 +56,12 @@ Polyline makeWave(int n) {
   return p;
 }
 
-/// Closed ring of four parabolic arcs (sagitta side / 12) bulging out from the sides of a square of
-/// side `side` (mm), raw points 0.1 mm apart, a z wave, corners of 53° at the square's vertices;
-/// with `micro`, every tenth raw point gets a twin 0.5 µm further on.
+/// The path-fit tests' cornered ring (testing::makeBulgedSquareRing): sagitta side / 12, raw
+/// points 0.1 mm apart, corners of 53°; with `micro`, 0.5 µm twins of every tenth raw point.
 Polyline makeCornerRing(double side, bool micro) {
-  Polyline p;
-  p.closed = true;
-  const double h = 0.5 * side, bulge = side / 12.0;
-  const Vec3 v[4] = {Vec3(-h, -h, 0), Vec3(h, -h, 0), Vec3(h, h, 0), Vec3(-h, h, 0)};
-  const int perSide = static_cast<int>(std::lround(side / 0.1));
-  int count = 0;
-  for (int c = 0; c < 4; ++c) {
-    const Vec3 a = v[c], b = v[(c + 1) % 4];
-    const Vec3 outward = (0.5 * (a + b)).normalized();
-    for (int i = 0; i < perSide; ++i) {
-      const double t = static_cast<double>(i) / perSide;
-      Vec3 q = a + (b - a) * t + outward * (4.0 * bulge * t * (1.0 - t));
-      q.z() = 0.8 * std::sin(0.05 * q.x()) * std::cos(0.04 * q.y());
-      p.points.push_back(q);
-      if (micro && ++count % 10 == 0) p.points.push_back(q + (b - a).normalized() * 5e-4);
-    }
-  }
-  return p;
+  std::vector<Vec3> corners;
+  return curvedslicer::testing::makeBulgedSquareRing(side, side / 12.0, 0.1, micro ? 5e-4 : 0.0,
+                                                     corners);
 }
 
 void runFit(benchmark::State& state, const Polyline& raw) {

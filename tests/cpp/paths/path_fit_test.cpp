@@ -8,6 +8,7 @@
 #include <numbers>
 #include <vector>
 
+#include "common/raw_paths.hpp"
 #include "curvedslicer/core/error.hpp"
 
 namespace curvedslicer {
@@ -21,40 +22,6 @@ Polyline rawCircle(double r, int n, double zigzag) {
     const double a = 2 * std::numbers::pi * i / n;
     const double rr = r + (i % 2 ? zigzag : -zigzag);
     p.points.emplace_back(rr * std::cos(a), rr * std::sin(a), 0.1 * std::sin(3 * a));
-  }
-  return p;
-}
-
-/// A closed ring of four circular arcs bulging outward from the sides of a square of side `side`
-/// (mm, sagitta `bulge`), raw points about `step` mm apart, with a z wave: iso-line-like, smooth
-/// except for four corners (the square's vertices, turns of 90° − 2·atan(4·bulge/side)).
-/// Returns the ring and sets `corners` to the corner points. If `microGap` > 0, every tenth raw
-/// point gets a twin `microGap` mm further along (a sub-micrometre segment).
-Polyline rawBulgedSquare(double side, double bulge, double step, double microGap,
-                         std::vector<Vec3>& corners) {
-  Polyline p;
-  p.closed = true;
-  corners.clear();
-  const double h = 0.5 * side;
-  const Vec3 v[4] = {Vec3(-h, -h, 0), Vec3(h, -h, 0), Vec3(h, h, 0), Vec3(-h, h, 0)};
-  const int perSide = static_cast<int>(std::lround(side / step));
-  auto zWave = [&](const Vec3& q) { return 0.8 * std::sin(0.05 * q.x()) * std::cos(0.04 * q.y()); };
-  int count = 0;
-  for (int c = 0; c < 4; ++c) {
-    const Vec3 a = v[c], b = v[(c + 1) % 4];
-    const Vec3 outward = (0.5 * (a + b)).normalized();
-    for (int i = 0; i < perSide; ++i) {
-      const double t = static_cast<double>(i) / perSide;
-      // Parabolic bulge, 0 at the corners.
-      Vec3 q = a + (b - a) * t + outward * (4.0 * bulge * t * (1.0 - t));
-      q.z() = zWave(q);
-      if (i == 0) corners.push_back(q);
-      p.points.push_back(q);
-      if (microGap > 0.0 && ++count % 10 == 0 && i + 1 < perSide) {
-        const Vec3 next = a + (b - a) * ((i + 1.0) / perSide);
-        p.points.push_back(q + (next - q).normalized() * microGap);
-      }
-    }
   }
   return p;
 }
@@ -169,7 +136,7 @@ TEST(PathFit, RingWithCornersKeepsThemWithinTolerance) {
   // the four smooth pieces need one round each (one uniform spline ends with > 4× the control
   // points).
   std::vector<Vec3> corners;
-  const Polyline raw = rawBulgedSquare(60.0, 5.0, 0.1, 0.0, corners);
+  const Polyline raw = testing::makeBulgedSquareRing(60.0, 5.0, 0.1, 0.0, corners);
   const PathFitResult fit = fitPath(raw);
   EXPECT_TRUE(fit.points.closed);
   EXPECT_FALSE(fit.spline.closed);
@@ -212,8 +179,8 @@ TEST(PathFit, MicroSegmentsAreHarmless) {
   // takes the same rounds, stays within the tolerance of every raw vertex, and the path has no
   // sub-micrometre segment.
   std::vector<Vec3> corners;
-  const Polyline clean = rawBulgedSquare(60.0, 5.0, 0.1, 0.0, corners);
-  const Polyline raw = rawBulgedSquare(60.0, 5.0, 0.1, 5e-4, corners);
+  const Polyline clean = testing::makeBulgedSquareRing(60.0, 5.0, 0.1, 0.0, corners);
+  const Polyline raw = testing::makeBulgedSquareRing(60.0, 5.0, 0.1, 5e-4, corners);
   ASSERT_GT(raw.points.size(), clean.points.size() + 200);
   const PathFitResult reference = fitPath(clean);
   const PathFitResult fit = fitPath(raw);
@@ -328,7 +295,7 @@ TEST(PathFit, Deterministic) {
   const PathFitResult a = fitPath(raw), b = fitPath(raw);
   EXPECT_EQ(a.points.points, b.points.points);
   std::vector<Vec3> corners;
-  const Polyline ring = rawBulgedSquare(40.0, 3.0, 0.1, 5e-4, corners);
+  const Polyline ring = testing::makeBulgedSquareRing(40.0, 3.0, 0.1, 5e-4, corners);
   const PathFitResult c = fitPath(ring), d = fitPath(ring);
   EXPECT_EQ(c.points.points, d.points.points);
   EXPECT_EQ(c.corners, d.corners);
