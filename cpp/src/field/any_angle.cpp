@@ -66,10 +66,14 @@ constexpr std::size_t kParallelTestsMin = 20000;
 /// Geometric tolerance of the inheritance test, cells (any doubt makes it fall back).
 constexpr double kInheritTolerance = 1e-6;
 
+/// Candidate::edge of a repair's placeholder for the pivots through one parent (see repair).
+constexpr std::int32_t kExpandParent = -2;
+
 struct Candidate {
-  double value;         // total distance via this option, cells
+  double value;         // total distance via this option, cells (a lower bound for a placeholder)
   std::int32_t parent;  // parent of the option (or of the new pivot)
-  std::int32_t edge;    // reflex edge of a new pivot, -1 for "take the parent directly"
+  std::int32_t edge;    // reflex edge of a new pivot, -1 for "take the parent directly",
+                        // kExpandParent for the pivots through `parent` not yet valued
   Vec3 point;           // the new pivot's position
 };
 
@@ -350,9 +354,11 @@ class AnyAnglePropagator {
         // A cell that inherits its line of sight from a neighbour needs no segment test.
         const bool inherited = inheritSight_ && (inheritLineOfSight(n, x) & kVerified);
         if (!inherited) ++stats_.lineOfSightTests;
-        if (!inherited && !visibleVia(parent_[n], x)) {
+        Vec3 hit;
+        bool hitFound = false;
+        if (!inherited && !visibleVia(parent_[n], x, &hit, &hitFound)) {
           ++stats_.lineOfSightFailures;
-          repair(n, x);
+          repair(n, x, hitFound ? &hit : nullptr);
           push(dist_[n], n);  // its value grew: back into the queue, now verified
           continue;
         }
@@ -479,16 +485,21 @@ class AnyAnglePropagator {
   }
 
   /// Line-of-sight failure at cell n: see the file comment, (a)–(c). Candidate lengths are cheap,
-  /// visibility tests are not: all candidates are valued first, then tested in increasing order
-  /// until one is visible; the neighbour-centre pivot (always admissible) bounds the search.
-  void repair(std::uint32_t n, const Vec3& x) {
+  /// visibility tests are not, so candidates are taken in increasing length from a heap until one
+  /// is admissible: (a) the neighbours' parents; (b) pivots on the reflex edges near the cell and
+  /// near where its blocked segment meets the surface, generated per parent only when the heap
+  /// reaches that parent's straight length (distances through a parent are 1-Lipschitz, so no
+  /// pivot via the parent is shorter); (c) the finished neighbours' centres, tested when a
+  /// candidate at least as long (within 1e-9) is next — the first one in sight ends the search.
+  /// Edges whose outside wedge holds the cell are skipped: no pivot on them sees it.
+  /// `blockedAt`: where the segment to the cell's parent was found to cross the surface, if known.
+  void repair(std::uint32_t n, const Vec3& x, const Vec3* blockedAt) {
     const std::int32_t failed = parent_[n];
     std::int32_t parents[27];
-    double direct[27];  // evaluate(parents[i], x): a lower bound of every pivot through parents[i]
     int parentCount = 0;
-    direct[parentCount] = evaluate(failed, x, nullptr);
     parents[parentCount++] = failed;
     candidates_.clear();
+    candidates_.push_back({evaluate(failed, x, nullptr), failed, kExpandParent, Vec3::Zero()});
     std::pair<double, int> via[26];  // (distance via the finished neighbour's centre, offset)
     int viaCount = 0;
     for (int o = 0; o < 26; ++o) {
@@ -497,54 +508,83 @@ class AnyAnglePropagator {
       via[viaCount++] = {dist_[m] + lengths_[o], o};
       const std::int32_t q = parent_[m];
       if (std::find(parents, parents + parentCount, q) != parents + parentCount) continue;
-      direct[parentCount] = evaluate(q, x, nullptr);
       parents[parentCount++] = q;
-      // (a) the neighbour's parent.
-      candidates_.push_back({direct[parentCount - 1], q, -1, Vec3::Zero()});
+      const double direct = evaluate(q, x, nullptr);
+      candidates_.push_back({direct, q, -1, Vec3::Zero()});  // (a) the neighbour's parent
+      candidates_.push_back({direct, q, kExpandParent, Vec3::Zero()});
     }
-    // (c) the best finished neighbour whose centre the cell sees, as a pivot: the bound of the
-    // search. Two neighbouring cell centres need not see each other: their segment can cut the
-    // corner of a reflex edge that passes between them.
     std::sort(via, via + viaCount);
-    double best = kInf;
-    std::uint32_t bestCell = 0;
-    for (int k = 0; k < viaCount; ++k) {
-      const int o = via[k].second;
-      if (visible(x, x + offsets_[o], 0.0, mailbox_, /*strict=*/true)) {
-        best = via[k].first;
-        bestCell = static_cast<std::uint32_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
-        break;
-      }
-    }
-    // (b) pivots on reflex edges near the cell and near where its blocked segment hits the
-    // surface, for every candidate parent.
+    edges_.clear();
     if (boundary_) {
       boundary_->reflexEdgesNear(x, kEdgeReach, edges_);
       Vec3 target, hit;
-      evaluate(failed, x, &target);
-      if (!boundary_->segmentClear(x, shortened(x, target, slackFor(failed)), mailbox_, &hit)) {
+      bool blocked = blockedAt != nullptr;
+      if (blocked) {
+        hit = *blockedAt;
+      } else {
+        evaluate(failed, x, &target);
+        blocked =
+            !boundary_->segmentClear(x, shortened(x, target, slackFor(failed)), mailbox_, &hit);
+      }
+      if (blocked) {
         boundary_->reflexEdgesNear(hit, kEdgeReach, moreEdges_);
         edges_.insert(edges_.end(), moreEdges_.begin(), moreEdges_.end());
         std::sort(edges_.begin(), edges_.end());
         edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
       }
-      for (std::uint32_t e : edges_) {
+      // The faces' normals are perpendicular to the edge, so whether x lies in the outside wedge
+      // (pivotAdmissible's test leavesSolidAt(e, x − pivot, 0)) does not depend on the pivot's
+      // place on the edge; the margin makes the skip never reject what that test accepts.
+      std::erase_if(edges_, [&](std::uint32_t e) {
         const auto& edge = boundary_->reflexEdge(e);
-        for (int i = 0; i < parentCount; ++i) {
-          // Distances through a parent are 1-Lipschitz, so no pivot via parents[i] is shorter
-          // than the straight value; one that cannot beat `best` would never be tested.
-          if (!(direct[i] < best - 1e-9)) continue;
-          Vec3 y;
-          const double value = bestPointOnEdge(parents[i], edge[0], edge[1], x, &y);
-          if (value < best - 1e-9)
-            candidates_.push_back({value, parents[i], static_cast<std::int32_t>(e), y});
-        }
-      }
+        const Vec3 d = x - edge[0];
+        const auto& normals = boundary_->reflexNormals(e);
+        const double tol = 1e-8 * (d.norm() + (edge[1] - edge[0]).norm());
+        return normals[0].dot(d) > tol && normals[1].dot(d) > tol;
+      });
     }
-    std::sort(candidates_.begin(), candidates_.end(),
-              [](const Candidate& l, const Candidate& r) { return l.value < r.value; });
-    for (const Candidate& c : candidates_) {
-      if (!(c.value < best)) break;
+    if (edges_.empty()) {
+      std::erase_if(candidates_, [](const Candidate& c) { return c.edge == kExpandParent; });
+    }
+    // Shortest first; equal lengths in a fixed order (a parent's expansion before the candidates,
+    // then by edge and parent), as pivots at an edge's end tie across the edges meeting there.
+    auto later = [](const Candidate& l, const Candidate& r) {
+      if (l.value != r.value) return l.value > r.value;
+      if (l.edge != r.edge) return l.edge > r.edge;
+      return l.parent > r.parent;
+    };
+    std::make_heap(candidates_.begin(), candidates_.end(), later);
+    double best = kInf;
+    std::uint32_t bestCell = 0;
+    int nextVia = 0;
+    auto tryVia = [&](int k) {
+      const int o = via[k].second;
+      // Two neighbouring cell centres need not see each other: their segment can cut the corner
+      // of a reflex edge that passes between them.
+      if (!visible(x, x + offsets_[o], 0.0, mailbox_, /*strict=*/true)) return false;
+      best = via[k].first;
+      bestCell = static_cast<std::uint32_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
+      return true;
+    };
+    while (!candidates_.empty()) {
+      std::pop_heap(candidates_.begin(), candidates_.end(), later);
+      const Candidate c = candidates_.back();
+      candidates_.pop_back();
+      bool settled = false;
+      while (!settled && nextVia < viaCount && via[nextVia].first <= c.value + 1e-9)
+        settled = tryVia(nextVia++);
+      if (settled) break;
+      if (c.edge == kExpandParent) {
+        for (std::uint32_t e : edges_) {
+          const auto& edge = boundary_->reflexEdge(e);
+          if (chordAlwaysLeaves(c.parent, e)) continue;
+          Vec3 y;
+          const double value = bestPointOnEdge(c.parent, edge[0], edge[1], x, &y);
+          candidates_.push_back({value, c.parent, static_cast<std::int32_t>(e), y});
+          std::push_heap(candidates_.begin(), candidates_.end(), later);
+        }
+        continue;
+      }
       if (c.edge < 0 ? visibleVia(c.parent, x) : pivotAdmissible(c, x)) {
         if (c.edge >= 0) {
           Vec3 target;
@@ -559,6 +599,7 @@ class AnyAnglePropagator {
         return;
       }
     }
+    while (best == kInf && nextVia < viaCount) tryVia(nextVia++);
     if (best == kInf) {
       if (viaCount == 0) {
         // Cannot happen: a queued cell always has a finished neighbour or is a seed.
@@ -746,11 +787,14 @@ class AnyAnglePropagator {
            boundary_->leavesSolidAt(static_cast<std::uint32_t>(p.edge), x - p.position, 0.0);
   }
 
-  bool visibleVia(std::int32_t q, const Vec3& x) const {
+  /// Line of sight from x to its segment's end through parent q. When the surface blocks it and
+  /// `hit` is given, *hitFound tells whether a crossing point was stored in *hit.
+  bool visibleVia(std::int32_t q, const Vec3& x, Vec3* hit = nullptr,
+                  bool* hitFound = nullptr) const {
     if (behindPivotEdge(q, x)) return false;
     Vec3 target;
     evaluate(q, x, &target);
-    return visible(x, target, slackFor(q), mailbox_);
+    return visible(x, target, slackFor(q), mailbox_, /*strict=*/false, hit, hitFound);
   }
 
   /// A pivot at point c.point of reflex edge c.edge with parent c.parent: the segments to it must
@@ -773,6 +817,29 @@ class AnyAnglePropagator {
     return boundary_->segmentClear(c.point, end, mailbox_);
   }
 
+  /// True if pivotAdmissible rejects every pivot on reflex edge e through point parent q for its
+  /// chord to q: the faces' normals of e are perpendicular to it, so whether the chord leaves the
+  /// solid at the new pivot does not depend on the pivot's place on the edge; whether it leaves
+  /// at q's own edge is linear along e, so decided at e's ends. Margins make the result never
+  /// reject what pivotAdmissible accepts. False for source triangles.
+  bool chordAlwaysLeaves(std::int32_t q, std::uint32_t e) const {
+    if (q < 0) return false;
+    const Pivot& p = pivots_[static_cast<std::size_t>(q)];
+    const auto& edge = boundary_->reflexEdge(e);
+    const double len = (edge[1] - edge[0]).norm();
+    const Vec3 toParent = p.position - edge[0];
+    const double limit = 2.0 * kChordDepth + 1e-8 * (toParent.norm() + len);
+    const auto& normals = boundary_->reflexNormals(e);
+    if (normals[0].dot(toParent) > limit && normals[1].dot(toParent) > limit) return true;
+    if (p.edge < 0) return false;
+    const auto& parentNormals = boundary_->reflexNormals(static_cast<std::uint32_t>(p.edge));
+    for (const Vec3& nrm : parentNormals) {
+      if (!(nrm.dot(edge[0] - p.position) > limit && nrm.dot(edge[1] - p.position) > limit))
+        return false;
+    }
+    return true;
+  }
+
   static Vec3 shortened(const Vec3& from, const Vec3& to, double slack) {
     const Vec3 d = to - from;
     const double len = d.norm();
@@ -783,9 +850,10 @@ class AnyAnglePropagator {
   /// Line of sight from `from` (an inside cell centre) to `to`, ignoring the last `slack` cells.
   /// Sphere tracing through the clearance field accepts the part of the segment that is far from
   /// every wall; the rest is tested exactly against the surface (or by cell walking without it).
-  /// Thread-safe with one `mailbox` per thread.
+  /// Thread-safe with one `mailbox` per thread. When the surface blocks the segment and `hit` is
+  /// given, a crossing point goes to *hit and *hitFound is set (cell walking finds none).
   bool visible(const Vec3& from, const Vec3& to, double slack, SolidBoundary::Mailbox& mailbox,
-               bool strict = false) const {
+               bool strict = false, Vec3* hit = nullptr, bool* hitFound = nullptr) const {
     const Vec3 end = shortened(from, to, slack);
     const Vec3 d = end - from;
     const double len = d.norm();
@@ -812,8 +880,10 @@ class AnyAnglePropagator {
     }
     const Vec3 rest = from + t * dir;
     if (boundary_) {
-      return boundary_->segmentClear(rest, end, mailbox, nullptr,
-                                     strict ? 0.0 : SolidBoundary::kStartTolerance);
+      const bool clear = boundary_->segmentClear(rest, end, mailbox, hit,
+                                                 strict ? 0.0 : SolidBoundary::kStartTolerance);
+      if (!clear && hitFound) *hitFound = true;
+      return clear;
     }
     return visibleThroughCells(rest, end);
   }

@@ -83,6 +83,10 @@ SolidBoundary::SolidBoundary(const GridGeometry& g, const TriMesh& model) {
     triOfModel[t] = id;
     tris_.push_back(tri);
     normals_.push_back(n);
+    crossing_.push_back(
+        {1e-9 * nn,
+         -1e-9 * n.squaredNorm(),
+         {n.cross(tri[1] - tri[0]), n.cross(tri[2] - tri[1]), n.cross(tri[0] - tri[2])}});
     const Vec3 lo = tri[0].cwiseMin(tri[1]).cwiseMin(tri[2]);
     const Vec3 hi = tri[0].cwiseMax(tri[1]).cwiseMax(tri[2]);
     const Vec3i b0 = brickOf(lo), b1 = brickOf(hi);
@@ -158,7 +162,8 @@ bool SolidBoundary::crossesTriangle(const Vec3& a, const Vec3& b, std::uint32_t 
   const double db = n.dot(b - tri[0]);
   // Both ends on one side (the common case, decided without the square root below).
   if ((da > 0) == (db > 0)) return false;
-  const double eps = 1e-9 * n.norm();
+  const CrossingData& c = crossing_[t];
+  const double eps = c.planeEps;
   if (std::abs(da) <= eps || std::abs(db) <= eps) return false;  // touches the plane at an end
   const double s = da / (da - db);
   // A start point within startTolerance cells outside the surface (a cell centre in the sliver
@@ -166,11 +171,8 @@ bool SolidBoundary::crossesTriangle(const Vec3& a, const Vec3& b, std::uint32_t 
   if (startTolerance > 0 && s * (b - a).norm() < startTolerance) return false;
   const Vec3 p = a + s * (b - a);
   // Inclusive point-in-triangle test (a crossing through an edge or vertex counts).
-  const double tol = -1e-9 * n.squaredNorm();
   for (int k = 0; k < 3; ++k) {
-    const Vec3& u = tri[k];
-    const Vec3& w = tri[(k + 1) % 3];
-    if (n.dot((w - u).cross(p - u)) < tol) return false;
+    if (c.sideNormals[k].dot(p - tri[k]) < c.sideTol) return false;
   }
   return true;
 }

@@ -86,7 +86,15 @@ class SolidBoundary {
   double inverseBrick_ = 0.5;
   Vec3i bdims_;
   std::vector<Triangle> tris_;
-  std::vector<Vec3> normals_;                      // unnormalised
+  std::vector<Vec3> normals_;  // unnormalised
+  /// Per triangle, for crossesTriangle: 1e-9·|n|, −1e-9·|n|², and the sides' inward normals
+  /// n × (v[k+1] − v[k]) (n·((v[k+1] − v[k]) × (p − v[k])) = (n × (v[k+1] − v[k]))·(p − v[k])).
+  struct CrossingData {
+    double planeEps;
+    double sideTol;
+    std::array<Vec3, 3> sideNormals;
+  };
+  std::vector<CrossingData> crossing_;
   std::vector<std::uint32_t> triStart_, triList_;  // CSR: brick -> triangles
   std::vector<std::array<Vec3, 2>> reflex_;
   std::vector<std::array<Vec3, 2>> reflexNormals_;   // unit outward normals of the two faces
