@@ -862,9 +862,14 @@ class AnyAnglePropagator {
     double t = 0.0;
     while (true) {
       const Vec3 p = from + t * dir;
-      std::size_t idx;
-      Vec3 centre;
-      if (!insideCell(p, &idx, &centre)) break;
+      const int i = static_cast<int>(std::floor(p.x()));
+      const int j = static_cast<int>(std::floor(p.y()));
+      const int k = static_cast<int>(std::floor(p.z()));
+      if (!g_.contains(i, j, k)) break;
+      // One load per step: the clearance is 0 exactly on outside cells and at least 1 inside.
+      const std::uint8_t clearance = clearance_[g_.index(i, j, k)];
+      if (clearance == 0) break;
+      const Vec3 centre = cellCentre(Vec3i(i, j, k));
       // Every point q within `safe` of p is at least √3/2 + ½ cells from every outside cell
       // centre o, so q lies in an inside cell with half a cell to spare (see clearance.hpp):
       // |q − o| ≥ |o − c| − |c − p| − |p − q| ≥ clearance(c) − |c − p| − safe ≥ √3/2 + ½, with
@@ -873,7 +878,7 @@ class AnyAnglePropagator {
       // with the bound √3/2 alone).
       const Vec3 offset = (p - centre).cwiseAbs();
       const double reach = std::min(offset.x() + offset.y() + offset.z(), kHalfSqrt3);
-      const double safe = clearance_[idx] - reach - kHalfSqrt3 - 0.5;
+      const double safe = clearance - reach - kHalfSqrt3 - 0.5;
       if (t + safe >= len) return true;
       if (safe < 1.0) break;
       t += safe;
