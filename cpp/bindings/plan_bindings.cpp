@@ -80,7 +80,8 @@ py::dict planResultDict(PlanResult& result, const std::string& model, const std:
 
 py::dict planLayersPy(const py::list& layers, const std::optional<DoubleArray>& startVertices,
                       const std::optional<IntArray>& startTriangles, double beadSpacing,
-                      double pointSpacing, double fitTolerance, const std::string& initialCurve,
+                      double pointSpacing, double fitTolerance, double cornerAngle,
+                      const std::string& initialCurve,
                       const std::optional<std::vector<double>>& planePoint,
                       const std::optional<std::vector<double>>& planeNormal,
                       const std::optional<DoubleArray>& surfaceVertices,
@@ -93,6 +94,7 @@ py::dict planLayersPy(const py::list& layers, const std::optional<DoubleArray>& 
   options.beadSpacing = beadSpacing;
   options.pointSpacing = pointSpacing;
   options.fitTolerance = fitTolerance;
+  options.cornerAngle = cornerAngle;
   options.geodesic.method = surfaceMethodFromName(surfaceMethod);
   options.narrowStrips = parseNarrowStripMode(narrowStrips);
   if (initialCurve == "boundary") {
@@ -150,14 +152,15 @@ py::dict planLayersPy(const py::list& layers, const std::optional<DoubleArray>& 
 }
 
 py::dict planThinWallPy(const DoubleArray& vertices, const IntArray& triangles, double beadSpacing,
-                        double pointSpacing, double fitTolerance, const std::string& edge,
-                        const std::vector<double>& axis, const std::vector<double>& point,
-                        const std::string& surfaceMethod, const std::string& model,
-                        const py::object& progress) {
+                        double pointSpacing, double fitTolerance, double cornerAngle,
+                        const std::string& edge, const std::vector<double>& axis,
+                        const std::vector<double>& point, const std::string& surfaceMethod,
+                        const std::string& model, const py::object& progress) {
   ThinWallOptions options;
   options.beadSpacing = beadSpacing;
   options.pointSpacing = pointSpacing;
   options.fitTolerance = fitTolerance;
+  options.cornerAngle = cornerAngle;
   options.geodesic.method = surfaceMethodFromName(surfaceMethod);
   std::string start;
   if (edge == "lowest") {
@@ -344,6 +347,7 @@ py::dict planSummaryPy(const std::string& planJson) {
   params["surface_method"] = p.surfaceMethod;
   params["initial_curve"] = p.initialCurve;
   if (!p.narrowStrips.empty()) params["narrow_strips"] = p.narrowStrips;
+  if (p.cornerAngle) params["corner_angle_deg"] = *p.cornerAngle;
   d["parameters"] = params;
   return d;
 }
@@ -394,26 +398,28 @@ void registerPlanBindings(py::module_& m) {
         "may be None); initial_curve 'boundary' | 'plane' (plane_point, plane_normal) | "
         "'surface' (surface_vertices, surface_triangles); surface_method 'accurate' | 'paper'; "
         "narrow_strips 'centre_bead' (one bead where paths of one level come closer than "
-        "0.95·s) | 'overlap'. "
+        "0.95·s) | 'overlap'; corner_angle: degrees in (0, 180], turns sharper than this "
+        "within 0.2 mm are kept as exact corners by the fit (180: none). "
         "layer_thickness, voxel_size, field_method, model and start are recorded in the plan. "
         "Returns {plan_json, stats}.",
         py::arg("layers"), py::kw_only(), py::arg("start_vertices") = py::none(),
         py::arg("start_triangles") = py::none(), py::arg("bead_spacing") = 3.7,
         py::arg("point_spacing") = 2.0, py::arg("fit_tolerance") = 0.05,
-        py::arg("initial_curve") = "boundary", py::arg("plane_point") = py::none(),
-        py::arg("plane_normal") = py::none(), py::arg("surface_vertices") = py::none(),
-        py::arg("surface_triangles") = py::none(), py::arg("surface_method") = "accurate",
-        py::arg("narrow_strips") = "centre_bead", py::arg("layer_thickness") = 0.0,
-        py::arg("voxel_size") = 0.0, py::arg("field_method") = "", py::arg("model") = "",
-        py::arg("start") = "", py::arg("progress") = py::none());
+        py::arg("corner_angle") = 30.0, py::arg("initial_curve") = "boundary",
+        py::arg("plane_point") = py::none(), py::arg("plane_normal") = py::none(),
+        py::arg("surface_vertices") = py::none(), py::arg("surface_triangles") = py::none(),
+        py::arg("surface_method") = "accurate", py::arg("narrow_strips") = "centre_bead",
+        py::arg("layer_thickness") = 0.0, py::arg("voxel_size") = 0.0, py::arg("field_method") = "",
+        py::arg("model") = "", py::arg("start") = "", py::arg("progress") = py::none());
 
   m.def("plan_thin_wall", &planThinWallPy,
         "Paths of a thin wall (planThinWall, the paper's turbine base): one bead per plan layer "
         "at geodesic distance k·bead_spacing from the wall's edge. edge 'lowest' (the boundary "
-        "loop lowest along axis) | 'nearest' (the loop nearest to point). Returns {plan_json, "
-        "stats}.",
+        "loop lowest along axis) | 'nearest' (the loop nearest to point); corner_angle as for "
+        "plan_layers. Returns {plan_json, stats}.",
         py::arg("vertices"), py::arg("triangles"), py::kw_only(), py::arg("bead_spacing") = 1.65,
-        py::arg("point_spacing") = 2.0, py::arg("fit_tolerance") = 0.05, py::arg("edge") = "lowest",
+        py::arg("point_spacing") = 2.0, py::arg("fit_tolerance") = 0.05,
+        py::arg("corner_angle") = 30.0, py::arg("edge") = "lowest",
         py::arg("axis") = std::vector<double>{0, 0, 1},
         py::arg("point") = std::vector<double>{0, 0, 0}, py::arg("surface_method") = "accurate",
         py::arg("model") = "", py::arg("progress") = py::none());

@@ -195,6 +195,7 @@ int runPlanCommand(const PlanArguments& args) {
     planner.beadSpacing = checkedLength(args.beadSpacing, "bead spacing");
     planner.pointSpacing = checkedLength(args.pointSpacing, "point spacing");
     planner.fitTolerance = checkedLength(args.fitTolerance, "fit tolerance");
+    planner.cornerAngle = parseAngle(args.cornerAngle, "corner angle");
     planner.geodesic.method = parseSurfaceMethod(args.surfaceMethod);
     planner.narrowStrips = parseNarrowStripMode(args.narrowStrips);
     ThinWallOptions wall;
@@ -205,6 +206,7 @@ int runPlanCommand(const PlanArguments& args) {
       wall.beadSpacing = planner.beadSpacing;
       wall.pointSpacing = planner.pointSpacing;
       wall.fitTolerance = planner.fitTolerance;
+      wall.cornerAngle = planner.cornerAngle;
       wall.geodesic = planner.geodesic;
       parseThinWallEdge(args.thinWall, wall);
       validateThinWallOptions(wall);
@@ -267,6 +269,7 @@ int runPlanCommand(const PlanArguments& args) {
                               {"bead_spacing_mm", wall.beadSpacing},
                               {"point_spacing_mm", wall.pointSpacing},
                               {"fit_tolerance_mm", wall.fitTolerance},
+                              {"corner_angle_deg", wall.cornerAngle},
                               {"surface_method", args.surfaceMethod},
                               {"version", CURVEDSLICER_VERSION}};
       report["stage_times"] = Json::array({Json{{"stage", "read"}, {"seconds", readSeconds}}});
@@ -320,11 +323,13 @@ int runPlanCommand(const PlanArguments& args) {
 
     // ---- plan files and report -----------------------------------------------------------------
     Json planSection = planReport(planned);
-    planSection["inputs"] = Json{{"bead_spacing_mm", planned.plan.parameters.beadSpacing},
-                                 {"point_spacing_mm", planned.plan.parameters.pointSpacing},
-                                 {"fit_tolerance_mm", planned.plan.parameters.fitTolerance},
-                                 {"initial_curve", planned.plan.parameters.initialCurve},
-                                 {"surface_method", planned.plan.parameters.surfaceMethod}};
+    planSection["inputs"] =
+        Json{{"bead_spacing_mm", planned.plan.parameters.beadSpacing},
+             {"point_spacing_mm", planned.plan.parameters.pointSpacing},
+             {"fit_tolerance_mm", planned.plan.parameters.fitTolerance},
+             {"corner_angle_deg", planned.plan.parameters.cornerAngle.value_or(30.0)},
+             {"initial_curve", planned.plan.parameters.initialCurve},
+             {"surface_method", planned.plan.parameters.surfaceMethod}};
     if (!planned.plan.parameters.narrowStrips.empty()) {
       planSection["inputs"]["narrow_strips"] = planned.plan.parameters.narrowStrips;
     }

@@ -16,6 +16,7 @@ struct PlanArguments {
   std::string beadSpacing;
   std::string pointSpacing = "2";
   std::string fitTolerance = "0.05";
+  std::string cornerAngle = "30";
   std::string initialCurve = "boundary";
   std::string surfaceMethod = "accurate";
   std::string narrowStrips = "centre_bead";

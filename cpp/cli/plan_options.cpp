@@ -56,6 +56,11 @@ void addPlanOptions(CLI::App& plan, PlanArguments& args) {
       ->type_name("MM");
   plan.add_option("--fit-tolerance", args.fitTolerance, "Spline fit tolerance, mm (default 0.05).")
       ->type_name("MM");
+  plan.add_option("--corner-angle", args.cornerAngle,
+                  "Where a path turns by more than this within 0.2 mm, the spline fit\n"
+                  "keeps the raw vertex as an exact corner, degrees in (0, 180]\n"
+                  "(default 30; 180 keeps no corners, every path one smooth spline).")
+      ->type_name("DEG");
   plan.add_option("--initial-curve", args.initialCurve,
                   "Initial curve of every layer (paths are equidistant from it):\n"
                   "  boundary             the layer's edge; contour-parallel paths\n"

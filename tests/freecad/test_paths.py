@@ -16,7 +16,7 @@ import Part  # noqa: E402
 
 import cs_testing  # noqa: E402
 from freecad.curvedslicer import api  # noqa: E402
-from freecad.curvedslicer.core import native  # noqa: E402
+from freecad.curvedslicer.core import InvalidInput, native  # noqa: E402
 
 
 class PathTestCase(cs_testing.DocumentTestCase):
@@ -103,6 +103,25 @@ class TestPaths(PathTestCase):
         self.assertLess(job.PathCount, paths)
         self.assertLess(max(abs(d - 6.0) for d in api.path_spacing(job)), 0.06)
         self.assertEqual(sum(f.PathCount for f in api.path_features(job)), job.PathCount)
+        # The corner angle reaches the fit (at 180° every ring is one smooth spline that rounds
+        # its corners within the fit tolerance; the C++ test
+        # ContourPaths.CornerAngleDecidesWhichCornersStayExact measures it); it replans the
+        # paths only.
+        sharp = [p[3].tolist() for p in native.plan_paths(job.PlanJson)]
+        digest = job.PlanDigest
+        job.CornerAngle = 180.0
+        self.doc.recompute()
+        self.assertEqual(job.RunCount, runs)
+        self.assertNotEqual(job.PlanDigest, digest)
+        plan = json.loads(job.PlanJson)
+        self.assertEqual(plan["parameters"]["corner_angle_deg"], 180.0)
+        self.assertLessEqual(json.loads(job.PlanStats)["max_fit_deviation_mm"], 0.05 + 1e-9)
+        self.assertNotEqual([p[3].tolist() for p in native.plan_paths(job.PlanJson)], sharp)
+        job.CornerAngle = 0.0
+        with self.assertRaisesRegex(InvalidInput, r"CornerAngle must be in \(0, 180\] degrees"):
+            api.run(job, progress=False)
+        job.CornerAngle = 30.0
+        self.doc.recompute()
         # A layer parameter reruns both stages.
         job.LayerThickness = 2.5
         self.doc.recompute()

@@ -29,6 +29,8 @@ out = {
     "has_point_spacing": "PointSpacing" in job.PropertiesList,
     "status": job.Status,
     "narrow_strips": getattr(job, "NarrowStrips", None),
+    "corner_angle": (FreeCAD.Units.Quantity(job.CornerAngle).getValueAs("deg").Value
+                     if "CornerAngle" in job.PropertiesList else None),
     "path_count": job.PathCount,
 }
 plan_before = job.PlanJson
@@ -70,6 +72,7 @@ class TestPersistence(cs_testing.DocumentTestCase):
         self.assertGreater(paths, 0)
         job.removeProperty("PointSpacing")
         job.removeProperty("NarrowStrips")
+        job.removeProperty("CornerAngle")
         job.SchemaVersion = 0
         path = cs_testing.tmp_path("old_schema.FCStd")
         self.doc.saveAs(path)
@@ -81,6 +84,8 @@ class TestPersistence(cs_testing.DocumentTestCase):
         self.assertEqual(out["run_count_after_recompute"], 1)
         # The new option arrives as Overlap, so the saved plan stays what it was: no replan.
         self.assertEqual(out["narrow_strips"], "Overlap")
+        # The corner angle arrives as 30°, the value the fit used before it was a property.
+        self.assertEqual(out["corner_angle"], 30.0)
         self.assertEqual(out["path_count"], paths)
         self.assertTrue(out["plan_unchanged_by_recompute"])
 

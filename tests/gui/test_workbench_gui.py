@@ -235,6 +235,7 @@ def panel_edits_every_group(job, box):
     panel.initial_point.set_value((1.0, 2.0, 3.0))
     panel.initial_normal.set_value((0.0, 1.0, 0.0))
     panel.fit_tolerance.setValue(0.08)
+    panel.corner_angle.setValue(45.0)
     panel.surface_method.setCurrentIndex(job_module.SURFACE_METHODS.index("Paper"))
     panel.narrow_strips.setCurrentIndex(job_module.NARROW_STRIPS.index("Overlap"))
     panel.path_display.setCurrentIndex(job_module.PATH_DISPLAYS.index("BSpline"))
@@ -246,6 +247,7 @@ def panel_edits_every_group(job, box):
     lines = panel.commands()
     expected = ["InitialPath = 'Plane'", "InitialPlanePoint = App.Vector(1.0, 2.0, 3.0)",
                 "InitialPlaneNormal = App.Vector(0.0, 1.0, 0.0)", "FitTolerance = 0.08",
+                "CornerAngle = 45.0",
                 "SurfaceMethod = 'Paper'", "NarrowStrips = 'Overlap'",
                 "PathDisplay = 'BSpline'", "CellFile = %r" % cell,
                 "ToolAlongTravel = True", "PosePoint = %d" % pose]
@@ -260,6 +262,7 @@ def panel_edits_every_group(job, box):
     check(job.InitialPath == "Plane" and job.InitialPlanePoint == FreeCAD.Vector(1, 2, 3)
           and job.InitialPlaneNormal == FreeCAD.Vector(0, 1, 0)
           and abs(job.FitTolerance - 0.08) < 1e-12 and job.SurfaceMethod == "Paper"
+          and abs(FreeCAD.Units.Quantity(job.CornerAngle).getValueAs("deg").Value - 45.0) < 1e-9
           and job.NarrowStrips == "Overlap" and job.PathDisplay == "BSpline",
           "Apply set the path parameters")
     check(job.CellFile == cell and job.ToolAlongTravel and job.PosePoint == pose,

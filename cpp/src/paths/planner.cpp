@@ -47,6 +47,13 @@ std::string surfaceMethodName(SurfaceGeodesicMethod method) {
   return method == SurfaceGeodesicMethod::Paper ? "paper" : "accurate";
 }
 
+void checkCornerAngle(double degrees) {
+  if (!std::isfinite(degrees) || degrees <= 0.0 || degrees > 180.0) {
+    throw InvalidInput("corner angle must be in (0, 180] degrees: " + formatMm(degrees) +
+                       "; pass a value such as 30, or 180 to keep no corners");
+  }
+}
+
 void checkPositive(double value, const char* what, const char* example) {
   if (!std::isfinite(value) || value <= 0.0) {
     throw InvalidInput(std::string(what) + " must be a positive number of mm: " + formatMm(value) +
@@ -273,6 +280,7 @@ void validatePlannerOptions(const PlannerOptions& o) {
   checkPositive(o.beadSpacing, "bead spacing", "3.7");
   checkPositive(o.pointSpacing, "point spacing", "2");
   checkPositive(o.fitTolerance, "fit tolerance", "0.05");
+  checkCornerAngle(o.cornerAngle);
   if (o.initialCurve.kind == InitialCurveKind::Plane &&
       (!o.initialCurve.planeNormal.allFinite() || !(o.initialCurve.planeNormal.norm() > 0.0) ||
        !o.initialCurve.planePoint.allFinite())) {
@@ -293,6 +301,7 @@ void validateThinWallOptions(const ThinWallOptions& o) {
   checkPositive(o.beadSpacing, "bead spacing", "1.65");
   checkPositive(o.pointSpacing, "point spacing", "2");
   checkPositive(o.fitTolerance, "fit tolerance", "0.05");
+  checkCornerAngle(o.cornerAngle);
   if (o.edge == WallEdgeKind::LowestAlongAxis && (!o.axis.allFinite() || !(o.axis.norm() > 0.0))) {
     throw InvalidInput("thin-wall axis must be a finite non-zero vector: " + formatVec(o.axis) +
                        "; pass e.g. 0,0,1");
@@ -319,6 +328,7 @@ PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& st
   PathFitOptions fit;
   fit.tolerance = options.fitTolerance;
   fit.pointSpacing = options.pointSpacing;
+  fit.cornerAngle = options.cornerAngle;
   NarrowStripOptions narrowStrips;
   narrowStrips.margin = 2.0 * options.fitTolerance;
   narrowStrips.minLength = minLength;
@@ -331,6 +341,7 @@ PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& st
   plan.parameters.beadSpacing = s;
   plan.parameters.pointSpacing = options.pointSpacing;
   plan.parameters.fitTolerance = options.fitTolerance;
+  plan.parameters.cornerAngle = options.cornerAngle;
   plan.parameters.surfaceMethod = surfaceMethodName(options.geodesic.method);
   plan.parameters.initialCurve = options.initialCurve.describe();
   plan.parameters.narrowStrips = narrowStripModeName(options.narrowStrips);
@@ -535,6 +546,7 @@ PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options, 
   PathFitOptions fit;
   fit.tolerance = options.fitTolerance;
   fit.pointSpacing = options.pointSpacing;
+  fit.cornerAngle = options.cornerAngle;
 
   PlanResult result;
   Plan& plan = result.plan;
@@ -542,6 +554,7 @@ PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options, 
   plan.parameters.beadSpacing = s;
   plan.parameters.pointSpacing = options.pointSpacing;
   plan.parameters.fitTolerance = options.fitTolerance;
+  plan.parameters.cornerAngle = options.cornerAngle;
   plan.parameters.surfaceMethod = surfaceMethodName(options.geodesic.method);
   StageTimer timer(result.stats);
 

@@ -144,15 +144,27 @@ StartSurface loadStartSurface(const StartSurfaceSpec& spec) {
   }
 }
 
-double parseLength(std::string_view text, std::string_view what) {
+namespace {
+
+double parseNumber(std::string_view text, std::string_view what, std::string_view hint) {
   const std::string s(trim(text));
   char* end = nullptr;
   const double value = s.empty() ? 0.0 : std::strtod(s.c_str(), &end);
   if (s.empty() || end != s.c_str() + s.size()) {
-    throw InvalidInput(std::string(what) + " is not a number: '" + std::string(text) +
-                       "'; pass a length in mm such as 1.5");
+    throw InvalidInput(std::string(what) + " is not a number: '" + std::string(text) + "'; pass " +
+                       std::string(hint));
   }
   return value;
+}
+
+}  // namespace
+
+double parseLength(std::string_view text, std::string_view what) {
+  return parseNumber(text, what, "a length in mm such as 1.5");
+}
+
+double parseAngle(std::string_view text, std::string_view what) {
+  return parseNumber(text, what, "an angle in degrees such as 30");
 }
 
 GridAlignment parseGridAlignment(std::string_view name) {

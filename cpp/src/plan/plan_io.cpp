@@ -269,7 +269,7 @@ Plan readDocument(const Reader& r, const Json& doc) {
   r.expectKeys(pj, "/parameters",
                {"layer_thickness_mm", "voxel_size_mm", "bead_spacing_mm", "point_spacing_mm",
                 "fit_tolerance_mm", "field_method", "surface_method", "initial_curve"},
-               {"narrow_strips"});
+               {"narrow_strips", "corner_angle_deg"});
   PlanParameters& p = plan.parameters;
   p.layerThickness = r.number(pj["layer_thickness_mm"], "/parameters/layer_thickness_mm");
   p.voxelSize = r.number(pj["voxel_size_mm"], "/parameters/voxel_size_mm");
@@ -285,6 +285,14 @@ Plan readDocument(const Reader& r, const Json& doc) {
       r.fail("/parameters/narrow_strips",
              "is \"" + p.narrowStrips + "\": expected \"centre_bead\" or \"overlap\"");
     }
+  }
+  if (pj.contains("corner_angle_deg")) {
+    const double angle = r.number(pj["corner_angle_deg"], "/parameters/corner_angle_deg");
+    if (!(angle > 0.0 && angle <= 180.0)) {
+      r.fail("/parameters/corner_angle_deg",
+             "is " + pj["corner_angle_deg"].dump() + ": expected an angle in (0, 180] degrees");
+    }
+    p.cornerAngle = angle;
   }
   const Json& fields = r.array(doc["point_fields"], "/point_fields");
   bool fieldsOk = fields.size() == kPointFields.size();
@@ -366,6 +374,11 @@ std::string formatPlanJson(const Plan& plan) {
     out += ",\n";
     key("    ", "narrow_strips");
     appendString(out, p.narrowStrips, "narrow strips");
+  }
+  if (p.cornerAngle) {
+    out += ",\n";
+    key("    ", "corner_angle_deg");
+    appendNumber(out, *p.cornerAngle);
   }
   out += "\n  },\n";
   key("  ", "point_fields");

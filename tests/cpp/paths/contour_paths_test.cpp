@@ -310,6 +310,26 @@ TEST(ContourPaths, PlannerReportsTheCentreBead) {
   EXPECT_TRUE(reported);
 }
 
+TEST(ContourPaths, CornerAngleDecidesWhichCornersStayExact) {
+  // The rings of a rectangle are rectangles: with the default corner angle (30°) the fit keeps
+  // their 90° corners as raw vertices and the sides are fitted exactly; with 180° every ring is
+  // one smooth spline that rounds its corners within the fit tolerance.
+  LayerSurface layer;
+  layer.index = 1;
+  layer.mesh = makeRectangleMesh(0, 40, 0, 30, 80, 60);
+  PlannerOptions options;
+  options.beadSpacing = 4.0;
+  const PlanResult sharp = planLayers({layer}, TriMesh{}, options);
+  EXPECT_EQ(sharp.plan.parameters.cornerAngle, 30.0);
+  EXPECT_LT(sharp.stats.maxFitDeviation, 1e-6);
+  options.cornerAngle = 180.0;
+  const PlanResult round = planLayers({layer}, TriMesh{}, options);
+  EXPECT_EQ(round.plan.parameters.cornerAngle, 180.0);
+  EXPECT_GT(round.stats.maxFitDeviation, 0.01);
+  EXPECT_LE(round.stats.maxFitDeviation, options.fitTolerance + 1e-9);
+  ASSERT_EQ(round.plan.layers[0].paths.size(), sharp.plan.layers[0].paths.size());
+}
+
 TEST(ContourPaths, AnyRectangleKeepsTheSpacingWithTheDefaultPlanner) {
   // The acceptance rule on rectangles of every width between 12 mm and 41 mm (s = 3.7, so the
   // GDTC ridge falls anywhere between two rings): the planner's output paths (fitted, resampled,
@@ -422,7 +442,9 @@ TEST(NarrowStrips, CentreBeadJoinsTheRingPieceItContinues) {
   // It still goes round the circle and reaches to the tail's end along its centre line.
   double farthest = 0.0;
   for (const Vec3& p : path.points) {
-    if (p.x() > 20.0) EXPECT_NEAR(p.y(), 0.0, 0.01);  // midpoints of s/16 samples
+    if (p.x() > 20.0) {
+      EXPECT_NEAR(p.y(), 0.0, 0.01);  // midpoints of s/16 samples
+    }
     farthest = std::max(farthest, p.x());
   }
   EXPECT_GT(farthest, 39.0);

@@ -1,9 +1,9 @@
 // Test helper: a validator for the subset of JSON Schema (2020-12) that
 // resources/schema/plan.schema.json uses — type (object, array, string, number, integer, boolean),
 // const, enum, required, properties, additionalProperties (boolean), items, minItems, maxItems,
-// minimum, and $ref to "#/$defs/<name>". Unknown keywords other than annotations ($schema, $id,
-// title, description, $defs) are reported as errors, so the schema cannot silently use more than
-// this checks. Returns the list of violations with their JSON pointers (empty = valid).
+// minimum, maximum, and $ref to "#/$defs/<name>". Unknown keywords other than annotations ($schema,
+// $id, title, description, $defs) are reported as errors, so the schema cannot silently use more
+// than this checks. Returns the list of violations with their JSON pointers (empty = valid).
 #pragma once
 
 #include <algorithm>
@@ -52,7 +52,7 @@ class SchemaSubsetValidator {
       static const std::vector<std::string> known = {
           "$schema", "$id",      "title",    "description", "$defs",      "$ref",
           "type",    "const",    "enum",     "required",    "properties", "additionalProperties",
-          "items",   "minItems", "maxItems", "minimum"};
+          "items",   "minItems", "maxItems", "minimum",     "maximum"};
       if (std::find(known.begin(), known.end(), item.key()) == known.end()) {
         throw std::runtime_error("schema keyword outside the supported subset: " + item.key());
       }
@@ -74,6 +74,10 @@ class SchemaSubsetValidator {
     if (schema.contains("minimum") && v.is_number() &&
         v.get<double>() < schema["minimum"].get<double>()) {
       errors.push_back(where + ": below the minimum " + schema["minimum"].dump());
+    }
+    if (schema.contains("maximum") && v.is_number() &&
+        v.get<double>() > schema["maximum"].get<double>()) {
+      errors.push_back(where + ": above the maximum " + schema["maximum"].dump());
     }
     if (v.is_object()) {
       if (schema.contains("required")) {

@@ -98,6 +98,7 @@ TEST_P(PlanCli, BundledModelGivesAValidPlan) {
   const Plan plan = expectValidPlanOutput(out);
   EXPECT_EQ(plan.parameters.beadSpacing, s);
   EXPECT_EQ(plan.parameters.initialCurve, "boundary");
+  EXPECT_EQ(plan.parameters.cornerAngle, 30.0);  // the default
   EXPECT_EQ(plan.start, "plane:bottom");
   EXPECT_TRUE(fs::exists(out / "layer_0001.ply"));
 }
@@ -151,12 +152,13 @@ TEST(PlanCliCases, ThinWallCylinder) {
   }
   const std::string file = testing::writeTempStl(wall, "thin_wall.stl");
   const fs::path out = freshTempDir() / "out";
-  const CliRun run = runCli(
-      {"plan", file, "--thin-wall", "lowest", "--bead-spacing", "1.65", "-o", out.string(), "-q"});
+  const CliRun run = runCli({"plan", file, "--thin-wall", "lowest", "--bead-spacing", "1.65",
+                             "--corner-angle", "45", "-o", out.string(), "-q"});
   ASSERT_EQ(run.exitCode, 0) << run.err;
   const Plan plan = expectValidPlanOutput(out);
   EXPECT_EQ(plan.layers.size(), 7u);  // 1.65 … 11.55 mm
   EXPECT_EQ(plan.start, "thin-wall:lowest");
+  EXPECT_EQ(plan.parameters.cornerAngle, 45.0);
   EXPECT_FALSE(fs::exists(out / "layer_0001.ply"));
 }
 
@@ -188,6 +190,12 @@ TEST(PlanCliCases, BadInputsExitWithTheirMessage) {
   expectError({"--layer-thickness", "20", "--voxel", "5", "--bead-spacing", "3", "--narrow-strips",
                "merge"},
               "unknown narrow-strip mode: \"merge\"; pass centre_bead");
+  expectError(
+      {"--layer-thickness", "20", "--voxel", "5", "--bead-spacing", "3", "--corner-angle", "sharp"},
+      "corner angle is not a number: 'sharp'; pass an angle in degrees such as 30");
+  expectError(
+      {"--layer-thickness", "20", "--voxel", "5", "--bead-spacing", "3", "--corner-angle", "0"},
+      "corner angle must be in (0, 180] degrees: 0");
   // The box is 200 mm wide: a 500 mm bead does not fit any layer.
   expectError({"--layer-thickness", "20", "--voxel", "5", "--bead-spacing", "500"},
               "bead spacing is wider than every layer: 500 mm");

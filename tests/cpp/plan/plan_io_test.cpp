@@ -21,7 +21,8 @@ Plan makeSamplePlan() {
   Plan plan;
   plan.model = "resources/models/bunny \"closed\".stl";
   plan.start = "plane:bottom";
-  plan.parameters = {1.5, 0.5, 3.7, 2.0, 0.05, "anyangle", "accurate", "boundary", "centre_bead"};
+  plan.parameters = {1.5,        0.5,        3.7,        2.0,           0.05,
+                     "anyangle", "accurate", "boundary", "centre_bead", 22.5};
   for (int l = 0; l < 2; ++l) {
     PlanLayer layer;
     layer.index = l;
@@ -129,6 +130,24 @@ TEST(PlanIo, NarrowStripModeIsOptionalAndChecked) {
   expectReadError(editedJson([](auto& d) { d["parameters"]["narrow_strips"] = "merge"; }),
                   "/parameters/narrow_strips is \"merge\": expected \"centre_bead\" or "
                   "\"overlap\"");
+}
+
+TEST(PlanIo, CornerAngleIsOptionalAndChecked) {
+  // Written when set, read back; a plan written before the option existed round-trips without
+  // it; a value outside (0, 180] or not a number is refused with its location.
+  EXPECT_EQ(parsePlanJson(formatPlanJson(makeSamplePlan())).parameters.cornerAngle, 22.5);
+  Plan older = makeSamplePlan();
+  older.parameters.cornerAngle.reset();
+  const std::string text = formatPlanJson(older);
+  EXPECT_EQ(text.find("corner_angle_deg"), std::string::npos);
+  EXPECT_FALSE(parsePlanJson(text).parameters.cornerAngle.has_value());
+  EXPECT_EQ(formatPlanJson(parsePlanJson(text)), text);
+  expectReadError(editedJson([](auto& d) { d["parameters"]["corner_angle_deg"] = 0; }),
+                  "/parameters/corner_angle_deg is 0: expected an angle in (0, 180] degrees");
+  expectReadError(editedJson([](auto& d) { d["parameters"]["corner_angle_deg"] = 190.5; }),
+                  "/parameters/corner_angle_deg is 190.5: expected an angle in (0, 180] degrees");
+  expectReadError(editedJson([](auto& d) { d["parameters"]["corner_angle_deg"] = "sharp"; }),
+                  "/parameters/corner_angle_deg must be a number");
 }
 
 TEST(PlanIo, EmptyPlanRoundTrips) {

@@ -248,6 +248,23 @@ TEST(Planner, RejectsNonPositiveBeadSpacing) {
                 "bead spacing must be a positive number of mm: nan");
 }
 
+TEST(Planner, RejectsCornerAngleOutsideHalfTurn) {
+  const std::vector<LayerSurface> layers = {makeLayer(1, 1.5, makeFlatPatch(0, 9, 0, 9, 1, 9, 9))};
+  PlannerOptions options;
+  for (const double bad : {0.0, -30.0, 180.5, std::nan("")}) {
+    options.cornerAngle = bad;
+    expectMessage([&] { planLayers(layers, {}, options); },
+                  "corner angle must be in (0, 180] degrees: ");
+  }
+  options.cornerAngle = 0.0;
+  expectMessage([&] { planLayers(layers, {}, options); },
+                "corner angle must be in (0, 180] degrees: 0; pass a value such as 30, or 180");
+  ThinWallOptions wall;
+  wall.cornerAngle = 270.0;
+  expectMessage([&] { planThinWall(makeCylinderSide(5, 5, 12, 4), wall); },
+                "corner angle must be in (0, 180] degrees: 270");
+}
+
 TEST(Planner, RejectsSpacingWiderThanEveryLayer) {
   // A 6 mm wide strip reaches 3 mm from its edge; s = 8 needs 4.
   const std::vector<LayerSurface> layers = {

@@ -72,7 +72,7 @@ def make_job(doc, solid, start=None, layer_thickness=1.5, voxel_size=None, metho
              name="Job", plan_kind="CurvedLayers", wall_surface=None, wall_axis=(0, 0, 1),
              fit_tolerance=0.05, surface_method="Accurate", initial_plane=None,
              initial_surface=None, path_display="Polyline", tool_along_travel=False,
-             narrow_strips="CentreBead"):
+             narrow_strips="CentreBead", corner_angle=30.0):
     """Creates a Job for `solid` in `doc` (no computation; call run() or doc.recompute()).
 
     start: see _set_start. voxel_size None = the preference (default 1 mm). method "AnyAngle" |
@@ -81,7 +81,8 @@ def make_job(doc, solid, start=None, layer_thickness=1.5, voxel_size=None, metho
     "Paper", initial_path "Boundary" | "Plane" (initial_plane = (point, normal)) | "Surface"
     (initial_surface = object or (object, [faces])); path_display "Polyline" | "BSpline";
     narrow_strips "CentreBead" (one bead where paths of one level come closer than 0.95 x
-    bead_spacing) | "Overlap".
+    bead_spacing) | "Overlap"; corner_angle (degrees, in (0, 180]): turns sharper than this
+    within 0.2 mm are kept as exact corners by the spline fit (180: none).
     tool_along_travel: torch x along the travel (True) or fixed while the positioner turns.
     plan_kind "ThinWall": no volume layers; wall_surface (object or (object, [faces])) is planned
     as a thin wall from its lowest edge along wall_axis, one bead per bead_spacing; `solid` may
@@ -112,6 +113,7 @@ def make_job(doc, solid, start=None, layer_thickness=1.5, voxel_size=None, metho
     obj.BeadSpacing = bead_spacing
     obj.PointSpacing = point_spacing
     obj.FitTolerance = fit_tolerance
+    obj.CornerAngle = corner_angle
     obj.SurfaceMethod = surface_method
     obj.NarrowStrips = narrow_strips
     obj.InitialPath = initial_path

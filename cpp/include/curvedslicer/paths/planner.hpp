@@ -78,7 +78,10 @@ struct PlannerOptions {
   double beadSpacing = 3.7;    ///< s, mm, distance between neighbouring bead centre lines (> 0)
   double pointSpacing = 2.0;   ///< mm, largest distance between robot points (> 0)
   double fitTolerance = 0.05;  ///< mm, spline fit tolerance (> 0)
-  InitialCurve initialCurve;   ///< default: the layer boundary
+  /// Degrees, in (0, 180]: where a path turns by more than this within 0.2 mm, the fit keeps the
+  /// raw vertex as an exact corner (paths/path_fit.hpp); 180 keeps none.
+  double cornerAngle = 30.0;
+  InitialCurve initialCurve;        ///< default: the layer boundary
   SurfaceGeodesicOptions geodesic;  ///< GDTC method (default: accurate) and curve tolerance
   /// mm; iso-line pieces shorter than this are not deposited; < 0 means s (one bead width).
   double minPathLength = -1.0;
@@ -100,6 +103,7 @@ struct ThinWallOptions {
   double beadSpacing = 1.65;   ///< mm, distance between beads along the surface (bead height)
   double pointSpacing = 2.0;   ///< mm (> 0)
   double fitTolerance = 0.05;  ///< mm (> 0)
+  double cornerAngle = 30.0;   ///< degrees, in (0, 180] (as PlannerOptions::cornerAngle)
   WallEdgeKind edge = WallEdgeKind::LowestAlongAxis;
   Vec3 axis = Vec3::UnitZ();  ///< LowestAlongAxis: the "up" direction, part frame
   Vec3 point = Vec3::Zero();  ///< NearestToPoint: part frame, mm

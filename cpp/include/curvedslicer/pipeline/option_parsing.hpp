@@ -47,6 +47,10 @@ StartSurface loadStartSurface(const StartSurfaceSpec& spec);
 /// @throws InvalidInput if the text is not a number.
 double parseLength(std::string_view text, std::string_view what);
 
+/// Parses an angle in degrees ("30", "22.5"), as parseLength (range checks are the caller's).
+/// @throws InvalidInput if the text is not a number.
+double parseAngle(std::string_view text, std::string_view what);
+
 /// "pca" or "model". @throws InvalidInput listing the choices.
 GridAlignment parseGridAlignment(std::string_view name);
 std::string_view toString(GridAlignment alignment);

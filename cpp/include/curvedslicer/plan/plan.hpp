@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,9 @@ struct PlanParameters {
   /// where paths of one level meet: "centre_bead" | "overlap"; empty for plans that do not
   /// apply it (thin wall, plans written before it existed): then not written to the file
   std::string narrowStrips;
+  /// degrees: turns sharper than this (within 0.2 mm) were kept as exact corners by the fit;
+  /// absent in plans written before it existed (then not written to the file)
+  std::optional<double> cornerAngle;
 };
 
 struct Plan {

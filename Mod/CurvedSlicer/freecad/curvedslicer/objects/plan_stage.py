@@ -46,6 +46,23 @@ def _mm(quantity):
     return float(FreeCAD.Units.Quantity(quantity).getValueAs("mm"))
 
 
+def _degrees(quantity):
+    return float(FreeCAD.Units.Quantity(quantity).getValueAs("deg"))
+
+
+#: CornerAngle of Jobs saved before the property existed (their fit used it already); a Job with
+#: this value keeps the digest it had then.
+DEFAULT_CORNER_ANGLE = 30.0
+
+
+def _corner_angle(job):
+    angle = _degrees(job.CornerAngle)
+    if not 0.0 < angle <= 180.0:
+        raise InvalidInput("CornerAngle must be in (0, 180] degrees: %g; set it, e.g. 30, or 180 "
+                           "to keep no corners" % angle)
+    return angle
+
+
 def _digest(parts):
     h = hashlib.sha256()
     for part in parts:
@@ -97,6 +114,8 @@ def path_inputs(job):
     from .job import _deflection, layer_objects, start_mesh_object
 
     common = _common_parameters(job)
+    corner_angle = _corner_angle(job)
+    corner_part = [] if corner_angle == DEFAULT_CORNER_ANGLE else [("corner_angle", corner_angle)]
     if job.PlanKind == "ThinWall":
         link = job.WallSurface
         obj, subs = (link[0], list(link[1])) if link else (None, [])
@@ -112,11 +131,12 @@ def path_inputs(job):
             raise InvalidInput("wall axis is zero: (0, 0, 0); set WallAxis to the up direction, "
                                "e.g. (0, 0, 1)")
         digest = _digest(["ThinWall", surface_digest, deflection, sorted(common.items()), edge,
-                          axis, point])
+                          axis, point] + corner_part)
 
         def plan(progress):
             return native.plan_thin_wall(vertices, triangles, edge=edge, axis=axis, point=point,
-                                         model=obj.Label, progress=progress, **common)
+                                         corner_angle=corner_angle, model=obj.Label,
+                                         progress=progress, **common)
 
         return plan, digest
 
@@ -130,7 +150,7 @@ def path_inputs(job):
     parts = ["CurvedLayers", job.InputsDigest, sorted(common.items()), curve_digest]
     if narrow != "overlap":  # a Job saved before the option (migrated as Overlap) keeps its digest
         parts.append(narrow)
-    digest = _digest(parts)
+    digest = _digest(parts + corner_part)
     start = start_mesh_object(job)
 
     def plan(progress):
@@ -142,6 +162,7 @@ def path_inputs(job):
         kwargs = dict(common)
         kwargs.update(curve)
         kwargs["narrow_strips"] = narrow
+        kwargs["corner_angle"] = corner_angle
         if start is not None and start.Mesh.CountFacets:
             kwargs["start_vertices"], kwargs["start_triangles"] = geometry.mesh_arrays(
                 start.Mesh)

@@ -25,6 +25,11 @@ def mm(quantity):
     return float(FreeCAD.Units.Quantity(quantity).getValueAs("mm"))
 
 
+def degrees(quantity):
+    """An angle property (Quantity or float) in degrees."""
+    return float(FreeCAD.Units.Quantity(quantity).getValueAs("deg"))
+
+
 def enum_value(value):
     """The integer of a Qt enumeration member on PySide2 (int subclass) and PySide6 (Enum)."""
     return int(getattr(value, "value", value))

@@ -20,7 +20,7 @@ from .. import api, geometry
 from ..core import CurvedSlicerError, InvalidInput
 from ..objects import job as job_module
 from .job_fields import (FileField, LinkSubField, ObjectCombo, VectorField, candidate_objects,
-                         cell_problem, combo, enum_value, faces_problem, mm, object_ref,
+                         cell_problem, combo, degrees, enum_value, faces_problem, mm, object_ref,
                          parse_faces, selected_object_and_faces, single_shot_timer, spin,
                          split_names)
 
@@ -164,6 +164,11 @@ class TaskPanelJob:
         f.addRow("Point spacing", self.point_spacing)
         self.fit_tolerance = spin(float(job.FitTolerance), 0.0001, 100.0, 4, " mm", 0.01)
         f.addRow("Fit tolerance", self.fit_tolerance)
+        self.corner_angle = spin(degrees(job.CornerAngle), 0.1, 180.0, 1, " °", 5.0)
+        self.corner_angle.setToolTip("Where a path turns by more than this within 0.2 mm, the "
+                                     "spline fit keeps the raw vertex as an exact corner; 180 "
+                                     "keeps none (every path one smooth spline)")
+        f.addRow("Corner angle", self.corner_angle)
         self.surface_method = combo(job_module.SURFACE_METHODS, job.SurfaceMethod)
         self.surface_method.setToolTip("Surface geodesic field: Accurate, or Paper (the paper's "
                                        "search, eq. 15)")
@@ -328,6 +333,7 @@ class TaskPanelJob:
             "BeadSpacing": self.bead_spacing.value(),
             "PointSpacing": self.point_spacing.value(),
             "FitTolerance": self.fit_tolerance.value(),
+            "CornerAngle": self.corner_angle.value(),
             "InitialPath": self.initial_path.currentText(),
             "InitialPlanePoint": self.initial_point,
             "InitialPlaneNormal": self.initial_normal,
