@@ -61,6 +61,32 @@ void checkPositive(double value, const char* what, const char* example) {
   }
 }
 
+/// The options both planners derive alike from theirs (PlannerOptions, ThinWallOptions), and the
+/// plan parameters they record alike.
+struct PathStages {
+  template <typename Options>
+  explicit PathStages(const Options& o)
+      : minLength(o.minPathLength < 0.0 ? o.beadSpacing : o.minPathLength) {
+    ordering.seamSeparation = o.seamSeparation < 0.0 ? 2.0 * o.beadSpacing : o.seamSeparation;
+    ordering.improvementPasses = o.improvementPasses;
+    fit.tolerance = o.fitTolerance;
+    fit.pointSpacing = o.pointSpacing;
+    fit.cornerAngle = o.cornerAngle;
+  }
+  template <typename Options>
+  void record(const Options& o, PlanParameters& p) const {
+    p.beadSpacing = o.beadSpacing;
+    p.pointSpacing = o.pointSpacing;
+    p.fitTolerance = o.fitTolerance;
+    p.cornerAngle = o.cornerAngle;
+    p.surfaceMethod = surfaceMethodName(o.geodesic.method);
+  }
+
+  double minLength;  ///< mm, shortest deposited piece
+  OrderingOptions ordering;
+  PathFitOptions fit;
+};
+
 class StageTimer {
  public:
   explicit StageTimer(PlanStats& stats) : stats_(stats), seconds_(kStageCount, 0.0) {}
@@ -321,14 +347,10 @@ PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& st
     throw InvalidInput("no layer surfaces to plan: 0 layers; run the layer job first");
   }
   const double s = options.beadSpacing;
-  const double minLength = options.minPathLength < 0.0 ? s : options.minPathLength;
-  OrderingOptions ordering;
-  ordering.seamSeparation = options.seamSeparation < 0.0 ? 2.0 * s : options.seamSeparation;
-  ordering.improvementPasses = options.improvementPasses;
-  PathFitOptions fit;
-  fit.tolerance = options.fitTolerance;
-  fit.pointSpacing = options.pointSpacing;
-  fit.cornerAngle = options.cornerAngle;
+  const PathStages stages(options);
+  const double minLength = stages.minLength;
+  const OrderingOptions& ordering = stages.ordering;
+  const PathFitOptions& fit = stages.fit;
   NarrowStripOptions narrowStrips;
   narrowStrips.margin = 2.0 * options.fitTolerance;
   narrowStrips.minLength = minLength;
@@ -338,11 +360,7 @@ PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& st
 
   PlanResult result;
   Plan& plan = result.plan;
-  plan.parameters.beadSpacing = s;
-  plan.parameters.pointSpacing = options.pointSpacing;
-  plan.parameters.fitTolerance = options.fitTolerance;
-  plan.parameters.cornerAngle = options.cornerAngle;
-  plan.parameters.surfaceMethod = surfaceMethodName(options.geodesic.method);
+  stages.record(options, plan.parameters);
   plan.parameters.initialCurve = options.initialCurve.describe();
   plan.parameters.narrowStrips = narrowStripModeName(options.narrowStrips);
   StageTimer timer(result.stats);
@@ -539,23 +557,15 @@ PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options, 
     throw InvalidInput("thin-wall surface has no triangles: 0; pass the wall's surface mesh");
   }
   const double s = options.beadSpacing;
-  const double minLength = options.minPathLength < 0.0 ? s : options.minPathLength;
-  OrderingOptions ordering;
-  ordering.seamSeparation = options.seamSeparation < 0.0 ? 2.0 * s : options.seamSeparation;
-  ordering.improvementPasses = options.improvementPasses;
-  PathFitOptions fit;
-  fit.tolerance = options.fitTolerance;
-  fit.pointSpacing = options.pointSpacing;
-  fit.cornerAngle = options.cornerAngle;
+  const PathStages stages(options);
+  const double minLength = stages.minLength;
+  const OrderingOptions& ordering = stages.ordering;
+  const PathFitOptions& fit = stages.fit;
 
   PlanResult result;
   Plan& plan = result.plan;
+  stages.record(options, plan.parameters);
   plan.parameters.layerThickness = s;
-  plan.parameters.beadSpacing = s;
-  plan.parameters.pointSpacing = options.pointSpacing;
-  plan.parameters.fitTolerance = options.fitTolerance;
-  plan.parameters.cornerAngle = options.cornerAngle;
-  plan.parameters.surfaceMethod = surfaceMethodName(options.geodesic.method);
   StageTimer timer(result.stats);
 
   // ---- initial curves: the edge ----
