@@ -13,49 +13,51 @@ namespace curvedslicer {
 
 namespace paths_detail {
 
-std::vector<Polyline> traceLevelSet(const TriMesh& mesh, const std::vector<double>& f, double level,
-                                    const CrossingPlacer& place) {
-  // Nodes: crossed edges (one point each). Segments: one per crossed triangle, directed so that
-  // the side above the level is on the left.
-  std::unordered_map<std::uint64_t, std::int32_t> nodeOfEdge;
-  std::vector<Vec3> nodePoints;
+namespace {
+
+/// The crossed edges (one point each) and crossed triangles (one segment each, directed so that
+/// the side above the level is on the left) of one level, in triangle order.
+struct LevelSegments {
   struct Segment {
     std::int32_t from, to;
   };
+  std::unordered_map<std::uint64_t, std::int32_t> nodeOfEdge;
+  std::vector<Vec3> nodePoints;
   std::vector<Segment> segments;
+};
+
+/// Adds triangle `tri`'s segment of `level` (the caller has checked that the level crosses it).
+void addTriangle(const TriMesh& mesh, const std::vector<double>& f, const Vec3i& tri, double level,
+                 const CrossingPlacer& place, LevelSegments& out) {
   auto nodeFor = [&](std::int32_t a, std::int32_t b) {
     const auto [it, inserted] =
-        nodeOfEdge.try_emplace(edgeKey(a, b), static_cast<std::int32_t>(nodePoints.size()));
+        out.nodeOfEdge.try_emplace(edgeKey(a, b), static_cast<std::int32_t>(out.nodePoints.size()));
     if (inserted) {
       // Interpolate from the lower index so both triangles of the edge get the same point.
       const std::int32_t lo = std::min(a, b), hi = std::max(a, b);
       const double fl = f[lo], fh = f[hi];
       const double t = std::clamp((level - fl) / (fh - fl), 0.0, 1.0);
-      nodePoints.push_back(
+      out.nodePoints.push_back(
           place ? place(lo, hi, t)
                 : Vec3(mesh.vertices[lo] + t * (mesh.vertices[hi] - mesh.vertices[lo])));
     }
     return it->second;
   };
-  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-    const Vec3i& tri = mesh.triangles[t];
-    bool finite = true;
-    bool above[3];
-    for (int k = 0; k < 3; ++k) {
-      const double v = f[tri[k]];
-      finite = finite && std::isfinite(v);
-      above[k] = v >= level;
-    }
-    if (!finite || (above[0] == above[1] && above[1] == above[2])) continue;
-    std::int32_t start = -1, end = -1;
-    for (int k = 0; k < 3; ++k) {
-      const int k1 = (k + 1) % 3;
-      if (above[k] && !above[k1]) start = nodeFor(tri[k], tri[k1]);
-      if (!above[k] && above[k1]) end = nodeFor(tri[k], tri[k1]);
-    }
-    if (start != end) segments.push_back({start, end});
+  bool above[3];
+  for (int k = 0; k < 3; ++k) above[k] = f[tri[k]] >= level;
+  std::int32_t start = -1, end = -1;
+  for (int k = 0; k < 3; ++k) {
+    const int k1 = (k + 1) % 3;
+    if (above[k] && !above[k1]) start = nodeFor(tri[k], tri[k1]);
+    if (!above[k] && above[k1]) end = nodeFor(tri[k], tri[k1]);
   }
+  if (start != end) out.segments.push_back({start, end});
+}
 
+/// Chains one level's segments into polylines.
+std::vector<Polyline> chainSegments(const LevelSegments& level) {
+  const auto& segments = level.segments;
+  const auto& nodePoints = level.nodePoints;
   // Undirected adjacency (a node has ≤ 2 segments on a manifold; more ends the chain there).
   const std::size_t nodes = nodePoints.size();
   std::vector<std::vector<std::int32_t>> nodeSegments(nodes);
@@ -73,7 +75,6 @@ std::vector<Polyline> traceLevelSet(const TriMesh& mesh, const std::vector<doubl
         nodeSegments[node][0] == via ? nodeSegments[node][1] : nodeSegments[node][0];
     return used[s] ? -1 : s;
   };
-
   std::vector<Polyline> lines;
   for (std::size_t s0 = 0; s0 < segments.size(); ++s0) {
     if (used[s0]) continue;
@@ -126,20 +127,75 @@ std::vector<Polyline> traceLevelSet(const TriMesh& mesh, const std::vector<doubl
   return lines;
 }
 
+}  // namespace
+
+std::vector<std::vector<Polyline>> traceLevelSets(const TriMesh& mesh, const std::vector<double>& f,
+                                                  const std::vector<double>& levels,
+                                                  const CrossingPlacer& place) {
+  // Levels in increasing order (indices into `levels`): a triangle is crossed by exactly the
+  // levels in (min, max] of its corner values, found by binary search.
+  std::vector<std::size_t> order(levels.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return levels[a] < levels[b]; });
+  std::vector<double> sorted(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = levels[order[i]];
+  std::vector<LevelSegments> perLevel(levels.size());
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    const Vec3i& tri = mesh.triangles[t];
+    const double a = f[tri[0]], b = f[tri[1]], c = f[tri[2]];
+    if (!std::isfinite(a) || !std::isfinite(b) || !std::isfinite(c)) continue;
+    const double lo = std::min({a, b, c}), hi = std::max({a, b, c});
+    // First level > lo (vertices at a level count as above it, so a level equal to the minimum
+    // leaves every corner above), then every level <= hi.
+    for (auto it = std::upper_bound(sorted.begin(), sorted.end(), lo);
+         it != sorted.end() && *it <= hi; ++it) {
+      const std::size_t k = order[static_cast<std::size_t>(it - sorted.begin())];
+      addTriangle(mesh, f, tri, levels[k], place, perLevel[k]);
+    }
+  }
+  std::vector<std::vector<Polyline>> lines(levels.size());
+  for (std::size_t k = 0; k < levels.size(); ++k) lines[k] = chainSegments(perLevel[k]);
+  return lines;
+}
+
+std::vector<Polyline> traceLevelSet(const TriMesh& mesh, const std::vector<double>& f, double level,
+                                    const CrossingPlacer& place) {
+  return std::move(traceLevelSets(mesh, f, {level}, place).front());
+}
+
 }  // namespace paths_detail
 
-std::vector<Polyline> extractIsoLines(const TriMesh& mesh, const std::vector<double>& field,
-                                      double value) {
+namespace {
+
+void checkIsoInputs(const TriMesh& mesh, const std::vector<double>& field,
+                    const std::vector<double>& values) {
   if (field.size() != mesh.vertexCount()) {
     throw InvalidInput("iso-line field size differs from the vertex count: " +
                        std::to_string(field.size()) + " values for " +
                        std::to_string(mesh.vertexCount()) + " vertices; pass one value per vertex");
   }
-  if (!std::isfinite(value)) {
-    throw InvalidInput("iso-line value is not finite: " + std::to_string(value) +
-                       "; pass a finite value");
+  for (const double value : values) {
+    if (!std::isfinite(value)) {
+      throw InvalidInput("iso-line value is not finite: " + std::to_string(value) +
+                         "; pass a finite value");
+    }
   }
+}
+
+}  // namespace
+
+std::vector<Polyline> extractIsoLines(const TriMesh& mesh, const std::vector<double>& field,
+                                      double value) {
+  checkIsoInputs(mesh, field, {value});
   return paths_detail::traceLevelSet(mesh, field, value);
+}
+
+std::vector<std::vector<Polyline>> extractIsoLines(const TriMesh& mesh,
+                                                   const std::vector<double>& field,
+                                                   const std::vector<double>& values) {
+  checkIsoInputs(mesh, field, values);
+  return paths_detail::traceLevelSets(mesh, field, values);
 }
 
 std::vector<double> computeIsoValues(double spacing, double maxValue, IsoValueStart start) {

@@ -28,4 +28,10 @@ using CrossingPlacer = std::function<Vec3(std::int32_t a, std::int32_t b, double
 std::vector<Polyline> traceLevelSet(const TriMesh& mesh, const std::vector<double>& f, double level,
                                     const CrossingPlacer& place = {});
 
+/// traceLevelSet for several levels in one pass over the triangles (each triangle visits only
+/// the levels between its corner values); result k is exactly traceLevelSet(…, levels[k], …).
+std::vector<std::vector<Polyline>> traceLevelSets(const TriMesh& mesh, const std::vector<double>& f,
+                                                  const std::vector<double>& levels,
+                                                  const CrossingPlacer& place = {});
+
 }  // namespace curvedslicer::paths_detail

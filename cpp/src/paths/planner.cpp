@@ -456,28 +456,29 @@ PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& st
       std::vector<RawBead> beads;
       std::size_t dropped = 0;
       const auto normalOf = [&](const ClosestPoint& c) { return query->normalAt(c); };
-      std::vector<std::vector<Polyline>> levelLines;
-      levelLines.reserve(values.size());
-      for (const double value : values) {
-        if (value <= 0.0) {
-          levelLines.push_back(curves);  // k = 0: the initial curve itself is the first bead
-        } else {
-          levelLines.push_back(
-              timer.run(kIso, [&] { return extractIsoLines(gdtc.mesh, gdtc.distance, value); }));
+      // All levels in one pass over the layer; k = 0 (value 0) is the initial curve itself,
+      // the first bead.
+      std::vector<std::vector<Polyline>> levelLines = timer.run(kIso, [&] {
+        std::vector<double> positive;
+        for (const double value : values) {
+          if (value > 0.0) positive.push_back(value);
         }
-        layerProgress.check();
-      }
+        std::vector<std::vector<Polyline>> lines =
+            extractIsoLines(gdtc.mesh, gdtc.distance, positive);
+        if (positive.size() < values.size()) lines.insert(lines.begin(), curves);
+        return lines;
+      });
+      layerProgress.check();
       if (options.narrowStrips == NarrowStripMode::CentreBead && !values.empty()) {
         // Where the fronts meet (paths/narrow_strips.hpp): paths of one level closer than 0.95·s
         // become one centre bead; the margin keeps the fitted paths at 0.95·s. The inner edges
         // outline the strips beyond the beads where the next level has no ring.
-        std::vector<std::vector<Polyline>> innerEdges;
+        std::vector<double> edgeValues;
         for (const double value : values) {
-          innerEdges.push_back(timer.run(kIso, [&] {
-            return extractIsoLines(gdtc.mesh, gdtc.distance,
-                                   value + 0.5 * s + narrowStrips.innerEdgeOffset);
-          }));
+          edgeValues.push_back(value + 0.5 * s + narrowStrips.innerEdgeOffset);
         }
+        const std::vector<std::vector<Polyline>> innerEdges =
+            timer.run(kIso, [&] { return extractIsoLines(gdtc.mesh, gdtc.distance, edgeValues); });
         NarrowStripResult strips = timer.run(kIso, [&] {
           return resolveNarrowStrips(levelLines, values, s, narrowStrips, innerEdges);
         });
@@ -648,6 +649,9 @@ PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options, 
   std::optional<Vec3> torch;
   std::vector<Vec3> previousSeams;
   std::vector<Polyline> previousBeads = {loops[edge]};
+  // Every bead's iso-line in one pass over the surface.
+  const std::vector<std::vector<Polyline>> levelLines =
+      timer.run(kIso, [&] { return extractIsoLines(gdtc.mesh, gdtc.distance, values); });
   for (std::size_t k = 0; k < values.size(); ++k) {
     const Progress layerProgress =
         progress.sub(0.5 + 0.5 * k / values.size(), 0.5 + 0.5 * (k + 1) / values.size());
@@ -655,8 +659,7 @@ PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options, 
     PlanLayer layer;
     layer.index = static_cast<int>(k);
     layer.height = values[k];
-    const std::vector<Polyline> lines =
-        timer.run(kIso, [&] { return extractIsoLines(gdtc.mesh, gdtc.distance, values[k]); });
+    const std::vector<Polyline>& lines = levelLines[k];
     std::vector<RawBead> beads;
     std::size_t dropped = 0;
     timer.run(kFit, [&] {

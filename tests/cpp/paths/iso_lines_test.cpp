@@ -60,6 +60,34 @@ TEST(IsoLines, SplitWhereTheFieldStops) {
   }
 }
 
+TEST(IsoLines, ManyValuesInOnePassEqualOneAtATime) {
+  // A wavy radial field with a hole of no values, values in any order, some exactly at vertex
+  // values (0 and 2, where vertices count as above), one crossing nothing (50), one repeated.
+  const TriMesh mesh = makeRectangleMesh(-10, 10, -10, 10, 40, 40);
+  std::vector<double> f;
+  for (const Vec3& v : mesh.vertices) {
+    const bool hole = std::abs(v.x() - 4.0) < 1.2 && std::abs(v.y()) < 1.2;
+    f.push_back(hole ? std::nan("") : v.norm() + 0.3 * std::sin(3.0 * v.x()) + std::round(v.y()));
+  }
+  const std::vector<double> values = {6.1, 0.0, 2.0, 50.0, -3.5, 6.1, 11.25, 1.7};
+  const std::vector<std::vector<Polyline>> batch = extractIsoLines(mesh, f, values);
+  ASSERT_EQ(batch.size(), values.size());
+  std::size_t lines = 0;
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    SCOPED_TRACE(values[k]);
+    const std::vector<Polyline> single = extractIsoLines(mesh, f, values[k]);
+    ASSERT_EQ(batch[k].size(), single.size());
+    for (std::size_t i = 0; i < single.size(); ++i) {
+      EXPECT_EQ(batch[k][i].closed, single[i].closed);
+      EXPECT_EQ(batch[k][i].points, single[i].points);  // bit-identical
+    }
+    lines += single.size();
+  }
+  EXPECT_GT(lines, 8u);
+  EXPECT_TRUE(batch[3].empty());
+  EXPECT_THROW(extractIsoLines(mesh, f, std::vector<double>{1.0, INFINITY}), InvalidInput);
+}
+
 TEST(IsoLines, ValueSequence) {
   EXPECT_EQ(computeIsoValues(2.0, 7.0, IsoValueStart::Boundary), (std::vector<double>{1, 3, 5, 7}));
   EXPECT_EQ(computeIsoValues(2.0, 7.0, IsoValueStart::InteriorCurve),

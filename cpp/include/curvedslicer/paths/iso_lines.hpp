@@ -10,7 +10,8 @@
 // iso-lines are split where they leave the surface; a chain that returns to its start is closed.
 // Points lie exactly on the triangles (linear interpolation along edges).
 // Preconditions: an indexed mesh (neighbouring triangles share vertex indices); one value per
-// vertex. Cost: O(T) per iso-value.
+// vertex. Cost: O(T) per iso-value; several values in one pass: O(T + crossings) (each triangle
+// visits only the values between its corner values).
 #pragma once
 
 #include <vector>
@@ -27,6 +28,13 @@ namespace curvedslicer {
 /// @throws InvalidInput if field.size() != mesh.vertexCount().
 std::vector<Polyline> extractIsoLines(const TriMesh& mesh, const std::vector<double>& field,
                                       double value);
+
+/// The iso-lines at every one of `values` (any order), in one pass over the triangles: result k
+/// equals extractIsoLines(mesh, field, values[k]).
+/// @throws InvalidInput as extractIsoLines, naming the first non-finite value.
+std::vector<std::vector<Polyline>> extractIsoLines(const TriMesh& mesh,
+                                                   const std::vector<double>& field,
+                                                   const std::vector<double>& values);
 
 /// Where bead paths start counting.
 enum class IsoValueStart {
