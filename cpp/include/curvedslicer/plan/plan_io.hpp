@@ -8,7 +8,7 @@
 //     "model": "...", "start": "...",
 //     "parameters": {"layer_thickness_mm", "voxel_size_mm", "bead_spacing_mm",
 //                    "point_spacing_mm", "fit_tolerance_mm", "field_method", "surface_method",
-//                    "initial_curve", and "narrow_strips" when set},
+//                    "initial_curve", and "narrow_strips", "corner_angle_deg" when set},
 //     "point_fields": ["x","y","z","nx","ny","nz","vx","vy","vz"],
 //     "layers": [ {"index", "height_mm", "surface", "warnings": [..],
 //                  "paths": [ {"layer", "index", "closed", "length_mm",
