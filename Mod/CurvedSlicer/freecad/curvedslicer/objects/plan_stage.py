@@ -274,7 +274,9 @@ def draw_paths(job, prune=True):
             group.addObject(feature)
         wires = [_wire(points, closed, job.PathDisplay)
                  for (closed, points) in by_layer.get(layer["index"], [])]
-        feature.Shape = Part.makeCompound(wires)
+        # A layer without paths gets a null shape: an empty compound has no bounding box, and
+        # the 3D view reports it ("Cannot compute Inventor representation … Bnd_Box is void").
+        feature.Shape = Part.makeCompound(wires) if wires else Part.Shape()
         feature.Label = "%s paths %03d" % (job.Label, layer["index"] + 1)
         feature.LayerIndex = int(layer["index"]) + 1
         feature.PathCount = int(layer["paths"])
