@@ -93,6 +93,23 @@ class TestPaths(PathTestCase):
         spacing = api.path_spacing(job)
         self.assertLess(max(abs(d - 1.65) for d in spacing), 0.03, spacing)
 
+    def test_layer_without_room_for_a_bead_has_a_null_shape(self):
+        # A cone narrowing from r = 20 to 2 mm: with 12 mm beads the upper layers are too small.
+        cone = self.doc.addObject("Part::Feature", "Cone")
+        cone.Shape = Part.makeCone(20, 2, 10)
+        self.doc.recompute()
+        job = api.make_job(self.doc, cone, layer_thickness=2.0, voxel_size=0.5, bead_spacing=12.0,
+                           cell_file="")
+        api.run(job, progress=False)
+        features = api.path_features(job)
+        empty = [f for f in features if f.PathCount == 0]
+        self.assertTrue(empty and len(empty) < len(features), [f.PathCount for f in features])
+        for feature in features:
+            # An empty compound would have no bounding box for the 3D view.
+            self.assertEqual(feature.Shape.isNull(), feature.PathCount == 0, feature.Label)
+        warnings = [w for layer in json.loads(job.PlanJson)["layers"] for w in layer["warnings"]]
+        self.assertTrue(any("no room for a bead" in w for w in warnings), warnings)
+
     def test_path_parameter_replans_without_rerunning_the_layers(self):
         job = self.box_job(bead_spacing=4.0)
         runs, digest, paths = job.RunCount, job.PlanDigest, job.PathCount
