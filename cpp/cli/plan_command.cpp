@@ -323,13 +323,12 @@ int runPlanCommand(const PlanArguments& args) {
 
     // ---- plan files and report -----------------------------------------------------------------
     Json planSection = planReport(planned);
-    planSection["inputs"] =
-        Json{{"bead_spacing_mm", planned.plan.parameters.beadSpacing},
-             {"point_spacing_mm", planned.plan.parameters.pointSpacing},
-             {"fit_tolerance_mm", planned.plan.parameters.fitTolerance},
-             {"corner_angle_deg", planned.plan.parameters.cornerAngle.value_or(30.0)},
-             {"initial_curve", planned.plan.parameters.initialCurve},
-             {"surface_method", planned.plan.parameters.surfaceMethod}};
+    planSection["inputs"] = Json{{"bead_spacing_mm", planned.plan.parameters.beadSpacing},
+                                 {"point_spacing_mm", planned.plan.parameters.pointSpacing},
+                                 {"fit_tolerance_mm", planned.plan.parameters.fitTolerance},
+                                 {"corner_angle_deg", planner.cornerAngle},
+                                 {"initial_curve", planned.plan.parameters.initialCurve},
+                                 {"surface_method", planned.plan.parameters.surfaceMethod}};
     if (!planned.plan.parameters.narrowStrips.empty()) {
       planSection["inputs"]["narrow_strips"] = planned.plan.parameters.narrowStrips;
     }

@@ -72,7 +72,7 @@ def make_job(doc, solid, start=None, layer_thickness=1.5, voxel_size=None, metho
              name="Job", plan_kind="CurvedLayers", wall_surface=None, wall_axis=(0, 0, 1),
              fit_tolerance=0.05, surface_method="Accurate", initial_plane=None,
              initial_surface=None, path_display="Polyline", tool_along_travel=False,
-             narrow_strips="CentreBead", corner_angle=30.0):
+             narrow_strips="CentreBead", corner_angle=plan_stage.DEFAULT_CORNER_ANGLE):
     """Creates a Job for `solid` in `doc` (no computation; call run() or doc.recompute()).
 
     start: see _set_start. voxel_size None = the preference (default 1 mm). method "AnyAngle" |

@@ -92,7 +92,7 @@ PROPERTIES = [
     ("App::PropertyAngle", "CornerAngle", "Paths",
      "Where a path turns by more than this within 0.2 mm, the spline fit keeps the raw vertex as "
      "an exact corner, degrees in (0, 180]; 180 keeps no corners (every path one smooth spline)",
-     30.0),
+     plan_stage.DEFAULT_CORNER_ANGLE),
     ("App::PropertyEnumeration", "InitialPath", "Paths",
      "Initial curve of every layer: Boundary (contour-parallel paths), Plane (section with "
      "InitialPlanePoint/InitialPlaneNormal) or Surface (section with InitialSurface)",

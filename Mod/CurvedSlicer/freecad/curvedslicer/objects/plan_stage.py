@@ -50,8 +50,8 @@ def _degrees(quantity):
     return float(FreeCAD.Units.Quantity(quantity).getValueAs("deg"))
 
 
-#: CornerAngle of Jobs saved before the property existed (their fit used it already); a Job with
-#: this value keeps the digest it had then.
+#: The default CornerAngle, degrees: also the value of Jobs saved before the property existed
+#: (their fit used it already), so a Job with this value keeps the digest it had then.
 DEFAULT_CORNER_ANGLE = 30.0
 
 
