@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <utility>
 
 namespace curvedslicer::detail {
@@ -21,33 +20,50 @@ void buildCsr(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs,
   for (const auto& p : pairs) list[fill[p.first]++] = p.second;
 }
 
-/// True if triangle `t` and the axis-aligned box centre `c`, half-size `h` (inflated by a tiny
-/// relative margin by the caller) overlap: separating-axis test over the box axes, the triangle's
-/// normal and the nine edge × axis directions (Akenine-Möller 2001, "Fast 3D triangle-box overlap
-/// testing"). Exact up to rounding, unlike a bounding-box test, which lists a long thin diagonal
-/// triangle in every brick of its box.
-bool triangleOverlapsBox(const Triangle& t, const Vec3& c, double h) {
-  const Vec3 v[3] = {t[0] - c, t[1] - c, t[2] - c};
-  for (int a = 0; a < 3; ++a) {
-    const double lo = std::min({v[0][a], v[1][a], v[2][a]});
-    const double hi = std::max({v[0][a], v[1][a], v[2][a]});
-    if (lo > h || hi < -h) return false;
-  }
-  const Vec3 e[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
-  const Vec3 n = e[0].cross(e[1]);
-  if (std::abs(n.dot(v[0])) > h * n.cwiseAbs().sum()) return false;
-  for (int i = 0; i < 3; ++i) {
-    for (int a = 0; a < 3; ++a) {
-      Vec3 axis = Vec3::Zero();
-      axis[a] = 1.0;
-      axis = e[i].cross(axis);
-      const double p0 = axis.dot(v[0]), p1 = axis.dot(v[1]), p2 = axis.dot(v[2]);
-      const double r = h * axis.cwiseAbs().sum();
-      if (std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r) return false;
+/// Whether a triangle overlaps axis-aligned cubes of half-size `h` (inflated by a tiny relative
+/// margin by the caller): separating-axis test over the box axes, the triangle's normal and the
+/// nine edge × axis directions (Akenine-Möller 2001, "Fast 3D triangle-box overlap testing").
+/// Exact up to rounding, unlike a bounding-box test, which lists a long thin diagonal triangle in
+/// every brick of its box. The triangle's projections on the 13 axes are computed once; a cube
+/// then costs one dot product per axis (its centre's projection). These absolute projections
+/// round to ~1e-16 of the coordinates: below the 1e-9 margin for grids up to 10^6 cells a side.
+class TriangleBoxTester {
+ public:
+  TriangleBoxTester(const Triangle& t, double h) {
+    const Vec3 e[3] = {t[1] - t[0], t[2] - t[1], t[0] - t[2]};
+    int k = 0;
+    auto add = [&](const Vec3& axis, double radius) {
+      const double p0 = axis.dot(t[0]), p1 = axis.dot(t[1]), p2 = axis.dot(t[2]);
+      axes_[k] = axis;
+      lo_[k] = std::min({p0, p1, p2}) - radius;
+      hi_[k] = std::max({p0, p1, p2}) + radius;
+      ++k;
+    };
+    for (int a = 0; a < 3; ++a) add(Vec3::Unit(a), h);
+    const Vec3 n = e[0].cross(e[1]);
+    add(n, h * n.cwiseAbs().sum());
+    for (int i = 0; i < 3; ++i) {
+      for (int a = 0; a < 3; ++a) {
+        const Vec3 axis = e[i].cross(Vec3::Unit(a));
+        add(axis, h * axis.cwiseAbs().sum());
+      }
     }
   }
-  return true;
-}
+
+  /// True unless an axis separates the triangle from the cube of centre `c`.
+  bool overlaps(const Vec3& c) const {
+    for (int k = 0; k < kAxes; ++k) {
+      const double pc = axes_[k].dot(c);
+      if (pc < lo_[k] || pc > hi_[k]) return false;
+    }
+    return true;
+  }
+
+ private:
+  static constexpr int kAxes = 13;
+  Vec3 axes_[kAxes];
+  double lo_[kAxes], hi_[kAxes];  // the triangle's projection widened by the cube's radius
+};
 
 }  // namespace
 
@@ -90,11 +106,16 @@ SolidBoundary::SolidBoundary(const GridGeometry& g, const TriMesh& model) {
     const Vec3 lo = tri[0].cwiseMin(tri[1]).cwiseMin(tri[2]);
     const Vec3 hi = tri[0].cwiseMax(tri[1]).cwiseMax(tri[2]);
     const Vec3i b0 = brickOf(lo), b1 = brickOf(hi);
+    if (b0 == b1) {  // within one brick: no test needed
+      pairs.emplace_back(static_cast<std::uint32_t>(brickIndex(b0)), id);
+      continue;
+    }
+    const TriangleBoxTester tester(tri, brickHalf);
     for (int i = b0.x(); i <= b1.x(); ++i)
       for (int j = b0.y(); j <= b1.y(); ++j)
         for (int k = b0.z(); k <= b1.z(); ++k) {
           const Vec3 centre = (Vec3(i, j, k).array() + 0.5) * brick_;
-          if (!triangleOverlapsBox(tri, centre, brickHalf)) continue;
+          if (!tester.overlaps(centre)) continue;
           pairs.emplace_back(static_cast<std::uint32_t>(brickIndex(Vec3i(i, j, k))), id);
         }
   }
@@ -102,39 +123,50 @@ SolidBoundary::SolidBoundary(const GridGeometry& g, const TriMesh& model) {
 
   // Reflex edges: manifold, consistently oriented edges whose neighbouring triangle's far vertex
   // lies outside (in front of) the first triangle's plane.
+  // Edge uses sorted by (lower vertex, higher vertex), each edge's uses in triangle order.
   struct Use {
+    std::uint64_t key;  // lower vertex << 32 | higher vertex
     std::uint32_t tri;
     bool forward;  // the triangle traverses the edge from lower to higher vertex index
     int opposite;  // vertex not on the edge
   };
-  std::map<std::pair<int, int>, std::vector<Use>> edges;
+  std::vector<Use> uses;
+  uses.reserve(3 * model.triangles.size());
   for (std::size_t t = 0; t < model.triangles.size(); ++t) {
     if (triOfModel[t] == UINT32_MAX) continue;
     const Vec3i& f = model.triangles[t];
     for (int k = 0; k < 3; ++k) {
       const int a = f[k], b = f[(k + 1) % 3], c = f[(k + 2) % 3];
-      edges[{std::min(a, b), std::max(a, b)}].push_back({triOfModel[t], a < b, c});
+      const auto key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) |
+                       static_cast<std::uint32_t>(std::max(a, b));
+      uses.push_back({key, triOfModel[t], a < b, c});
     }
   }
+  std::stable_sort(uses.begin(), uses.end(),
+                   [](const Use& l, const Use& r) { return l.key < r.key; });
   pairs.clear();
   closed_ = !model.triangles.empty() &&
             std::find(triOfModel.begin(), triOfModel.end(), UINT32_MAX) == triOfModel.end();
-  for (const auto& [key, uses] : edges) {
-    if (uses.size() != 2 || uses[0].forward == uses[1].forward) {
+  for (std::size_t u0 = 0, u1 = 0; u0 < uses.size(); u0 = u1) {
+    u1 = u0 + 1;
+    while (u1 < uses.size() && uses[u1].key == uses[u0].key) ++u1;
+    if (u1 - u0 != 2 || uses[u0].forward == uses[u0 + 1].forward) {
       closed_ = false;
       continue;
     }
-    const Vec3& a = v[key.first];
-    const Vec3& b = v[key.second];
-    const Vec3 n1 = normals_[uses[0].tri].normalized();
+    const Use& first = uses[u0];
+    const Use& second = uses[u0 + 1];
+    const Vec3& a = v[static_cast<std::size_t>(first.key >> 32)];
+    const Vec3& b = v[static_cast<std::size_t>(first.key & 0xffffffffu)];
+    const Vec3 n1 = normals_[first.tri].normalized();
     const double edgeLen = (b - a).norm();
-    const double bulge = n1.dot(v[uses[1].opposite] - a);
+    const double bulge = n1.dot(v[second.opposite] - a);
     // Reflex when the second face turns outward by more than ~1e-6 rad relative to its size.
-    const double size = (v[uses[1].opposite] - a).norm();
+    const double size = (v[second.opposite] - a).norm();
     if (!(bulge > 1e-6 * size) || !(edgeLen > 0)) continue;
     const std::uint32_t id = static_cast<std::uint32_t>(reflex_.size());
     reflex_.push_back({a, b});
-    reflexNormals_.push_back({n1, normals_[uses[1].tri].normalized()});
+    reflexNormals_.push_back({n1, normals_[second.tri].normalized()});
     const Vec3i b0 = brickOf(a.cwiseMin(b).array() - 3.0);
     const Vec3i b1 = brickOf(a.cwiseMax(b).array() + 3.0);
     for (int i = b0.x(); i <= b1.x(); ++i)
