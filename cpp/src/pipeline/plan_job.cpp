@@ -1,0 +1,92 @@
+#include "curvedslicer/pipeline/plan_job.hpp"
+
+#include <chrono>
+#include <string>
+#include <utility>
+
+#include "curvedslicer/core/error.hpp"
+#include "curvedslicer/mesh/mesh_repair.hpp"
+#include "curvedslicer/pipeline/layer_output.hpp"
+
+namespace curvedslicer {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point begin) {
+  return std::chrono::duration<double>(Clock::now() - begin).count();
+}
+
+/// What the plan records of the job besides the planner's own parameters.
+void recordProvenance(Plan& plan, const PlanJobOptions& options) {
+  plan.model = options.modelName;
+  plan.start = options.startSpec;
+  if (options.thinWall) return;  // a wall has no volume layers: thickness, voxel, field unset
+  plan.parameters.layerThickness = options.layerJob.layers.layerThickness;
+  plan.parameters.voxelSize = options.layerJob.voxelize.voxelSize;
+  plan.parameters.fieldMethod = std::string(toString(options.layerJob.geodesic.method));
+}
+
+}  // namespace
+
+void validatePlanJobOptions(const PlanJobOptions& options) {
+  if (options.thinWall) {
+    validateThinWallOptions(*options.thinWall);
+    if (options.planner.initialCurve.kind != InitialCurveKind::Boundary) {
+      throw InvalidInput("an initial curve does not apply to a thin wall: '" +
+                         options.planner.initialCurve.describe() +
+                         "'; the wall's edge is the initial curve (leave the initial curve at "
+                         "boundary)");
+    }
+    return;
+  }
+  validateLayerJobOptions(options.layerJob);
+  validatePlannerOptions(options.planner);
+}
+
+PlanResult planOnLayers(const std::vector<LayerSurface>& layers, const TriMesh& startSurface,
+                        const PlanJobOptions& options, Progress progress) {
+  validatePlanJobOptions(options);
+  PlanResult planned;
+  if (options.thinWall) {
+    if (!layers.empty()) {
+      throw InvalidInput("a thin wall is planned on its surface, not on layers: " +
+                         std::to_string(layers.size()) +
+                         " layers given; pass the wall as the surface and no layers");
+    }
+    planned = planThinWall(startSurface, *options.thinWall, std::move(progress));
+  } else {
+    planned = planLayers(layers, startSurface, options.planner, std::move(progress));
+  }
+  recordProvenance(planned.plan, options);
+  return planned;
+}
+
+PlanJobResult runPlanJob(const TriMesh& model, const PlanJobOptions& options, Progress progress) {
+  validatePlanJobOptions(options);
+  const auto begin = Clock::now();
+  PlanJobResult result;
+  if (options.thinWall) {
+    const TriMesh surface = cleanMesh(model).mesh;
+    result.planned = planOnLayers({}, surface, options, progress.sub(0.0, 0.95));
+    result.totalSeconds = secondsSince(begin);
+    return result;
+  }
+  result.layers = runLayerJob(model, options.layerJob, progress.sub(0.0, 0.6));
+  const auto planBegin = Clock::now();
+  result.planned = planOnLayers(result.layers.layers.surfaces, result.layers.source, options,
+                                progress.sub(0.6, 0.95));
+  const double planSeconds = secondsSince(planBegin);
+  result.layers.stageTimes.push_back(StageTime{"plan", planSeconds});
+  result.layers.totalSeconds += planSeconds;
+  result.layerFiles = layerFileNames(result.layers.layers, options.layerFormat);
+  Plan& plan = result.planned.plan;
+  for (std::size_t k = 0; k < plan.layers.size() && k < result.layerFiles.size(); ++k) {
+    plan.layers[k].surface = result.layerFiles[k];
+  }
+  result.totalSeconds = secondsSince(begin);
+  return result;
+}
+
+}  // namespace curvedslicer
