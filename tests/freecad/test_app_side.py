@@ -1,9 +1,9 @@
 """The App side of the workbench never imports a GUI module: with FreeCADGui, PySide and the
 workbench's GUI modules (init_gui, commands/, taskpanels/, viewproviders/, gui_progress) blocked by
 an import hook, every App module imports, and a Job is made (api.make_job), run (api.run, then a
-recompute after a parameter change) and exported (api.export) headless. The source of every App
-module is also read for GUI imports anywhere in it (inside functions too, e.g. behind
-``if FreeCAD.GuiUp``, which a headless run never reaches)."""
+recompute after a parameter change) and exported (api.export) headless, also with
+``FreeCAD.GuiUp`` claimed True (an import behind ``if FreeCAD.GuiUp`` then hits the block). The
+source of every App module is also read for GUI imports anywhere in it (inside functions too)."""
 
 import ast
 import importlib
@@ -132,6 +132,21 @@ class TestAppSide(cs_testing.DocumentTestCase):
         result = api.export(job, path, format="jbi")
         self.assertTrue(os.path.getsize(path) > 0)
         self.assertGreater(result["motion_count"], 0)
+        self.assertEqual(BLOCKER.attempts, [])
+
+    def test_the_app_side_does_not_ask_whether_the_gui_is_up(self):
+        """With GuiUp claimed True (and the GUI still blocked), the App side runs the same: it
+        leaves GUI work to hooks.py instead of importing GUI modules behind GuiUp."""
+        saved = FreeCAD.GuiUp
+        FreeCAD.GuiUp = True
+        try:
+            box = self.box(30, 20, 12)
+            job = api.make_job(self.doc, box, layer_thickness=3.0, voxel_size=1.0)
+            api.run(job, progress=False)
+            self.assertEqual(job.LayerCount, 3)
+            self.assertGreater(job.PathCount, 0)
+        finally:
+            FreeCAD.GuiUp = saved
         self.assertEqual(BLOCKER.attempts, [])
 
 
