@@ -3,6 +3,7 @@
 # Mod folder, and the freecadcmd / xvfb GUI tests.
 
 # ---- build-tree copy ------------------------------------------------------------------------
+# (files deleted or moved in the source are removed from the copy too: sync_workbench.cmake)
 set(workbench_source ${PROJECT_SOURCE_DIR}/Mod/CurvedSlicer)
 file(GLOB_RECURSE workbench_files CONFIGURE_DEPENDS
      ${workbench_source}/*.py ${workbench_source}/*.xml ${workbench_source}/*.svg
@@ -10,9 +11,11 @@ file(GLOB_RECURSE workbench_files CONFIGURE_DEPENDS
 set(workbench_stamp ${CMAKE_BINARY_DIR}/workbench.stamp)
 add_custom_command(
   OUTPUT ${workbench_stamp}
-  COMMAND ${CMAKE_COMMAND} -E copy_directory ${workbench_source} ${CURVEDSLICER_WORKBENCH_BUILD_DIR}
+  COMMAND ${CMAKE_COMMAND} -DSOURCE=${workbench_source}
+          -DDESTINATION=${CURVEDSLICER_WORKBENCH_BUILD_DIR}
+          -P ${PROJECT_SOURCE_DIR}/cmake/sync_workbench.cmake
   COMMAND ${CMAKE_COMMAND} -E touch ${workbench_stamp}
-  DEPENDS ${workbench_files}
+  DEPENDS ${workbench_files} ${PROJECT_SOURCE_DIR}/cmake/sync_workbench.cmake
   COMMENT "Copying the FreeCAD workbench into ${CURVEDSLICER_WORKBENCH_BUILD_DIR}")
 add_custom_target(curvedslicer_workbench ALL DEPENDS ${workbench_stamp} _curvedslicer)
 

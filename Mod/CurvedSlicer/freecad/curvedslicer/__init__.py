@@ -1,9 +1,12 @@
 """CurvedSlicer FreeCAD workbench: curved layers for robotic wire-arc additive manufacturing.
 
-Macro API: ``from freecad.curvedslicer import api``. Package layout (by role, FEM style):
-``objects/`` document-object proxies (no GUI imports), ``viewproviders/``, ``taskpanels/``,
-``commands/`` (GUI only), ``geometry.py`` (shapes/meshes to arrays), ``core.py`` (the compiled
-module ``_curvedslicer`` and its exception classes).
+Macro API: ``from freecad.curvedslicer import api``. Package layout (by role, FEM style; see
+docs/WORKBENCH.md). App side, no GUI imports: ``objects/`` the Job's proxy (properties,
+persistence, migration), ``stages/`` what a run does (layers, paths, poses, each with its digest),
+``api.py``, ``geometry.py`` (shapes/meshes to arrays), ``core.py`` (the compiled module
+``_curvedslicer`` and its exception classes), ``hooks.py`` (what the GUI lends the App side).
+GUI side: ``init_gui.py``, ``viewproviders/`` (styling), ``taskpanels/``, ``commands/``,
+``gui_progress.py``.
 """
 
 import os

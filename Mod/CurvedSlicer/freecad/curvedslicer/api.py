@@ -8,15 +8,18 @@
 
 The GUI commands call these same functions through FreeCADGui.doCommand, so a recorded macro
 replays what the user did. Lengths are mm. Errors are the classes of ``freecad.curvedslicer.core``.
+App side: no GUI imports (a progress dialog and view providers come through hooks.py).
 """
 
 import FreeCAD
 
-from . import geometry, preferences
+from . import geometry, hooks, preferences, stages
 from .core import (Cancelled, CurvedSlicerError, InvalidInput, IoError, NotAvailable,
                    ResourceLimit, native)
 from .objects import job as job_module
-from .objects import plan_stage, poses
+from .stages import layers as layer_stage
+from .stages import paths as path_stage
+from .stages import poses
 
 __all__ = ["make_job", "run", "recompute", "estimate", "layers", "set_layer_range", "export",
            "export_formats", "plan", "plan_json", "path_features", "path_spacing", "motion",
@@ -24,8 +27,8 @@ __all__ = ["make_job", "run", "recompute", "estimate", "layers", "set_layer_rang
            "IoError", "ResourceLimit", "Cancelled", "NotAvailable"]
 
 is_job = job_module.is_job
-layers = job_module.layer_objects
-report = job_module.report
+layers = layer_stage.layer_objects
+report = layer_stage.report
 
 
 def _link_sub(value):
@@ -72,7 +75,7 @@ def make_job(doc, solid, start=None, layer_thickness=1.5, voxel_size=None, metho
              name="Job", plan_kind="CurvedLayers", wall_surface=None, wall_axis=(0, 0, 1),
              fit_tolerance=0.05, surface_method="Accurate", initial_plane=None,
              initial_surface=None, path_display="Polyline", tool_along_travel=False,
-             narrow_strips="CentreBead", corner_angle=plan_stage.DEFAULT_CORNER_ANGLE):
+             narrow_strips="CentreBead", corner_angle=path_stage.DEFAULT_CORNER_ANGLE):
     """Creates a Job for `solid` in `doc` (no computation; call run() or doc.recompute()).
 
     start: see _set_start. voxel_size None = the preference (default 1 mm). method "AnyAngle" |
@@ -89,9 +92,9 @@ def make_job(doc, solid, start=None, layer_thickness=1.5, voxel_size=None, metho
     then be None or the wall's solid (carried by the positioner model). cell_file None = the
     preference ("" = the paper's cell). Raises InvalidInput when `solid` is not a solid (checked
     here, before any computation)."""
-    if plan_kind not in plan_stage.PLAN_KINDS:
+    if plan_kind not in path_stage.PLAN_KINDS:
         raise InvalidInput("unknown plan_kind: %r; use one of %s"
-                           % (plan_kind, ", ".join(plan_stage.PLAN_KINDS)))
+                           % (plan_kind, ", ".join(path_stage.PLAN_KINDS)))
     if plan_kind == "CurvedLayers" or solid is not None:
         if solid is not None and not geometry.is_mesh_object(solid):
             geometry.solid_shape(solid)
@@ -127,11 +130,8 @@ def make_job(doc, solid, start=None, layer_thickness=1.5, voxel_size=None, metho
     obj.CellFile = preferences.default_cell_file() if cell_file is None else cell_file
     if plan_kind == "CurvedLayers":
         _set_start(obj, start)
-        job_module.ensure_layers_group(obj)
-    if FreeCAD.GuiUp:
-        from .viewproviders import view_job
-
-        view_job.attach(obj)
+        layer_stage.ensure_layers_group(obj)
+    hooks.attach_view(obj)
     return obj
 
 
@@ -148,21 +148,15 @@ def run(job, progress=None, force=False):
         raise InvalidInput("not a CurvedSlicer Job: %s; pass the object make_job returned"
                            % getattr(job, "Label", job))
     owned = None
-    if progress is None and job_module._default_progress_factory is not None:
-        owned = progress = job_module._default_progress_factory()
+    if progress is None:
+        owned = progress = hooks.make_progress()
     if progress is False:
         progress = None
     try:
-        ran = job_module.update_job(job, progress=progress, force=force, prune=True)
+        ran = stages.update_job(job, progress=progress, force=force, prune=True)
     finally:
-        if owned is not None and hasattr(owned, "close"):
-            owned.close()
+        hooks.close_progress(owned)
     job.purgeTouched()
-    if FreeCAD.GuiUp:
-        from .viewproviders import view_job
-
-        view_job.color_layers(job)
-        view_job.style_paths(job)
     return ran
 
 
@@ -170,8 +164,7 @@ def recompute(job):
     """doc.recompute() for the Job, then removal of layer objects a smaller result left unused."""
     job.touch()
     job.Document.recompute()
-    job_module.prune_unused_layers(job)
-    plan_stage.prune_unused_paths(job)
+    stages.prune_unused(job)
 
 
 def estimate(job, voxel_size=None, grid_alignment=None, memory_budget_mb=None, deflection=None,
@@ -185,7 +178,7 @@ def estimate(job, voxel_size=None, grid_alignment=None, memory_budget_mb=None, d
         raise InvalidInput("voxel size must be positive: %g mm; set VoxelSize, e.g. 0.5" % voxel)
     d = float(job.Deflection) if deflection is None else float(deflection)
     d = d if d > 0 else native.deflection_for_voxel_size(voxel)
-    budget = job_module.memory_budget_mb(job) if memory_budget_mb is None else memory_budget_mb
+    budget = layer_stage.memory_budget_mb(job) if memory_budget_mb is None else memory_budget_mb
     if budget < 0:
         raise InvalidInput("memory budget must not be negative: %g MB; use 0 for 80 %% of "
                            "physical memory" % budget)
@@ -284,12 +277,12 @@ def export(job, path=None, format="jbi", program_name="", date="", gcode_mode="t
 
 def path_features(job):
     """The Part features of the Job's plan layers (one compound of bead wires each)."""
-    return plan_stage.path_objects(job)
+    return path_stage.path_objects(job)
 
 
 def path_spacing(job):
-    """Measured distances between neighbouring beads of the stored plan, mm (plan_stage)."""
-    return plan_stage.plan_spacing(job)
+    """Measured distances between neighbouring beads of the stored plan, mm (stages/paths.py)."""
+    return path_stage.plan_spacing(job)
 
 
 def motion(job):

@@ -12,14 +12,11 @@ class CurvedSlicerWorkbench(FreeCADGui.Workbench):
 
     def Initialize(self):
         from freecad.curvedslicer.commands import job_commands
-        from freecad.curvedslicer.objects import job as job_module
-        from freecad.curvedslicer.gui_progress import DialogProgress
         from freecad.curvedslicer.taskpanels.preferences_page import PreferencesPage
 
         names = job_commands.register()
         self.appendToolbar("CurvedSlicer", names[:4])
         self.appendMenu("CurvedSlicer", names)
-        job_module.set_default_progress_factory(DialogProgress)
         FreeCADGui.addPreferencePage(PreferencesPage, "CurvedSlicer")
 
     def Activated(self):
@@ -32,4 +29,16 @@ class CurvedSlicerWorkbench(FreeCADGui.Workbench):
         return "Gui::PythonWorkbench"
 
 
+def install_hooks():
+    """Lends the App side the GUI's progress dialog and view providers (hooks.py), from start-up
+    on: a document with Jobs may be opened, or a macro run, before the workbench is activated."""
+    from freecad.curvedslicer import hooks
+    from freecad.curvedslicer.gui_progress import DialogProgress
+    from freecad.curvedslicer.viewproviders import view_job
+
+    hooks.install(progress_factory=DialogProgress, attach_view=view_job.attach,
+                  restore_view=view_job.restore)
+
+
+install_hooks()
 FreeCADGui.addWorkbench(CurvedSlicerWorkbench())

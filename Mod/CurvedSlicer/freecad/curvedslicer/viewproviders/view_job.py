@@ -1,5 +1,11 @@
-"""View provider of the Job: icon, double-click opens the task panel, layers coloured by height
-(blue at the start surface to red at the top)."""
+"""View provider of the Job: icon, double-click opens the task panel, and the styling of the
+Job's result features: layers coloured by height (blue at the start surface to red at the top),
+paths as coloured lines, travel dashed, the positioner in greys.
+
+The stages (App side) never style; the view provider restyles when a stage's result property
+changes (``updateData``), deferred to the event loop so that an undo or redo in progress (whose
+groups can hold objects not yet restored) is finished first. ``attach`` and ``restore`` are the
+hooks init_gui.py installs into the App side (hooks.py)."""
 
 import FreeCAD
 
@@ -22,7 +28,7 @@ def color_layers(job):
     """Colours the Job's layer meshes by height (no-op headless)."""
     if not FreeCAD.GuiUp:
         return
-    from ..objects.job import layer_objects
+    from ..stages.layers import layer_objects
 
     features = layer_objects(job)
     heights = [float(f.Height) for f in features]
@@ -43,9 +49,10 @@ def style_paths(job):
     grey lines, positioner parts in neutral greys (no-op headless)."""
     if not FreeCAD.GuiUp:
         return
-    from ..objects import plan_stage, poses
+    from ..stages import paths as path_stage
+    from ..stages import poses
 
-    features = plan_stage.path_objects(job)
+    features = path_stage.path_objects(job)
     count = max(len(features), 1)
     for i, feature in enumerate(features):
         vobj = feature.ViewObject
@@ -54,7 +61,7 @@ def style_paths(job):
         vobj.LineColor = height_color(i / max(count - 1, 1))
         vobj.LineWidth = 2.0
         vobj.DrawStyle = "Solid"
-    travel = plan_stage.travel_object(job)
+    travel = path_stage.travel_object(job)
     if travel is not None and travel.ViewObject is not None:
         travel.ViewObject.LineColor = (0.45, 0.45, 0.45)
         travel.ViewObject.LineWidth = 1.0
@@ -64,6 +71,42 @@ def style_paths(job):
     for role, obj in poses.pose_objects(job).items():
         if role in greys and obj.ViewObject is not None:
             obj.ViewObject.ShapeColor = greys[role]
+
+
+#: Result properties after whose change the Job's features are restyled: the layer stage sets
+#: LayerHeights after writing the layers, the path stage PlanDigest after drawing the paths, the
+#: pose stage PoseCount after placing the positioner.
+STYLED_BY = ("LayerHeights", "PlanDigest", "PoseCount")
+
+_pending = set()  # (document name, Job name) with a restyling scheduled
+
+
+def schedule_styling(job):
+    """Restyles the Job's features once the event loop runs (several changes in one run or one
+    undo coalesce into one restyling). Nothing happens if the Job is gone by then."""
+    from PySide import QtCore
+
+    key = (job.Document.Name, job.Name)
+    if key in _pending:
+        return
+    _pending.add(key)
+    QtCore.QTimer.singleShot(0, lambda: _style_later(key))
+
+
+def _style_later(key):
+    _pending.discard(key)
+    job = _find(key)
+    if job is not None:
+        color_layers(job)
+        style_paths(job)
+
+
+def _find(key):
+    """The Job named by (document name, object name), or None if either was closed/removed."""
+    doc_name, name = key
+    if doc_name not in FreeCAD.listDocuments():
+        return None
+    return FreeCAD.getDocument(doc_name).getObject(name)
 
 
 class ViewProviderJob:
@@ -77,10 +120,8 @@ class ViewProviderJob:
         return icon_path("Job")
 
     def updateData(self, obj, prop):
-        if prop == "LayerHeights":
-            color_layers(obj)
-        elif prop in ("PlanDigest", "PoseCount"):
-            style_paths(obj)
+        if prop in STYLED_BY:
+            schedule_styling(obj)
 
     def onChanged(self, vobj, prop):
         pass
@@ -126,17 +167,26 @@ def restore(obj):
         ViewProviderJob(obj.ViewObject)
     from PySide import QtCore
 
-    QtCore.QTimer.singleShot(0, lambda: (color_layers(obj), style_paths(obj),
-                                         _sync_visibility(obj)) if obj.Document else None)
+    key = (obj.Document.Name, obj.Name)
+    QtCore.QTimer.singleShot(0, lambda: _restyle_restored(key))
+
+
+def _restyle_restored(key):
+    job = _find(key)
+    if job is not None:
+        color_layers(job)
+        style_paths(job)
+        _sync_visibility(job)
 
 
 def _sync_visibility(job):
     """A document saved headless has no GUI visibility for the path and pose objects; take the
     object's own Visibility."""
-    from ..objects import plan_stage, poses
+    from ..stages import paths as path_stage
+    from ..stages import poses
 
-    objects = list(plan_stage.path_objects(job)) + list(poses.pose_objects(job).values())
-    travel = plan_stage.travel_object(job)
+    objects = list(path_stage.path_objects(job)) + list(poses.pose_objects(job).values())
+    travel = path_stage.travel_object(job)
     if travel is not None:
         objects.append(travel)
     for o in objects:

@@ -13,7 +13,7 @@ The plan is stored in the Job as its versioned JSON text (``PlanJson``, plan/pla
 as one Part feature per plan layer (compound of arc-on wires: polylines or B-splines) plus one
 "Travel" feature holding the arc-off moves. The stage has its own digest (``PlanDigest``): it
 reruns when the layers or a path parameter changed, and a change of a path parameter alone never
-reruns the layers. No GUI imports.
+reruns the layers. App side: no GUI imports (the view provider styles the lines).
 """
 
 import hashlib
@@ -23,8 +23,11 @@ import FreeCAD
 
 from .. import geometry
 from ..core import InvalidInput, native
+from .features import ensure_group, group_members, prune_unused_features, retire_features
+from .layers import _deflection, layer_objects, start_mesh_object
 
 PLAN_KINDS = ["CurvedLayers", "ThinWall"]
+INITIAL_PATHS = ["Boundary", "Plane", "Surface"]
 PATH_DISPLAYS = ["Polyline", "BSpline"]
 SURFACE_METHODS = ["Accurate", "Paper"]
 NARROW_STRIPS = ["CentreBead", "Overlap"]
@@ -111,8 +114,6 @@ def _common_parameters(job):
 
 def path_inputs(job):
     """Everything the plan stage needs: (callable that plans, digest)."""
-    from .job import _deflection, layer_objects, start_mesh_object
-
     common = _common_parameters(job)
     corner_angle = _corner_angle(job)
     corner_part = [] if corner_angle == DEFAULT_CORNER_ANGLE else [("corner_angle", corner_angle)]
@@ -188,7 +189,6 @@ def update_paths(job, progress=None, force=False, prune=True):
         return False
     result = plan(progress)
     job.PlanJson = result["plan_json"]
-    job.PlanDigest = digest
     summary = native.plan_summary(job.PlanJson)
     job.PlanLayerCount = int(summary["layers"])
     job.PathCount = int(summary["paths"])
@@ -196,31 +196,22 @@ def update_paths(job, progress=None, force=False, prune=True):
     stats = result["stats"]
     job.PlanStats = json.dumps({k: v for k, v in stats.items()}, sort_keys=True)
     draw_paths(job, prune=prune)
+    job.PlanDigest = digest  # last: the view provider restyles the drawn paths on this change
     return True
 
 
 def ensure_paths_group(job):
-    if job.PathsGroup is None:
-        group = job.Document.addObject("App::DocumentObjectGroup", "Paths")
-        group.Label = "%s paths" % job.Label
-        job.addObject(group)
-        job.PathsGroup = group
-    return job.PathsGroup
+    return ensure_group(job, "PathsGroup", "Paths", "paths")
 
 
 def path_objects(job):
     """Part features of the plan layers (LayerIndex > 0), in layer order."""
-    group = job.PathsGroup
-    if group is None:
-        return []
-    return [o for o in group.Group if "LayerIndex" in o.PropertiesList and o.LayerIndex > 0]
+    return [o for o in group_members(job.PathsGroup)
+            if "LayerIndex" in o.PropertiesList and o.LayerIndex > 0]
 
 
 def travel_object(job):
-    group = job.PathsGroup
-    if group is None:
-        return None
-    for o in group.Group:
+    for o in group_members(job.PathsGroup):
         if "TravelMoves" in o.PropertiesList:
             return o
     return None
@@ -248,7 +239,7 @@ def draw_paths(job, prune=True):
 
     doc = job.Document
     group = ensure_paths_group(job)
-    existing = [o for o in group.Group if "LayerIndex" in o.PropertiesList]
+    existing = [o for o in group_members(group) if "LayerIndex" in o.PropertiesList]
     paths = native.plan_paths(job.PlanJson) if job.PlanJson else []
     summary = native.plan_summary(job.PlanJson) if job.PlanJson else {"per_layer": []}
     by_layer = {}
@@ -297,39 +288,6 @@ def draw_paths(job, prune=True):
     moves.Label = "%s travel (arc off)" % job.Label
     moves.purgeTouched()
     group.purgeTouched()
-    if FreeCAD.GuiUp:
-        from ..viewproviders import view_job
-
-        view_job.style_paths(job)
-
-
-def retire_features(group, features, prune, clear, label):
-    """Features of a Job's group (Layers, Paths) that a smaller result no longer uses: removed when
-    `prune` (only outside a recompute: removing objects inside execute() corrupts the document),
-    else emptied by `clear(feature)`, marked LayerIndex 0, relabelled `label` and hidden (they are
-    pruned after the recompute, see prune_unused_features)."""
-    for feature in features:
-        if prune:
-            group.removeObject(feature)
-            group.Document.removeObject(feature.Name)
-        else:
-            clear(feature)
-            feature.LayerIndex = 0
-            feature.Label = label
-            feature.Visibility = False
-            feature.purgeTouched()
-
-
-def prune_unused_features(group):
-    """Removes the features of a Job's group (Layers, Paths) that a smaller result emptied inside
-    a recompute: those with LayerIndex 0. Call outside a recompute (removing objects inside
-    execute() corrupts the document)."""
-    if group is None:
-        return
-    for feature in [o for o in group.Group if "LayerIndex" in o.PropertiesList
-                    and o.LayerIndex == 0]:
-        group.removeObject(feature)
-        group.Document.removeObject(feature.Name)
 
 
 def prune_unused_paths(job):

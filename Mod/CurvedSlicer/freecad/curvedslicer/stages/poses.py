@@ -8,7 +8,8 @@ axis, origin on the table) and carried by placements: base T0, cradle T_cradle(a
 0), table T_table(a1, a2), part T_part(a1, a2). Sizes follow the part's extent
 (table radius at least 1.2 × the part's radius); they illustrate the motion and are not a
 collision model. The motion is planned with unreachable robot points kept (warnings go to
-``MotionWarnings``), cached per plan and cell for stepping. No GUI imports.
+``MotionWarnings``), cached per plan and cell for stepping. App side: no GUI imports (the view
+provider colours the parts).
 """
 
 import hashlib
@@ -17,6 +18,7 @@ import math
 import FreeCAD
 
 from ..core import InvalidInput, native
+from .features import ensure_group, group_members
 
 POSE_PARTS = ["PositionerBase", "PositionerCradle", "PositionerTable", "PosePart"]
 
@@ -103,21 +105,13 @@ def positioner_shapes(cell, part_radius):
 
 
 def ensure_poses_group(job):
-    if job.PosesGroup is None:
-        group = job.Document.addObject("App::DocumentObjectGroup", "Poses")
-        group.Label = "%s poses" % job.Label
-        job.addObject(group)
-        job.PosesGroup = group
-    return job.PosesGroup
+    return ensure_group(job, "PosesGroup", "Poses", "poses")
 
 
 def pose_objects(job):
     """{role: object} of the Poses group (roles POSE_PARTS)."""
-    group = job.PosesGroup
     found = {}
-    if group is None:
-        return found
-    for o in group.Group:
+    for o in group_members(job.PosesGroup):
         if "PoseRole" in o.PropertiesList:
             found[o.PoseRole] = o
     return found
