@@ -37,6 +37,11 @@ enum class GcodeMode {
   Machine,  ///< X Y Z already transformed by the table's forward kinematics (positioner base)
 };
 
+/// "tcp" | "machine" (the command line's --gcode-mode names).
+std::string_view toString(GcodeMode mode);
+/// @throws InvalidInput naming the text and the choices.
+GcodeMode parseGcodeMode(std::string_view name);
+
 struct ExportOptions {
   /// Program / job name; empty = the cell's exportOptions.jobName. Each format cuts it to its
   /// character set and length (JBI: the cell's maxNameLength).
