@@ -61,15 +61,18 @@ namespace {
 
 using Kind = StartSurface::Kind;
 
-TriMesh cleanInitialSurface(TriMesh mesh) { return cleanMesh(mesh).mesh; }
+TriMesh cleanInitialSurface(TriMesh mesh) {
+  return cleanMesh(mesh).mesh;
+}
 
 void bindStartSurface(py::module_& m) {
   OptionsClass<StartSurface> c(
       m, "StartSurface",
       "Where the geodesic field is zero (field/start_surface.hpp): a plane (by default the build "
       "plate under the model), faces of the model, or a separate surface mesh.");
-  c.choice("kind", member(&StartSurface::kind), parseStartSurfaceKind,
-           [](Kind k) { return toString(k); }, "'plane' | 'faces' | 'mesh'")
+  c.choice(
+       "kind", member(&StartSurface::kind), parseStartSurfaceKind,
+       [](Kind k) { return toString(k); }, "'plane' | 'faces' | 'mesh'")
       .value("plane_at_model_bottom", member(&StartSurface::planeAtModelBottom),
              "plane: z = the model's min z, normal +z (else plane_point, plane_normal)")
       .vec3("plane_point", member(&StartSurface::planePoint), "plane: a point, part frame, mm")
@@ -109,9 +112,10 @@ void bindVoxelizeOptions(py::module_& m) {
   OptionsClass<VoxelizeOptions> c(m, "VoxelizeOptions",
                                   "The voxel grid (voxel/voxelize.hpp, paper §2.1).");
   c.value("voxel_size", member(&VoxelizeOptions::voxelSize), "L, mm (> 0)")
-      .choice("alignment", member(&VoxelizeOptions::alignment), parseGridAlignment,
-              [](GridAlignment a) { return toString(a); },
-              "'pca' (principal axes) | 'model' (the model's axes)")
+      .choice(
+          "alignment", member(&VoxelizeOptions::alignment), parseGridAlignment,
+          [](GridAlignment a) { return toString(a); },
+          "'pca' (principal axes) | 'model' (the model's axes)")
       .value("padding", member(&VoxelizeOptions::padding),
              "empty cells around the model's box on each side (>= 1)")
       .value("memory_budget_bytes", member(&VoxelizeOptions::memoryBudgetBytes),
@@ -128,17 +132,19 @@ void bindLayerJobOptions(py::module_& m) {
                     "grid, geodesic field and layers, flat.");
   c.nested("start", member(&O::start), "StartSurface (default: the build plate)")
       .value("voxel_size", member(&O::voxelize, &VoxelizeOptions::voxelSize), "L, mm (> 0)")
-      .choice("alignment", member(&O::voxelize, &VoxelizeOptions::alignment), parseGridAlignment,
-              [](GridAlignment a) { return toString(a); }, "grid axes: 'pca' | 'model'")
+      .choice(
+          "alignment", member(&O::voxelize, &VoxelizeOptions::alignment), parseGridAlignment,
+          [](GridAlignment a) { return toString(a); }, "grid axes: 'pca' | 'model'")
       .value("padding", member(&O::voxelize, &VoxelizeOptions::padding),
              "empty cells around the model's box on each side (>= 1)")
       .value("memory_budget_bytes", member(&O::voxelize, &VoxelizeOptions::memoryBudgetBytes),
              "bytes the job may use; 0 = 80 % of physical memory")
       .value("bytes_per_cell", member(&O::voxelize, &VoxelizeOptions::bytesPerCell),
              "bytes needed per grid cell")
-      .choice("method", member(&O::geodesic, &GeodesicOptions::method), parseGeodesicMethod,
-              [](GeodesicMethod g) { return toString(g); },
-              "geodesic field: 'anyangle' (accurate) | 'paper' (paper §2.2.3)")
+      .choice(
+          "method", member(&O::geodesic, &GeodesicOptions::method), parseGeodesicMethod,
+          [](GeodesicMethod g) { return toString(g); },
+          "geodesic field: 'anyangle' (accurate) | 'paper' (paper §2.2.3)")
       .value("seed_band", member(&O::geodesic, &GeodesicOptions::seedBand),
              "mm; voxels this close to the start surface are exact seeds; <= 0: sqrt(3)·L")
       .value("paper_search_radius", member(&O::geodesic, &GeodesicOptions::paperSearchRadius),
@@ -171,8 +177,9 @@ void bindInitialCurve(py::module_& m) {
       m, "InitialCurve",
       "The initial curve of every layer (paths/planner.hpp): the layer's boundary, or its "
       "section with a plane or a surface.");
-  c.choice("kind", member(&InitialCurve::kind), parseInitialCurveKind,
-           [](InitialCurveKind k) { return toString(k); }, "'boundary' | 'plane' | 'surface'")
+  c.choice(
+       "kind", member(&InitialCurve::kind), parseInitialCurveKind,
+       [](InitialCurveKind k) { return toString(k); }, "'boundary' | 'plane' | 'surface'")
       .vec3("plane_point", member(&InitialCurve::planePoint), "plane: a point, part frame, mm")
       .vec3("plane_normal", member(&InitialCurve::planeNormal),
             "plane: its normal (need not be unit length)")
@@ -182,7 +189,8 @@ void bindInitialCurve(py::module_& m) {
             cleanInitialSurface);
   c.finish();
   c.cls()
-      .def_static("boundary", []() { return InitialCurve{}; }, "The layer boundary (default).")
+      .def_static(
+          "boundary", []() { return InitialCurve{}; }, "The layer boundary (default).")
       .def_static(
           "plane",
           [](py::handle point, py::handle normal) {
@@ -210,9 +218,10 @@ void bindPathFitFields(OptionsClass<O>& c) {
 
 template <class O>
 void bindPathOrderFields(OptionsClass<O>& c) {
-  c.choice("surface_method", member(&O::geodesic, &SurfaceGeodesicOptions::method),
-           parseSurfaceGeodesicMethod, [](SurfaceGeodesicMethod s) { return toString(s); },
-           "geodesic distance on the layer: 'accurate' | 'paper' (paper §3.1, eq. 15)")
+  c.choice(
+       "surface_method", member(&O::geodesic, &SurfaceGeodesicOptions::method),
+       parseSurfaceGeodesicMethod, [](SurfaceGeodesicMethod s) { return toString(s); },
+       "geodesic distance on the layer: 'accurate' | 'paper' (paper §3.1, eq. 15)")
       .value("curve_tolerance", member(&O::geodesic, &SurfaceGeodesicOptions::curveTolerance),
              "mm, largest distance of an initial-curve point from the surface")
       .value("min_path_length", member(&O::minPathLength),
@@ -249,9 +258,10 @@ void bindThinWallOptions(py::module_& m) {
                     "bead per plan layer at k·bead_spacing from the wall's edge.");
   c.value("bead_spacing", member(&O::beadSpacing), "mm between beads along the surface (> 0)");
   bindPathFitFields(c);
-  c.choice("edge", member(&O::edge), parseWallEdgeKind, [](WallEdgeKind k) { return toString(k); },
-           "'lowest' (the boundary loop lowest along axis) | 'nearest' (the loop nearest to "
-           "point)")
+  c.choice(
+       "edge", member(&O::edge), parseWallEdgeKind, [](WallEdgeKind k) { return toString(k); },
+       "'lowest' (the boundary loop lowest along axis) | 'nearest' (the loop nearest to "
+       "point)")
       .vec3("axis", member(&O::axis), "lowest: the up direction, part frame")
       .vec3("point", member(&O::point), "nearest: a point, part frame, mm");
   bindPathOrderFields(c);
@@ -271,9 +281,10 @@ void bindPlanJobOptions(py::module_& m) {
       .value("model_name", member(&O::modelName), "the model's name, recorded in the plan")
       .value("start_spec", member(&O::startSpec),
              "the start as the user gave it, recorded in the plan")
-      .choice("layer_format", member(&O::layerFormat), parseLayerFileFormat,
-              [](LayerFileFormat f) { return toString(f); },
-              "'ply' | 'obj': the layer file names the plan records");
+      .choice(
+          "layer_format", member(&O::layerFormat), parseLayerFileFormat,
+          [](LayerFileFormat f) { return toString(f); },
+          "'ply' | 'obj': the layer file names the plan records");
   c.finish();
 }
 
@@ -293,9 +304,10 @@ void bindMotionOptions(py::module_& m) {
              "rad, smoothed V against the plan's V")
       .value("tool_along_travel", member(&O::toolAlongTravel),
              "tool x along the travel direction (else a fixed world x)")
-      .choice("unreachable", member(&O::unreachable), parseUnreachablePolicy,
-              [](UnreachablePolicy u) { return toString(u); },
-              "'throw' (InvalidInput naming the points) | 'warn' (closest pose, a warning)")
+      .choice(
+          "unreachable", member(&O::unreachable), parseUnreachablePolicy,
+          [](UnreachablePolicy u) { return toString(u); },
+          "'throw' (InvalidInput naming the points) | 'warn' (closest pose, a warning)")
       .value("residual_warning", member(&O::residualWarning), "rad: warn above this residual");
   c.finish();
 }
@@ -305,8 +317,9 @@ void bindExportOptions(py::module_& m) {
   OptionsClass<O> c(m, "ExportOptions", "Program export (export/exporter.hpp).");
   c.value("program_name", member(&O::programName), "job name; '' = the cell's")
       .value("date", member(&O::date), "header date 'YYYY/MM/DD HH:MM' (fixed by default)")
-      .choice("gcode_mode", member(&O::gcodeMode), parseGcodeMode,
-              [](GcodeMode g) { return toString(g); }, "G-code only: 'tcp' | 'machine'")
+      .choice(
+          "gcode_mode", member(&O::gcodeMode), parseGcodeMode,
+          [](GcodeMode g) { return toString(g); }, "G-code only: 'tcp' | 'machine'")
       .value("arc_output", member(&O::arcOutput), "digital output switching the arc on");
   c.finish();
 }

@@ -35,14 +35,23 @@ auto member(M T::*outer, V M::*inner) {
 /// What a Python value of C++ type V must look like, for TypeError messages.
 template <class V>
 std::string expectedValue() {
-  if constexpr (std::is_same_v<V, bool>) return "True or False";
-  else if constexpr (std::is_integral_v<V>) return "an integer";
-  else if constexpr (std::is_floating_point_v<V>) return "a number";
-  else if constexpr (std::is_same_v<V, std::string>) return "a string";
-  else if constexpr (std::is_same_v<V, std::vector<int>>) return "a list of integers";
-  else if constexpr (std::is_same_v<V, std::vector<double>>) return "a sequence of numbers";
-  else if constexpr (std::is_base_of_v<py::array, V>) return "an array of numbers";
-  else return "a " + std::string(py::str(py::type::of<V>().attr("__name__"))) + " object";
+  if constexpr (std::is_same_v<V, bool>) {
+    return "True or False";
+  } else if constexpr (std::is_integral_v<V>) {
+    return "an integer";
+  } else if constexpr (std::is_floating_point_v<V>) {
+    return "a number";
+  } else if constexpr (std::is_same_v<V, std::string>) {
+    return "a string";
+  } else if constexpr (std::is_same_v<V, std::vector<int>>) {
+    return "a list of integers";
+  } else if constexpr (std::is_same_v<V, std::vector<double>>) {
+    return "a sequence of numbers";
+  } else if constexpr (std::is_base_of_v<py::array, V>) {
+    return "an array of numbers";
+  } else {
+    return "a " + std::string(py::str(py::type::of<V>().attr("__name__"))) + " object";
+  }
 }
 
 /// `value` as V; TypeError "<Class.field> needs <kind>: <repr> (<type>); pass <kind>" if not.
@@ -118,7 +127,8 @@ class OptionsClass {
                      std::function<TriMesh(TriMesh)> prepare = {}) {
     const std::string where = qualified(name);
     add(
-        name, doc, [access](py::object self) { return py::object(meshDict(access(self.cast<T&>()))); },
+        name, doc,
+        [access](py::object self) { return py::object(meshDict(access(self.cast<T&>()))); },
         [access, where, prepare](T& t, py::handle v) {
           TriMesh m = castMesh(v, where);
           access(t) = prepare ? prepare(std::move(m)) : std::move(m);
@@ -183,9 +193,9 @@ class OptionsClass {
   OptionsClass& add(const char* name, const char* doc, Get get, Set set) {
     fields_->push_back(Field{name, get, set, {}});
     docs_.emplace_back(doc);
-    cls_.def_property(
-        name, py::cpp_function([get](py::object self) { return get(std::move(self)); }),
-        py::cpp_function([set](T& t, py::handle v) { set(t, v); }), doc);
+    cls_.def_property(name,
+                      py::cpp_function([get](py::object self) { return get(std::move(self)); }),
+                      py::cpp_function([set](T& t, py::handle v) { set(t, v); }), doc);
     return *this;
   }
 
@@ -204,6 +214,10 @@ template <class T>
 void OptionsClass<T>::finish() {
   const std::shared_ptr<Fields> fields = fields_;
   const std::string className = name_;
+  const std::string initDoc =
+      "Every field by keyword (see the class docstring); the others keep "
+      "the defaults of the core's " +
+      className + "{}.";
   cls_.def(py::init([fields, className](const py::kwargs& kwargs) {
              T t{};
              for (const auto& [key, value] : kwargs) {
@@ -222,8 +236,7 @@ void OptionsClass<T>::finish() {
              }
              return t;
            }),
-           ("Every field by keyword (see the class docstring); the others keep the defaults of "
-            "the core's " + className + "{}.").c_str());
+           initDoc.c_str());
   cls_.def("__repr__", [fields, className](py::object self) {
     std::string text = className + "(";
     for (std::size_t i = 0; i < fields->size(); ++i) {

@@ -37,11 +37,6 @@ enum class GcodeMode {
   Machine,  ///< X Y Z already transformed by the table's forward kinematics (positioner base)
 };
 
-/// "tcp" | "machine" (the command line's --gcode-mode names).
-std::string_view toString(GcodeMode mode);
-/// @throws InvalidInput naming the text and the choices.
-GcodeMode parseGcodeMode(std::string_view name);
-
 struct ExportOptions {
   /// Program / job name; empty = the cell's exportOptions.jobName. Each format cuts it to its
   /// character set and length (JBI: the cell's maxNameLength).
@@ -94,6 +89,12 @@ std::string_view toString(ExportFormat format);
 
 /// Parses a format name (case-insensitive). @throws InvalidInput listing the valid names.
 ExportFormat parseExportFormat(std::string_view name);
+
+/// "tcp" | "machine".
+std::string_view toString(GcodeMode mode);
+
+/// Parses a G-code mode name ("tcp" or "machine"). @throws InvalidInput listing the choices.
+GcodeMode parseGcodeMode(std::string_view name);
 
 /// The usual file extension of the main file, with the dot (".JBI", ".src", ".mod", ".LS",
 /// ".ngc", ".csv", ".json").

@@ -42,9 +42,9 @@ enum class SurfaceGeodesicMethod {
   Paper,     ///< paper §3.1: Dijkstra over a search ball with the projected length of eq. 15
 };
 
-/// "accurate" | "paper" (the command line's, the plan file's and the Python module's names).
+/// "accurate" | "paper" (the command line's, the workbench's and the plan file's names).
 std::string_view toString(SurfaceGeodesicMethod method);
-/// @throws InvalidInput naming the text and the choices.
+/// Parses "accurate" or "paper". @throws InvalidInput listing the choices.
 SurfaceGeodesicMethod parseSurfaceGeodesicMethod(std::string_view name);
 
 struct SurfaceGeodesicOptions {
