@@ -14,8 +14,8 @@ import numpy  # noqa: E402
 import Part  # noqa: E402
 
 import cs_testing  # noqa: E402
+from freecad.curvedslicer import api  # noqa: E402
 from freecad.curvedslicer.core import Cancelled, InvalidInput, native  # noqa: E402
-from freecad.curvedslicer.objects import plan_stage  # noqa: E402
 
 # The defaults the core documents (field comments in cpp/include/curvedslicer/**, README),
 # written down once here; the module must report the same, since it constructs `Options{}`.
@@ -63,9 +63,11 @@ class TestOptionsClasses(cs_testing.DocumentTestCase):
             options = getattr(native, name)()
             for field, value in fields.items():
                 self.assertEqual(getattr(options, field), value, "%s.%s" % (name, field))
-        # The workbench's CornerAngle default is the core's.
-        self.assertEqual(native.PlannerOptions().corner_angle, plan_stage.DEFAULT_CORNER_ANGLE)
-        self.assertEqual(native.ThinWallOptions().corner_angle, plan_stage.DEFAULT_CORNER_ANGLE)
+        # A Job's CornerAngle defaults to the core's.
+        job = api.make_job(self.doc, self.box(), cell_file="")
+        corner = float(job.CornerAngle.getValueAs("deg"))
+        self.assertEqual(native.PlannerOptions().corner_angle, corner)
+        self.assertEqual(native.ThinWallOptions().corner_angle, corner)
 
     def test_every_field_round_trips(self):
         for name in DOCUMENTED_DEFAULTS:
