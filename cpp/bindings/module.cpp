@@ -79,14 +79,6 @@ py::dict analyzeMeshPy(const DoubleArray& vertices, const IntArray& triangles) {
   return d;
 }
 
-CadFormat parseCadFormat(const std::string& name) {
-  if (name == "auto") return CadFormat::Auto;
-  if (name == "step") return CadFormat::Step;
-  if (name == "iges") return CadFormat::Iges;
-  if (name == "brep") return CadFormat::Brep;
-  throw InvalidInput("unknown CAD format: '" + name + "'; use 'auto', 'step', 'iges' or 'brep'");
-}
-
 }  // namespace
 
 PYBIND11_MODULE(_curvedslicer, m) {

@@ -138,6 +138,10 @@ class TestOptionsClasses(cs_testing.DocumentTestCase):
         self.assertIn("ThinWallOptions.axis needs 3 numbers: 2 given", str(caught.exception))
         with self.assertRaises(TypeError):
             native.PlanJobOptions(planner=native.ThinWallOptions())
+        with self.assertRaises(InvalidInput) as caught:
+            native.tessellate_cad_file(cs_testing.tmp_path("box.stl"), deflection=0.1,
+                                       format="stl")
+        self.assertIn("unknown CAD format: 'stl'", str(caught.exception))
 
     def test_nested_options_change_in_place(self):
         options = native.PlanJobOptions()
