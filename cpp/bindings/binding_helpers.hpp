@@ -157,7 +157,11 @@ inline auto runWithProgress(const py::object& callable, Work&& work) {
   }
 }
 
-/// Registers the planner, plan JSON, cell, motion and export functions (plan_bindings.cpp).
+/// Registers the plan JSON, cell, motion and export functions (plan_bindings.cpp).
 void registerPlanBindings(py::module_& m);
+/// Registers the options classes (option_bindings.cpp); before the functions that use them.
+void registerOptionBindings(py::module_& m);
+/// Registers run_layer_job, run_plan_job, plan_layers and plan_thin_wall (job_bindings.cpp).
+void registerJobBindings(py::module_& m);
 
 }  // namespace curvedslicer::bindings

@@ -1,5 +1,5 @@
-// Python bindings of paths, plan JSON, robot cell, motion planning and program export (issue 5,
-// round two): thin conversions only.
+// Python bindings of plan JSON, robot cell, motion planning and program export (issue 5, round
+// two): thin conversions only. The planners are in job_bindings.cpp.
 //
 // Plans cross the boundary as their versioned JSON text (plan/plan_io.hpp), cells as the JSON
 // text readCell/parseCell read (robot/cell.hpp), so the workbench stores both verbatim in the
@@ -14,9 +14,6 @@
 
 #include "binding_helpers.hpp"
 #include "curvedslicer/export/exporter.hpp"
-#include "curvedslicer/layers/layer_extraction.hpp"
-#include "curvedslicer/mesh/mesh_repair.hpp"
-#include "curvedslicer/paths/planner.hpp"
 #include "curvedslicer/plan/plan_io.hpp"
 #include "curvedslicer/robot/cell.hpp"
 #include "curvedslicer/robot/motion.hpp"
@@ -25,20 +22,6 @@
 namespace curvedslicer::bindings {
 
 namespace {
-
-SurfaceGeodesicMethod surfaceMethodFromName(const std::string& name) {
-  if (name == "accurate") return SurfaceGeodesicMethod::Accurate;
-  if (name == "paper") return SurfaceGeodesicMethod::Paper;
-  throw InvalidInput("unknown surface geodesic method: '" + name + "'; use 'accurate' or 'paper'");
-}
-
-Vec3 vec3From(const std::vector<double>& v, const char* what) {
-  if (v.size() != 3) {
-    throw InvalidInput(std::string(what) + " needs 3 numbers: " + std::to_string(v.size()) +
-                       " given; pass e.g. (0, 0, 1)");
-  }
-  return Vec3(v[0], v[1], v[2]);
-}
 
 py::list poseMatrix(const Pose& pose) {
   py::list rows;
@@ -49,146 +32,6 @@ py::list poseMatrix(const Pose& pose) {
     rows.append(row);
   }
   return rows;
-}
-
-py::dict planStatsDict(const PlanResult& result) {
-  const PlanStats& s = result.stats;
-  py::dict d;
-  d["paths"] = result.plan.pathCount();
-  d["points"] = result.plan.pointCount();
-  d["arc_length_mm"] = s.arcLength;
-  d["travel_mm"] = s.travel;
-  d["layers_without_paths"] = s.layersWithoutPaths;
-  d["dropped_fragments"] = s.droppedFragments;
-  d["seams_too_close"] = s.seamsTooClose;
-  d["max_fit_deviation_mm"] = s.maxFitDeviation;
-  d["deposition_fallbacks"] = s.deposition.normalFallbacks;
-  py::list times;
-  for (const PlanStageTime& t : s.stageTimes) times.append(py::make_tuple(t.name, t.seconds));
-  d["stage_times"] = times;
-  return d;
-}
-
-py::dict planResultDict(PlanResult& result, const std::string& model, const std::string& start) {
-  result.plan.model = model;
-  result.plan.start = start;
-  py::dict d;
-  d["plan_json"] = formatPlanJson(result.plan);
-  d["stats"] = planStatsDict(result);
-  return d;
-}
-
-py::dict planLayersPy(const py::list& layers, const std::optional<DoubleArray>& startVertices,
-                      const std::optional<IntArray>& startTriangles, double beadSpacing,
-                      double pointSpacing, double fitTolerance, double cornerAngle,
-                      const std::string& initialCurve,
-                      const std::optional<std::vector<double>>& planePoint,
-                      const std::optional<std::vector<double>>& planeNormal,
-                      const std::optional<DoubleArray>& surfaceVertices,
-                      const std::optional<IntArray>& surfaceTriangles,
-                      const std::string& surfaceMethod, const std::string& narrowStrips,
-                      double layerThickness, double voxelSize, const std::string& fieldMethod,
-                      const std::string& model, const std::string& start,
-                      const py::object& progress) {
-  PlannerOptions options;
-  options.beadSpacing = beadSpacing;
-  options.pointSpacing = pointSpacing;
-  options.fitTolerance = fitTolerance;
-  options.cornerAngle = cornerAngle;
-  options.geodesic.method = surfaceMethodFromName(surfaceMethod);
-  options.narrowStrips = parseNarrowStripMode(narrowStrips);
-  if (initialCurve == "boundary") {
-    options.initialCurve.kind = InitialCurveKind::Boundary;
-  } else if (initialCurve == "plane") {
-    if (!planePoint || !planeNormal) {
-      throw InvalidInput(
-          "initial curve 'plane' needs plane_point and plane_normal: missing; pass e.g. "
-          "plane_point=(0, 0, 0), plane_normal=(1, 0, 0)");
-    }
-    options.initialCurve.kind = InitialCurveKind::Plane;
-    options.initialCurve.planePoint = vec3From(*planePoint, "plane_point");
-    options.initialCurve.planeNormal = vec3From(*planeNormal, "plane_normal");
-    if (!(options.initialCurve.planeNormal.norm() > 0.0)) {
-      throw InvalidInput("initial plane normal is zero: (0, 0, 0); pass a non-zero normal");
-    }
-  } else if (initialCurve == "surface") {
-    if (!surfaceVertices || !surfaceTriangles) {
-      throw InvalidInput(
-          "initial curve 'surface' needs surface_vertices and surface_triangles: missing; "
-          "pass the user surface as numpy arrays");
-    }
-    options.initialCurve.kind = InitialCurveKind::Surface;
-    options.initialCurve.surface =
-        cleanMesh(toTriMesh(*surfaceVertices, *surfaceTriangles, std::nullopt, "initial surface"))
-            .mesh;
-  } else {
-    throw InvalidInput("unknown initial curve: '" + initialCurve +
-                       "'; use 'boundary', 'plane' or 'surface'");
-  }
-  validatePlannerOptions(options);
-
-  std::vector<LayerSurface> surfaces;
-  surfaces.reserve(layers.size());
-  for (const py::handle& item : layers) {
-    const py::dict layer = py::reinterpret_borrow<py::dict>(item);
-    LayerSurface s;
-    s.index = layer["index"].cast<int>();
-    s.level = layer["height"].cast<double>();
-    s.mesh = toTriMesh(layer["vertices"].cast<DoubleArray>(), layer["triangles"].cast<IntArray>(),
-                       std::nullopt, "layer");
-    surfaces.push_back(std::move(s));
-  }
-  TriMesh startSurface;
-  if (startVertices && startTriangles) {
-    startSurface = toTriMesh(*startVertices, *startTriangles, std::nullopt, "start surface");
-  }
-  PlanResult result = runWithProgress(progress, [&](Progress p) {
-    return planLayers(surfaces, startSurface, options, std::move(p));
-  });
-  result.plan.parameters.layerThickness = layerThickness;
-  result.plan.parameters.voxelSize = voxelSize;
-  result.plan.parameters.fieldMethod = fieldMethod;
-  return planResultDict(result, model, start);
-}
-
-py::dict planThinWallPy(const DoubleArray& vertices, const IntArray& triangles, double beadSpacing,
-                        double pointSpacing, double fitTolerance, double cornerAngle,
-                        const std::string& edge, const std::vector<double>& axis,
-                        const std::vector<double>& point, const std::string& surfaceMethod,
-                        const std::string& model, const py::object& progress) {
-  ThinWallOptions options;
-  options.beadSpacing = beadSpacing;
-  options.pointSpacing = pointSpacing;
-  options.fitTolerance = fitTolerance;
-  options.cornerAngle = cornerAngle;
-  options.geodesic.method = surfaceMethodFromName(surfaceMethod);
-  std::string start;
-  if (edge == "lowest") {
-    options.edge = WallEdgeKind::LowestAlongAxis;
-    options.axis = vec3From(axis, "axis");
-    start = "thin-wall:lowest:" + std::to_string(options.axis.x()) + "," +
-            std::to_string(options.axis.y()) + "," + std::to_string(options.axis.z());
-  } else if (edge == "nearest") {
-    options.edge = WallEdgeKind::NearestToPoint;
-    options.point = vec3From(point, "point");
-    start = "thin-wall:nearest:" + std::to_string(options.point.x()) + "," +
-            std::to_string(options.point.y()) + "," + std::to_string(options.point.z());
-  } else {
-    throw InvalidInput("unknown thin-wall edge: '" + edge + "'; use 'lowest' or 'nearest'");
-  }
-  validateThinWallOptions(options);
-  const TriMesh surface =
-      cleanMesh(toTriMesh(vertices, triangles, std::nullopt, "wall surface")).mesh;
-  PlanResult result = runWithProgress(
-      progress, [&](Progress p) { return planThinWall(surface, options, std::move(p)); });
-  return planResultDict(result, model, start);
-}
-
-MotionOptions motionOptions(bool warnUnreachable, bool toolAlongTravel) {
-  MotionOptions options;
-  if (warnUnreachable) options.unreachable = UnreachablePolicy::Warn;
-  options.toolAlongTravel = toolAlongTravel;
-  return options;
 }
 
 py::dict estimateDict(const MotionEstimate& e) {
@@ -208,11 +51,11 @@ py::dict estimateDict(const MotionEstimate& e) {
 }
 
 // Motion points as columns: ints (n,) and vectors (n, 3), so 10^5 points stay cheap.
+// Options arrive by value: the call runs without the GIL, so it must not share them with Python.
 py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
-                      bool warnUnreachable, bool toolAlongTravel, const py::object& progress) {
+                      MotionOptions options, const py::object& progress) {
   const Plan plan = parsePlanJson(planJson, "plan");
   const Cell cell = parseCell(cellJson, "cell");
-  const MotionOptions options = motionOptions(warnUnreachable, toolAlongTravel);
   const MotionPlan motion = runWithProgress(
       progress, [&](Progress p) { return planMotion(plan, cell, options, std::move(p)); });
   const auto n = static_cast<py::ssize_t>(motion.points.size());
@@ -280,34 +123,15 @@ py::dict exportResultDict(const ExportResult& result) {
   return d;
 }
 
-ExportOptions exportOptions(const std::string& programName, const std::string& date,
-                            const std::string& gcodeMode, int arcOutput) {
-  ExportOptions options;
-  options.programName = programName;
-  if (!date.empty()) options.date = date;
-  if (gcodeMode == "tcp") {
-    options.gcodeMode = GcodeMode::Tcp;
-  } else if (gcodeMode == "machine") {
-    options.gcodeMode = GcodeMode::Machine;
-  } else {
-    throw InvalidInput("unknown G-code mode: '" + gcodeMode + "'; use 'tcp' or 'machine'");
-  }
-  options.arcOutput = arcOutput;
-  return options;
-}
-
 // Plans the motion and writes the program into memory; with `path`, also writes the files all or
 // nothing (writeExportFiles), so nothing is written unless every step succeeded.
 py::dict exportProgramPy(const std::string& planJson, const std::string& cellJson,
                          const std::string& format, const std::optional<std::string>& path,
-                         const std::string& programName, const std::string& date,
-                         const std::string& gcodeMode, int arcOutput, bool warnUnreachable,
-                         bool toolAlongTravel, const py::object& progress) {
+                         ExportOptions options, MotionOptions motion,
+                         const py::object& progress) {
   const ExportFormat f = parseExportFormat(format);
-  const ExportOptions options = exportOptions(programName, date, gcodeMode, arcOutput);
   const Plan plan = parsePlanJson(planJson, "plan");
   const Cell cell = parseCell(cellJson, "cell");
-  const MotionOptions motion = motionOptions(warnUnreachable, toolAlongTravel);
   const ExportResult result = runWithProgress(progress, [&](Progress p) {
     const MotionPlan planned = planMotion(plan, cell, motion, p.sub(0.0, 0.7));
     ExportResult r = exportProgram(planned, cell, f, options, p.sub(0.7, 0.95));
@@ -391,39 +215,6 @@ py::dict positionerFramesPy(const std::string& cellJson, double a1, double a2) {
 }  // namespace
 
 void registerPlanBindings(py::module_& m) {
-  m.def("plan_layers", &planLayersPy,
-        "Paths on curved layers (paths/planner.hpp planLayers, paper §3.1). layers: list of "
-        "dicts {index (1-based), height mm, vertices (n,3), triangles (m,3)} bottom to top; "
-        "start_vertices/start_triangles: the start surface (deposited material under layer 1, "
-        "may be None); initial_curve 'boundary' | 'plane' (plane_point, plane_normal) | "
-        "'surface' (surface_vertices, surface_triangles); surface_method 'accurate' | 'paper'; "
-        "narrow_strips 'centre_bead' (one bead where paths of one level come closer than "
-        "0.95·s) | 'overlap'; corner_angle: degrees in (0, 180], turns sharper than this "
-        "within 0.2 mm are kept as exact corners by the fit (180: none). "
-        "layer_thickness, voxel_size, field_method, model and start are recorded in the plan. "
-        "Returns {plan_json, stats}.",
-        py::arg("layers"), py::kw_only(), py::arg("start_vertices") = py::none(),
-        py::arg("start_triangles") = py::none(), py::arg("bead_spacing") = 3.7,
-        py::arg("point_spacing") = 2.0, py::arg("fit_tolerance") = 0.05,
-        py::arg("corner_angle") = 30.0, py::arg("initial_curve") = "boundary",
-        py::arg("plane_point") = py::none(), py::arg("plane_normal") = py::none(),
-        py::arg("surface_vertices") = py::none(), py::arg("surface_triangles") = py::none(),
-        py::arg("surface_method") = "accurate", py::arg("narrow_strips") = "centre_bead",
-        py::arg("layer_thickness") = 0.0, py::arg("voxel_size") = 0.0, py::arg("field_method") = "",
-        py::arg("model") = "", py::arg("start") = "", py::arg("progress") = py::none());
-
-  m.def("plan_thin_wall", &planThinWallPy,
-        "Paths of a thin wall (planThinWall, the paper's turbine base): one bead per plan layer "
-        "at geodesic distance k·bead_spacing from the wall's edge. edge 'lowest' (the boundary "
-        "loop lowest along axis) | 'nearest' (the loop nearest to point); corner_angle as for "
-        "plan_layers. Returns {plan_json, stats}.",
-        py::arg("vertices"), py::arg("triangles"), py::kw_only(), py::arg("bead_spacing") = 1.65,
-        py::arg("point_spacing") = 2.0, py::arg("fit_tolerance") = 0.05,
-        py::arg("corner_angle") = 30.0, py::arg("edge") = "lowest",
-        py::arg("axis") = std::vector<double>{0, 0, 1},
-        py::arg("point") = std::vector<double>{0, 0, 0}, py::arg("surface_method") = "accurate",
-        py::arg("model") = "", py::arg("progress") = py::none());
-
   m.def(
       "format_plan_json",
       [](const std::string& text) { return formatPlanJson(parsePlanJson(text, "plan")); },
@@ -459,17 +250,14 @@ void registerPlanBindings(py::module_& m) {
 
   m.def("plan_motion", &planMotionPy,
         "Positioner angles and robot joints per path point (robot/motion.hpp planMotion, paper "
-        "eq. 16). Returns columns over the motion points: layer, path, index, a1, a2 (rad), "
-        "residual (rad), speed, arc_on, path_start, path_end, flags, position/normal/"
-        "deposition/used_deposition (n,3) in the part frame; warnings, max_residual, "
-        "singular_points, limited_points, total (estimates). warn_unreachable: keep unreachable "
-        "points with a warning instead of raising InvalidInput. tool_along_travel: tool x along "
-        "the travel direction (else a fixed world x: the torch keeps its orientation while the "
-        "positioner turns the part).",
+        "eq. 16) with options: MotionOptions (unreachable='warn' keeps unreachable points with "
+        "a warning instead of raising InvalidInput; tool_along_travel: tool x along the travel "
+        "direction, else a fixed world x). Returns columns over the motion points: layer, path, "
+        "index, a1, a2 (rad), residual (rad), speed, arc_on, path_start, path_end, flags, "
+        "position/normal/deposition/used_deposition (n,3) in the part frame; warnings, "
+        "max_residual, singular_points, limited_points, total (estimates).",
         py::arg("plan_json"), py::arg("cell_json"), py::kw_only(),
-        py::arg("warn_unreachable") = false,
-        py::arg("tool_along_travel") = MotionOptions{}.toolAlongTravel,
-        py::arg("progress") = py::none());
+        py::arg("options") = MotionOptions{}, py::arg("progress") = py::none());
 
   m.def(
       "export_formats",
@@ -485,17 +273,15 @@ void registerPlanBindings(py::module_& m) {
       "[(name, main file extension)] of every program format.");
 
   m.def("export_program", &exportProgramPy,
-        "Plans the motion of plan_json in cell_json and writes the program of `format` (jbi, "
-        "krl, rapid, ls, gcode, csv, json). Returns {format, files [(name, bytes, lines)], "
-        "motion_count, arc_count, warnings, total_bytes}. With path: also writes the files all "
-        "or nothing (path receives the main file, others go beside it). date fixes the header "
-        "date ('' = the exporter's fixed default) so re-exports are byte-identical.",
+        "Plans the motion of plan_json in cell_json (motion: MotionOptions) and writes the "
+        "program of `format` (jbi, krl, rapid, ls, gcode, csv, json) with options: "
+        "ExportOptions (its default date is fixed, so re-exports are byte-identical). Returns "
+        "{format, files [(name, bytes, lines)], motion_count, arc_count, warnings, "
+        "total_bytes}. With path: also writes the files all or nothing (path receives the main "
+        "file, others go beside it).",
         py::arg("plan_json"), py::arg("cell_json"), py::kw_only(), py::arg("format") = "jbi",
-        py::arg("path") = py::none(), py::arg("program_name") = "", py::arg("date") = "",
-        py::arg("gcode_mode") = "tcp", py::arg("arc_output") = 1,
-        py::arg("warn_unreachable") = false,
-        py::arg("tool_along_travel") = MotionOptions{}.toolAlongTravel,
-        py::arg("progress") = py::none());
+        py::arg("path") = py::none(), py::arg("options") = ExportOptions{},
+        py::arg("motion") = MotionOptions{}, py::arg("progress") = py::none());
 }
 
 }  // namespace curvedslicer::bindings

@@ -32,6 +32,27 @@ bool finite(const Vec3& v) {
 
 }  // namespace
 
+std::string_view toString(StartSurface::Kind kind) {
+  switch (kind) {
+    case StartSurface::Kind::Plane:
+      return "plane";
+    case StartSurface::Kind::Faces:
+      return "faces";
+    case StartSurface::Kind::Mesh:
+      return "mesh";
+  }
+  return "plane";
+}
+
+StartSurface::Kind parseStartSurfaceKind(std::string_view name) {
+  for (StartSurface::Kind kind :
+       {StartSurface::Kind::Plane, StartSurface::Kind::Faces, StartSurface::Kind::Mesh}) {
+    if (name == toString(kind)) return kind;
+  }
+  throw InvalidInput("unknown start surface kind: '" + std::string(name) +
+                     "'; choose plane, faces or mesh");
+}
+
 std::string StartSurface::describe() const {
   switch (kind) {
     case Kind::Plane:

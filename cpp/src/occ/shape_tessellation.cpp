@@ -154,6 +154,28 @@ CadFormat detectCadFormat(const std::filesystem::path& path) {
 
 }  // namespace
 
+std::string_view toString(CadFormat format) {
+  switch (format) {
+    case CadFormat::Auto:
+      return "auto";
+    case CadFormat::Step:
+      return "step";
+    case CadFormat::Iges:
+      return "iges";
+    case CadFormat::Brep:
+      return "brep";
+  }
+  return "auto";
+}
+
+CadFormat parseCadFormat(std::string_view name) {
+  for (CadFormat f : {CadFormat::Auto, CadFormat::Step, CadFormat::Iges, CadFormat::Brep}) {
+    if (name == toString(f)) return f;
+  }
+  throw InvalidInput("unknown CAD format: '" + std::string(name) +
+                     "'; use 'auto', 'step', 'iges' or 'brep'");
+}
+
 double deflectionForVoxelSize(double voxelSize) {
   if (!(voxelSize > 0.0) || !std::isfinite(voxelSize)) {
     throw InvalidInput("voxel size must be positive and finite: " + std::to_string(voxelSize) +

@@ -43,10 +43,6 @@ std::string describeKind(InitialCurveKind kind) {
   return kind == InitialCurveKind::Plane ? "plane" : "surface";
 }
 
-std::string surfaceMethodName(SurfaceGeodesicMethod method) {
-  return method == SurfaceGeodesicMethod::Paper ? "paper" : "accurate";
-}
-
 void checkCornerAngle(double degrees) {
   if (!std::isfinite(degrees) || degrees <= 0.0 || degrees > 180.0) {
     throw InvalidInput("corner angle must be in (0, 180] degrees: " + formatMm(degrees) +
@@ -79,7 +75,7 @@ struct PathStages {
     p.pointSpacing = o.pointSpacing;
     p.fitTolerance = o.fitTolerance;
     p.cornerAngle = o.cornerAngle;
-    p.surfaceMethod = surfaceMethodName(o.geodesic.method);
+    p.surfaceMethod = std::string(toString(o.geodesic.method));
   }
 
   double minLength;  ///< mm, shortest deposited piece
@@ -257,6 +253,39 @@ std::string InitialCurve::describe() const {
       return "surface";
   }
   return "boundary";
+}
+
+std::string_view toString(InitialCurveKind kind) {
+  switch (kind) {
+    case InitialCurveKind::Boundary:
+      return "boundary";
+    case InitialCurveKind::Plane:
+      return "plane";
+    case InitialCurveKind::Surface:
+      return "surface";
+  }
+  return "boundary";
+}
+
+InitialCurveKind parseInitialCurveKind(std::string_view name) {
+  for (InitialCurveKind kind :
+       {InitialCurveKind::Boundary, InitialCurveKind::Plane, InitialCurveKind::Surface}) {
+    if (name == toString(kind)) return kind;
+  }
+  throw InvalidInput("unknown initial curve kind: '" + std::string(name) +
+                     "'; choose boundary, plane or surface");
+}
+
+std::string_view toString(WallEdgeKind kind) {
+  return kind == WallEdgeKind::NearestToPoint ? "nearest" : "lowest";
+}
+
+WallEdgeKind parseWallEdgeKind(std::string_view name) {
+  if (name == "lowest") return WallEdgeKind::LowestAlongAxis;
+  if (name == "nearest") return WallEdgeKind::NearestToPoint;
+  throw InvalidInput("unknown thin-wall edge: '" + std::string(name) +
+                     "'; choose lowest (the loop lowest along the axis) or nearest (the loop "
+                     "nearest to the point)");
 }
 
 std::string narrowStripModeName(NarrowStripMode mode) {

@@ -13,6 +13,19 @@
 #include "curvedslicer/robot/robot_kinematics.hpp"
 
 namespace curvedslicer {
+
+std::string_view toString(UnreachablePolicy policy) {
+  return policy == UnreachablePolicy::Warn ? "warn" : "throw";
+}
+
+UnreachablePolicy parseUnreachablePolicy(std::string_view name) {
+  if (name == "throw") return UnreachablePolicy::Throw;
+  if (name == "warn") return UnreachablePolicy::Warn;
+  throw InvalidInput("unknown unreachable-point policy: '" + std::string(name) +
+                     "'; choose throw (InvalidInput naming the points) or warn (keep the "
+                     "closest pose with a warning)");
+}
+
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;

@@ -35,6 +35,18 @@ TEST(Exporter, ParsesFormatNamesAndBuildsEachWriter) {
   }
 }
 
+TEST(Exporter, ParsesGcodeModeNames) {
+  for (GcodeMode m : {GcodeMode::Tcp, GcodeMode::Machine})
+    EXPECT_EQ(parseGcodeMode(toString(m)), m);
+  EXPECT_EQ(toString(ExportOptions{}.gcodeMode), "tcp");
+  try {
+    parseGcodeMode("abs");
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(std::string(e.what()), "unknown G-code mode: 'abs'; use tcp or machine");
+  }
+}
+
 TEST(Exporter, EveryFormatWritesTheWholePlan) {
   const Cell cell = defaultCell();
   const MotionPlan motion = planMotion(makeConePlan(2, 12), cell);

@@ -128,6 +128,15 @@ TEST(GeodesicField, BadPlaneNormalAndEmptySurfaces) {
   EXPECT_EQ(parseGeodesicMethod("anyangle"), GeodesicMethod::AnyAngle);
 }
 
+TEST(GeodesicField, StartSurfaceKindNamesRoundTrip) {
+  for (StartSurface::Kind k :
+       {StartSurface::Kind::Plane, StartSurface::Kind::Faces, StartSurface::Kind::Mesh}) {
+    EXPECT_EQ(parseStartSurfaceKind(toString(k)), k);
+  }
+  EXPECT_EQ(toString(StartSurface{}.kind), "plane");
+  EXPECT_THROW(parseStartSurfaceKind("sphere"), InvalidInput);
+}
+
 TEST(GeodesicField, DisconnectedPartIsReportedNotDropped) {
   // Two boxes; the start plane touches only the lower one.
   const VoxelGrid grid =

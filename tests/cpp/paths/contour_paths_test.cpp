@@ -380,6 +380,27 @@ TEST(ContourPaths, AnyRectangleKeepsTheSpacingWithTheDefaultPlanner) {
   EXPECT_GE(overlapping, 8);  // the sweep does cover the case the rule is for
 }
 
+TEST(Planner, KindNamesRoundTrip) {
+  for (InitialCurveKind k :
+       {InitialCurveKind::Boundary, InitialCurveKind::Plane, InitialCurveKind::Surface}) {
+    EXPECT_EQ(parseInitialCurveKind(toString(k)), k);
+  }
+  for (WallEdgeKind k : {WallEdgeKind::LowestAlongAxis, WallEdgeKind::NearestToPoint}) {
+    EXPECT_EQ(parseWallEdgeKind(toString(k)), k);
+  }
+  EXPECT_EQ(toString(InitialCurve{}.kind), "boundary");
+  EXPECT_EQ(toString(ThinWallOptions{}.edge), "lowest");
+  EXPECT_THROW(parseInitialCurveKind("Boundary"), InvalidInput);
+  try {
+    parseWallEdgeKind("top");
+    ADD_FAILURE();
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown thin-wall edge: 'top'; choose lowest"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(NarrowStrips, BadInput) {
   EXPECT_THROW(resolveNarrowStrips({}, {}, 0.0), InvalidInput);
   EXPECT_THROW(resolveNarrowStrips({{}}, {}, 3.7), InvalidInput);

@@ -285,6 +285,20 @@ TEST(SurfaceGeodesic, BadInputIsRejected) {
   EXPECT_THROW(computeSurfaceGeodesicFromVertices(mesh, {0, 1}, {0.0}), InvalidInput);
 }
 
+TEST(SurfaceGeodesic, MethodNamesRoundTrip) {
+  for (SurfaceGeodesicMethod m : {SurfaceGeodesicMethod::Accurate, SurfaceGeodesicMethod::Paper}) {
+    EXPECT_EQ(parseSurfaceGeodesicMethod(toString(m)), m);
+  }
+  EXPECT_EQ(toString(SurfaceGeodesicOptions{}.method), "accurate");
+  try {
+    parseSurfaceGeodesicMethod("exact");
+    ADD_FAILURE();
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "unknown surface geodesic method: 'exact'; choose accurate or paper");
+  }
+}
+
 TEST(SurfaceGeodesic, FromVerticesAndMaxDistance) {
   const TriMesh mesh = makeRectangleMesh(0.0, 10.0, 0.0, 10.0, 10, 10);
   SurfaceGeodesicOptions options;

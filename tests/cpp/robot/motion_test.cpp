@@ -432,6 +432,14 @@ TEST(Motion, BadInputNamesTheProblem) {
   EXPECT_THROW(planMotion(linePlan({Vec3(0, 0, -1), Vec3(0, 0, -1)}), bad), InvalidInput);
 }
 
+TEST(Motion, UnreachablePolicyNamesRoundTrip) {
+  for (UnreachablePolicy p : {UnreachablePolicy::Throw, UnreachablePolicy::Warn}) {
+    EXPECT_EQ(parseUnreachablePolicy(toString(p)), p);
+  }
+  EXPECT_EQ(toString(MotionOptions{}.unreachable), "throw");
+  EXPECT_THROW(parseUnreachablePolicy("ignore"), InvalidInput);
+}
+
 TEST(Motion, CancellationAndDeterminism) {
   const Cell cell = defaultCell();
   const Plan plan = ringPlan();

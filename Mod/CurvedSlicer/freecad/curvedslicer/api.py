@@ -185,9 +185,10 @@ def estimate(job, voxel_size=None, grid_alignment=None, memory_budget_mb=None, d
     alignment = job.GridAlignment if grid_alignment is None else grid_alignment
     model = geometry.model_from_object(job.Solid if solid is None else solid, d,
                                        cap_holes=job.CapHoles if cap_holes is None else cap_holes)
-    result = native.estimate_grid(model["vertices"], model["triangles"], voxel_size=voxel,
-                                  alignment={"PCA": "pca", "Model": "model"}[alignment],
-                                  memory_budget_mb=float(budget))
+    options = native.VoxelizeOptions(voxel_size=voxel,
+                                     alignment={"PCA": "pca", "Model": "model"}[alignment],
+                                     memory_budget_bytes=float(budget) * 1024.0 * 1024.0)
+    result = native.estimate_grid(model["vertices"], model["triangles"], options=options)
     result["triangles"] = len(model["triangles"])
     return result
 
@@ -269,10 +270,14 @@ def export(job, path=None, format="jbi", program_name="", date="", gcode_mode="t
         cell = native.read_cell_json(cell_file) if cell_file else native.default_cell_json()
     if tool_along_travel is None:
         tool_along_travel = bool(jobs[0].ToolAlongTravel)
-    return native.export_program(text, cell, format=format, path=path,
-                                 program_name=program_name, date=date, gcode_mode=gcode_mode,
-                                 arc_output=arc_output, warn_unreachable=warn_unreachable,
-                                 tool_along_travel=tool_along_travel)
+    options = native.ExportOptions(program_name=program_name, gcode_mode=gcode_mode,
+                                   arc_output=arc_output)
+    if date:
+        options.date = date
+    motion = native.MotionOptions(unreachable="warn" if warn_unreachable else "throw",
+                                  tool_along_travel=bool(tool_along_travel))
+    return native.export_program(text, cell, format=format, path=path, options=options,
+                                 motion=motion)
 
 
 def path_features(job):

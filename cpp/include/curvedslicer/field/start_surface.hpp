@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "curvedslicer/core/types.hpp"
@@ -61,6 +62,12 @@ struct StartSurface {
   /// Human-readable description for reports, e.g. "plane z=0 mm", "faces 3,4,7 (2 triangles)".
   std::string describe() const;
 };
+
+/// "plane" | "faces" | "mesh" (the kinds of the command line's start specs and the Python
+/// module's names).
+std::string_view toString(StartSurface::Kind kind);
+/// @throws InvalidInput naming the text and the choices.
+StartSurface::Kind parseStartSurfaceKind(std::string_view name);
 
 /// Turns a start-surface description into source triangles in the part frame.
 /// A plane becomes a rectangle (two triangles) covering the model's bounding box with a margin.

@@ -41,6 +41,11 @@ enum class CadFormat {
   Brep,
 };
 
+/// "auto" | "step" | "iges" | "brep" (the Python module's names).
+std::string_view toString(CadFormat format);
+/// @throws InvalidInput naming the text and the choices.
+CadFormat parseCadFormat(std::string_view name);
+
 /// Tessellates a shape given as OpenCASCADE BREP text (part frame, mm).
 /// @return mesh with `faceIds[t]` = the FaceN of triangle t (1-based)
 /// @throws InvalidInput for text that is not a BREP shape, a shape without faces, bad options,

@@ -35,6 +35,7 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "curvedslicer/core/progress.hpp"
@@ -53,6 +54,11 @@ enum class InitialCurveKind {
   Plane,     ///< the section with a plane; parallel paths on both sides at k·s
   Surface,   ///< the section with a user surface mesh; parallel paths on both sides at k·s
 };
+
+/// "boundary" | "plane" | "surface" (the Python module's names of the kinds).
+std::string_view toString(InitialCurveKind kind);
+/// @throws InvalidInput naming the text and the choices.
+InitialCurveKind parseInitialCurveKind(std::string_view name);
 
 struct InitialCurve {
   InitialCurveKind kind = InitialCurveKind::Boundary;
@@ -98,6 +104,11 @@ enum class WallEdgeKind {
   LowestAlongAxis,  ///< the loop whose lowest point along `axis` is lowest (e.g. on the plate)
   NearestToPoint,   ///< the loop nearest to `point`
 };
+
+/// "lowest" | "nearest" (the command line's --thin-wall prefixes).
+std::string_view toString(WallEdgeKind kind);
+/// @throws InvalidInput naming the text and the choices.
+WallEdgeKind parseWallEdgeKind(std::string_view name);
 
 struct ThinWallOptions {
   double beadSpacing = 1.65;   ///< mm, distance between beads along the surface (bead height)

@@ -26,6 +26,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "curvedslicer/core/progress.hpp"
@@ -106,6 +107,11 @@ enum class UnreachablePolicy {
   Throw,  ///< InvalidInput naming the first unreachable points and by how much (default)
   Warn,   ///< keep the closest pose, flag kMotionRobotLimit and add a warning
 };
+
+/// "throw" | "warn" (the Python module's names).
+std::string_view toString(UnreachablePolicy policy);
+/// @throws InvalidInput naming the text and the choices.
+UnreachablePolicy parseUnreachablePolicy(std::string_view name);
 
 struct MotionOptions {
   double singularZone = 0.0349065850398866;  ///< rad (2°): V within this of ±rotation axis

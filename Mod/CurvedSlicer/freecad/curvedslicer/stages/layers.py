@@ -65,13 +65,13 @@ def layer_inputs(job):
     mode = job.StartMode
     start_digest = mode
     if mode == "BuildPlate":
-        kwargs.update(start="build_plate", start_spec="plane:bottom")
+        kwargs.update(start=native.StartSurface.build_plate(), start_spec="plane:bottom")
     elif mode == "Plane":
         point, normal = _vec(job.StartPlanePoint), _vec(job.StartPlaneNormal)
         if normal == (0.0, 0.0, 0.0):
             raise InvalidInput("start plane normal is zero: (0, 0, 0); set StartPlaneNormal, "
                                "e.g. (0, 0, 1)")
-        kwargs.update(start="plane", plane_point=point, plane_normal=normal,
+        kwargs.update(start=native.StartSurface.plane(point, normal),
                       start_spec="plane:%g,%g,%g,%g,%g,%g" % (point + normal))
         start_digest += repr((point, normal))
     elif mode == "Faces":
@@ -98,7 +98,7 @@ def layer_inputs(job):
                                "pick faces of the solid again" % (missing[0], job.Solid.Label,
                                                                  face_count))
         ids = sorted(set(ids))
-        kwargs.update(start="faces", start_face_ids=ids,
+        kwargs.update(start=native.StartSurface.faces(ids),
                       start_spec="faces:" + ",".join("Face%d" % i for i in ids))
         start_digest += repr(ids)
     elif mode == "Surface":
@@ -108,7 +108,7 @@ def layer_inputs(job):
             raise InvalidInput("start surface is the solid itself: %s; use StartMode Faces to "
                                "grow from faces of the solid" % obj.Label)
         vertices, triangles, digest = geometry.surface_from_object(obj, subs, deflection)
-        kwargs.update(start="mesh", start_vertices=vertices, start_triangles=triangles,
+        kwargs.update(start=native.StartSurface.surface(vertices, triangles),
                       start_spec="surface:%s%s" % (obj.Label, (":" + ",".join(subs)) if subs
                                                    else ""))
         start_digest += digest
@@ -142,9 +142,12 @@ def update_layers(job, progress=None, force=False, prune=True):
     if not force and digest == job.InputsDigest and have_layers:
         job.Status = _done_status(job) + " (inputs unchanged, not rerun)"
         return False
+    fields = dict(kwargs)
+    names = {"model_name": fields.pop("model_name"), "start_spec": fields.pop("start_spec")}
+    options = native.LayerJobOptions(
+        memory_budget_bytes=memory_budget_mb(job) * 1024.0 * 1024.0, **fields)
     result = native.run_layer_job(model["vertices"], model["triangles"], model["face_ids"],
-                                  memory_budget_mb=memory_budget_mb(job), progress=progress,
-                                  **kwargs)
+                                  options=options, progress=progress, **names)
     apply_result(job, result, digest, prune=prune)
     return True
 

@@ -80,13 +80,13 @@ def _initial_curve(job, deflection):
     """kwargs and digest part of the initial curve of CurvedLayers."""
     kind = job.InitialPath
     if kind == "Boundary":
-        return {"initial_curve": "boundary"}, "boundary"
+        return {"initial_curve": native.InitialCurve.boundary()}, "boundary"
     if kind == "Plane":
         point, normal = _vec(job.InitialPlanePoint), _vec(job.InitialPlaneNormal)
         if normal == (0.0, 0.0, 0.0):
             raise InvalidInput("initial plane normal is zero: (0, 0, 0); set InitialPlaneNormal, "
                                "e.g. (1, 0, 0)")
-        return ({"initial_curve": "plane", "plane_point": point, "plane_normal": normal},
+        return ({"initial_curve": native.InitialCurve.plane(point, normal)},
                 ("plane", point, normal))
     link = job.InitialSurface
     obj, subs = (link[0], list(link[1])) if link else (None, [])
@@ -95,8 +95,8 @@ def _initial_curve(job, deflection):
                            "section with each layer is the first path, or use InitialPath "
                            "Boundary")
     vertices, triangles, digest = geometry.surface_from_object(obj, subs, deflection)
-    return ({"initial_curve": "surface", "surface_vertices": vertices,
-             "surface_triangles": triangles}, ("surface", digest))
+    return ({"initial_curve": native.InitialCurve(kind="surface", surface=(vertices, triangles))},
+            ("surface", digest))
 
 
 def _common_parameters(job):
@@ -135,9 +135,14 @@ def path_inputs(job):
                           axis, point] + corner_part)
 
         def plan(progress):
-            return native.plan_thin_wall(vertices, triangles, edge=edge, axis=axis, point=point,
-                                         corner_angle=corner_angle, model=obj.Label,
-                                         progress=progress, **common)
+            wall = native.ThinWallOptions(edge=edge, axis=axis, point=point,
+                                          corner_angle=corner_angle, **common)
+            # The start the plan records, as the bindings wrote it before (std::to_string).
+            start = "thin-wall:%s:%f,%f,%f" % ((edge,) + (axis if edge == "lowest" else point))
+            options = native.PlanJobOptions(thin_wall=wall, model_name=obj.Label,
+                                            start_spec=start)
+            return native.plan_thin_wall(vertices, triangles, options=options,
+                                         progress=progress)
 
         return plan, digest
 
@@ -164,16 +169,19 @@ def path_inputs(job):
         kwargs.update(curve)
         kwargs["narrow_strips"] = narrow
         kwargs["corner_angle"] = corner_angle
+        surface = {}
         if start is not None and start.Mesh.CountFacets:
-            kwargs["start_vertices"], kwargs["start_triangles"] = geometry.mesh_arrays(
+            surface["start_vertices"], surface["start_triangles"] = geometry.mesh_arrays(
                 start.Mesh)
         report = json.loads(job.Report) if job.Report else {}
-        return native.plan_layers(
-            arrays, layer_thickness=_mm(job.LayerThickness), voxel_size=_mm(job.VoxelSize),
-            field_method={"AnyAngle": "anyangle", "Paper": "paper"}[job.Method],
-            model=job.Solid.Label if job.Solid else "",
-            start=str(report.get("inputs", {}).get("start", job.StartMode)),
-            progress=progress, **kwargs)
+        options = native.PlanJobOptions(
+            layer_job=native.LayerJobOptions(
+                layer_thickness=_mm(job.LayerThickness), voxel_size=_mm(job.VoxelSize),
+                method={"AnyAngle": "anyangle", "Paper": "paper"}[job.Method]),
+            planner=native.PlannerOptions(**kwargs),
+            model_name=job.Solid.Label if job.Solid else "",
+            start_spec=str(report.get("inputs", {}).get("start", job.StartMode)))
+        return native.plan_layers(arrays, options=options, progress=progress, **surface)
 
     return plan, digest
 

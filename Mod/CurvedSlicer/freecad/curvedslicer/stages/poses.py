@@ -52,8 +52,10 @@ def motion(job, progress=None):
     cached = _motion_cache.get(key)
     if cached is not None and cached[0] == digest:
         return cached[1]
-    result = native.plan_motion(job.PlanJson, cell, warn_unreachable=True,
-                                tool_along_travel=along, progress=progress)
+    result = native.plan_motion(
+        job.PlanJson, cell,
+        options=native.MotionOptions(unreachable="warn", tool_along_travel=along),
+        progress=progress)
     result["cell_json"] = cell
     _motion_cache[key] = (digest, result)
     return result
