@@ -153,7 +153,7 @@ class Reader {
       bool known = false;
       for (const char* key : keys) known = known || item.key() == key;
       for (const char* key : optional) known = known || item.key() == key;
-      if (!known) fail(where, "has an unknown key \"" + item.key() + "\"");
+      if (!known) fail(where, "has an unknown key " + abbreviateJson(Json(item.key())));
     }
   }
 
@@ -292,7 +292,8 @@ Plan readDocument(const Reader& r, const Json& doc) {
     p.narrowStrips = r.string(pj["narrow_strips"], "/parameters/narrow_strips");
     if (p.narrowStrips != "centre_bead" && p.narrowStrips != "overlap") {
       r.fail("/parameters/narrow_strips",
-             "is \"" + p.narrowStrips + "\": expected \"centre_bead\" or \"overlap\"");
+             "is " + abbreviateJson(Json(p.narrowStrips)) +
+                 ": expected \"centre_bead\" or \"overlap\"");
     }
   }
   if (pj.contains("corner_angle_deg")) {

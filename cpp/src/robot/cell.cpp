@@ -356,6 +356,22 @@ void readArc(Field& pr, ProcessDescription& proc) {
   arc.rejectUnknown();
 }
 
+/// Programs give speeds in the controller's unit with 1 decimal (mm/s) or none (per minute): a
+/// speed that rounds to 0 there would be written as "V=0.0", which no controller can run.
+void checkSpeedsExpressible(Field& pr, const ProcessDescription& proc) {
+  double least = 0.05;  // mm/s written with one decimal
+  if (proc.speedUnit == SpeedUnit::CentimetresPerMinute) least = 0.5 / 6.0;
+  if (proc.speedUnit == SpeedUnit::MillimetresPerMinute) least = 0.5 / 60.0;
+  const std::pair<const char*, double> speeds[] = {{"weld_speed_mm_s", proc.weldSpeed},
+                                                   {"travel_speed_mm_s", proc.travelSpeed}};
+  for (const auto& [key, speed] : speeds) {
+    if (speed < least) {
+      pr.fail(key, "would be written as 0 in " + std::string(toString(proc.speedUnit)),
+              formatNumber(speed), "give at least " + formatNumber(least) + " mm/s");
+    }
+  }
+}
+
 ProcessDescription readProcess(Field& top) {
   Field pr = top.object("process", "describe the welding process");
   ProcessDescription proc;
@@ -377,6 +393,7 @@ ProcessDescription readProcess(Field& top) {
                                          {"cm/min", SpeedUnit::CentimetresPerMinute},
                                          {"mm/min", SpeedUnit::MillimetresPerMinute}},
                                         "the speed unit set in the controller");
+  checkSpeedsExpressible(pr, proc);
   readArc(pr, proc);
   pr.rejectUnknown();
   return proc;

@@ -78,6 +78,21 @@ TEST(CellRobustness, HugeValuesAreEchoedShort) {
   EXPECT_LT(key.size(), 400u);
 }
 
+TEST(CellRobustness, SpeedsThatWouldBeWrittenAsZeroAreRefused) {
+  Json j = Json::parse(defaultCellText());
+  j["process"]["weld_speed_mm_s"] = 1e-300;
+  EXPECT_TRUE(contains(cellError(j.dump()), "field /process/weld_speed_mm_s would be written as 0 "
+                                            "in mm/s: 1e-300; give at least 0.05 mm/s"));
+  j["process"]["weld_speed_mm_s"] = 0.05;
+  EXPECT_EQ(cellError(j.dump()), "");
+  j["process"]["speed_unit"] = "cm/min";
+  EXPECT_TRUE(contains(cellError(j.dump()), "weld_speed_mm_s would be written as 0 in cm/min"));
+  j["process"]["weld_speed_mm_s"] = 8;
+  j["process"]["travel_speed_mm_s"] = 0.001;
+  j["process"]["speed_unit"] = "mm/min";
+  EXPECT_TRUE(contains(cellError(j.dump()), "travel_speed_mm_s would be written as 0 in mm/min"));
+}
+
 TEST(CellRobustness, CommandLineExitsWithTwoNamingTheFile) {
   const fs::path dir = testing::freshTempDir();
   Plan plan;
