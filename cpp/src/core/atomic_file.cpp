@@ -48,8 +48,9 @@ fs::path resolveOutputPath(const fs::path& path) {
   const fs::file_status own = fs::symlink_status(path, ec);
   if (ec || own.type() == fs::file_type::not_found) return path;
   if (fs::is_regular_file(own)) return path;
-  const std::string advice = "; choose a regular file path (outputs never replace devices, pipes, "
-                             "sockets or folders)";
+  const std::string advice =
+      "; choose a regular file path (outputs never replace devices, pipes, "
+      "sockets or folders)";
   if (!fs::is_symlink(own)) {
     throw IoError("output path is " + describeFileType(own.type()) + ", not a regular file: '" +
                   path.string() + "'" + advice);
@@ -71,8 +72,8 @@ fs::path resolveOutputPath(const fs::path& path) {
   return resolved;
 }
 
-void writeFileAtomically(const fs::path& requested,
-                         const std::function<void(std::ostream&)>& write, bool binary) {
+void writeFileAtomically(const fs::path& requested, const std::function<void(std::ostream&)>& write,
+                         bool binary) {
   const fs::path path = resolveOutputPath(requested);
   const fs::path parent = path.has_parent_path() ? path.parent_path() : fs::path(".");
   std::error_code ec;

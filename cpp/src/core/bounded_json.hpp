@@ -23,8 +23,8 @@ inline constexpr std::size_t kMaxEchoedJson = 60;
 /// Throws InvalidInput "<lead>: <problem> at line L, column C; <hint>" when the text is not JSON,
 /// nests deeper than `maxDepth`, or holds a number beyond the double range. Uses no recursion
 /// proportional to the input and O(size of text) memory.
-nlohmann::json parseBoundedJson(std::string_view text, std::string_view lead,
-                                std::string_view hint, int maxDepth = kMaxJsonDepth);
+nlohmann::json parseBoundedJson(std::string_view text, std::string_view lead, std::string_view hint,
+                                int maxDepth = kMaxJsonDepth);
 
 /// The compact JSON text of `value`, cut after `maxChars` characters with "..." appended;
 /// never throws (invalid UTF-8 is replaced), and visits only about `maxChars` elements.

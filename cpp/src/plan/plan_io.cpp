@@ -173,8 +173,8 @@ class Reader {
 
   int integer(const Json& j, const std::string& where) const {
     if (!j.is_number_integer()) {
-      fail(where, "must be an integer, found " + std::string(j.type_name()) + " " +
-                      abbreviateJson(j));
+      fail(where,
+           "must be an integer, found " + std::string(j.type_name()) + " " + abbreviateJson(j));
     }
     const auto v = j.get<long long>();
     if (v < 0 || v > 2147483647LL) fail(where, "is out of range: " + std::to_string(v));
@@ -254,10 +254,11 @@ Plan readDocument(const Reader& r, const Json& doc) {
   // Format and version first, so that a newer file gets the "update" message, not a key error.
   if (!doc.contains("format") || !doc["format"].is_string() ||
       doc["format"].get<std::string>() != kPlanFormatName) {
-    throw InvalidInput(r.origin() + ": not a CurvedSlicer plan (\"format\" is " +
-                       (doc.contains("format") ? abbreviateJson(doc["format"]) : std::string("missing")) +
-                       ", expected \"" + std::string(kPlanFormatName) +
-                       "\"); pass a plan.json written by `curvedslicer plan`");
+    throw InvalidInput(
+        r.origin() + ": not a CurvedSlicer plan (\"format\" is " +
+        (doc.contains("format") ? abbreviateJson(doc["format"]) : std::string("missing")) +
+        ", expected \"" + std::string(kPlanFormatName) +
+        "\"); pass a plan.json written by `curvedslicer plan`");
   }
   if (!doc.contains("version") || !doc["version"].is_number_integer()) {
     r.fail("/version", "must be an integer");
@@ -291,16 +292,15 @@ Plan readDocument(const Reader& r, const Json& doc) {
   if (pj.contains("narrow_strips")) {
     p.narrowStrips = r.string(pj["narrow_strips"], "/parameters/narrow_strips");
     if (p.narrowStrips != "centre_bead" && p.narrowStrips != "overlap") {
-      r.fail("/parameters/narrow_strips",
-             "is " + abbreviateJson(Json(p.narrowStrips)) +
-                 ": expected \"centre_bead\" or \"overlap\"");
+      r.fail("/parameters/narrow_strips", "is " + abbreviateJson(Json(p.narrowStrips)) +
+                                              ": expected \"centre_bead\" or \"overlap\"");
     }
   }
   if (pj.contains("corner_angle_deg")) {
     const double angle = r.number(pj["corner_angle_deg"], "/parameters/corner_angle_deg");
     if (!(angle > 0.0 && angle <= 180.0)) {
-      r.fail("/parameters/corner_angle_deg",
-             "is " + abbreviateJson(pj["corner_angle_deg"]) + ": expected an angle in (0, 180] degrees");
+      r.fail("/parameters/corner_angle_deg", "is " + abbreviateJson(pj["corner_angle_deg"]) +
+                                                 ": expected an angle in (0, 180] degrees");
     }
     p.cornerAngle = angle;
   }

@@ -39,8 +39,9 @@ class Field {
   [[noreturn]] void fail(std::string_view key, std::string_view problem, std::string_view value,
                          std::string_view hint) const {
     const std::string full = key.empty() ? path_ : childPath(key);
-    const std::string where = full.empty()                        ? std::string("/")
-                              : full.size() <= 2 * kMaxEchoedJson ? full
+    const std::string where = full.empty() ? std::string("/")
+                              : full.size() <= 2 * kMaxEchoedJson
+                                  ? full
                                   : full.substr(0, 2 * kMaxEchoedJson) + "...";
     throw InvalidInput(std::string(origin_) + ": field " + where + " " + std::string(problem) +
                        ": " + std::string(value) + "; " + std::string(hint));
@@ -124,13 +125,14 @@ class Field {
   std::vector<double> numbers(std::string_view key, std::size_t count, std::string_view hint) {
     const Json& j = require(key, hint);
     if (!j.is_array() || j.size() != count) {
-      fail(key, "must be an array of " + std::to_string(count) + " numbers", abbreviateJson(j), hint);
+      fail(key, "must be an array of " + std::to_string(count) + " numbers", abbreviateJson(j),
+           hint);
     }
     std::vector<double> out;
     for (const auto& e : j) {
       if (!e.is_number() || !std::isfinite(e.get<double>())) {
-        fail(key, "must be an array of " + std::to_string(count) + " finite numbers", abbreviateJson(j),
-             hint);
+        fail(key, "must be an array of " + std::to_string(count) + " finite numbers",
+             abbreviateJson(j), hint);
       }
       out.push_back(e.get<double>());
     }
@@ -403,11 +405,10 @@ ExportDescription readExport(Field& top) {
   Field e = top.object("export", "give the export options");
   ExportDescription ex;
   ex.coordinated = e.boolean("coordinated", "true: robot and positioner move together");
-  ex.positionType = e.choice<PositionType>("position_type",
-                                           {{"pulse", PositionType::Pulse},
-                                            {"base", PositionType::Base},
-                                            {"user", PositionType::User}},
-                                           "how robot targets are written");
+  ex.positionType = e.choice<PositionType>(
+      "position_type",
+      {{"pulse", PositionType::Pulse}, {"base", PositionType::Base}, {"user", PositionType::User}},
+      "how robot targets are written");
   ex.maxLinesPerJob = e.integer("max_lines_per_job", 20, 1000000, "lines per job before split");
   ex.lineEnding =
       e.choice<LineEnding>("line_ending", {{"crlf", LineEnding::Crlf}, {"lf", LineEnding::Lf}},
@@ -415,8 +416,8 @@ ExportDescription readExport(Field& top) {
   ex.maxNameLength = e.integer("max_name_length", 8, 32, "8 on NX100, 32 on DX100 and later");
   ex.jobName = e.string("job_name", "base name of the jobs");
   if (ex.jobName.empty() || static_cast<int>(ex.jobName.size()) > ex.maxNameLength) {
-    e.fail("job_name", "must have 1 to max_name_length characters", abbreviateJson(Json(ex.jobName)),
-           "use a shorter name");
+    e.fail("job_name", "must have 1 to max_name_length characters",
+           abbreviateJson(Json(ex.jobName)), "use a shorter name");
   }
   for (char c : ex.jobName) {
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-')) {

@@ -98,7 +98,9 @@ std::string formatCount(double count) {
 std::string formatBytes(double bytes) {
   std::ostringstream out;
   out << std::fixed << std::setprecision(1);
-  if (bytes >= 1e9) {
+  if (!(bytes < 1e15)) {
+    out << std::scientific << std::setprecision(1) << bytes << " bytes";  // 1.0e+36 bytes
+  } else if (bytes >= 1e9) {
     out << bytes / 1e9 << " GB";
   } else if (bytes >= 1e6) {
     out << bytes / 1e6 << " MB";
@@ -283,7 +285,8 @@ bool edgesCancel(const LatticeMesh& m) {
   for (std::size_t n = 0; n < edges.size();) {
     int sum = 0;
     std::size_t end = n;
-    for (; end < edges.size() && edges[end].first == edges[n].first; ++end) sum += edges[end].second;
+    for (; end < edges.size() && edges[end].first == edges[n].first; ++end)
+      sum += edges[end].second;
     if (sum != 0) return false;
     n = end;
   }
@@ -402,8 +405,9 @@ SlabBins binTriangles(const LatticeMesh& m, int axis, int slabs) {
 
 struct Hit {
   int row;
-  std::int8_t winding;  ///< +1 where the ray enters (triangle facing against it), −1 where it leaves
-  double depth;         ///< cell units along the ray axis
+  std::int8_t
+      winding;   ///< +1 where the ray enters (triangle facing against it), −1 where it leaves
+  double depth;  ///< cell units along the ray axis
   bool operator<(const Hit& o) const { return row != o.row ? row < o.row : depth < o.depth; }
 };
 
@@ -698,8 +702,9 @@ GridGeometry planGrid(const TriMesh& mesh, const VoxelizeOptions& options) {
     const double fitting =
         smallestFittingVoxelSize(box, L, options.padding, options.bytesPerCell, budget);
     if (fitting > 0.0) {
-      msg << "; use a voxel size of at least " << formatLength(fitting)
-          << " mm or raise the memory budget";
+      // Beyond the per-axis or total cell limits a larger budget does not help.
+      msg << "; use a voxel size of at least " << formatLength(fitting) << " mm"
+          << (extent.withinLimits() ? " or raise the memory budget" : "");
     } else {
       msg << "; no voxel size fits, raise the memory budget";
     }

@@ -2,10 +2,10 @@
 // and leave the node as it was; a grid beyond the cell limit exits with code 4 before anything is
 // allocated; two overlapping closed cubes give their union, reported in report.json.
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cstring>
@@ -44,8 +44,8 @@ TriMesh combined(const TriMesh& a, const TriMesh& b) {
 /// A plan of a 20 x 16 x 6 mm box (plan.json in `dir`/plan).
 fs::path makeBoxPlan(const fs::path& dir) {
   const fs::path box = dir / "box.stl";
-  testing::writeBinaryStl(box, testing::trianglesOf(testing::makeBox(Vec3(0, 0, 0),
-                                                                     Vec3(20, 16, 6))));
+  testing::writeBinaryStl(box,
+                          testing::trianglesOf(testing::makeBox(Vec3(0, 0, 0), Vec3(20, 16, 6))));
   const CliRun run = runCli({"plan", box.string(), "--layer-thickness", "2", "--voxel", "1",
                              "--bead-spacing", "4", "-o", (dir / "plan").string(), "-q"});
   EXPECT_EQ(run.exitCode, 0) << run.err;
@@ -96,9 +96,9 @@ TEST(CliRobustness, OverlappingCubesGiveTheUnionAndAReportEntry) {
   const fs::path dir = testing::freshTempDir();
   const fs::path model = dir / "two_boxes.stl";
   // 20 x 30 x 20 mm each, overlapping in 15 x 30 x 20: union 15,000 voxels of 1 mm.
-  testing::writeBinaryStl(model, testing::trianglesOf(combined(
-                                     testing::makeBox(Vec3(0, 0, 0), Vec3(20, 30, 20)),
-                                     testing::makeBox(Vec3(5, 0, 0), Vec3(25, 30, 20)))));
+  testing::writeBinaryStl(
+      model, testing::trianglesOf(combined(testing::makeBox(Vec3(0, 0, 0), Vec3(20, 30, 20)),
+                                           testing::makeBox(Vec3(5, 0, 0), Vec3(25, 30, 20)))));
   const CliRun run = runCli({"layers", model.string(), "--layer-thickness", "2", "--voxel", "1",
                              "--grid", "model", "-o", (dir / "out").string(), "-q"});
   ASSERT_EQ(run.exitCode, 0) << run.err;

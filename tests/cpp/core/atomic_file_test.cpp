@@ -79,7 +79,8 @@ TEST(AtomicFile, CharacterDeviceIsRefusedAndKept) {
   const fs::path dir = testing::freshTempDir();
   const fs::path device = dir / "null";  // the numbers of /dev/null: harmless if ever written
   ASSERT_EQ(::mknod(device.c_str(), S_IFCHR | 0600, ::makedev(1, 3)), 0) << std::strerror(errno);
-  EXPECT_TRUE(contains(writeError(device), "output path is a character device, not a regular file"));
+  EXPECT_TRUE(
+      contains(writeError(device), "output path is a character device, not a regular file"));
   struct stat st {};
   ASSERT_EQ(::lstat(device.c_str(), &st), 0);
   EXPECT_TRUE(S_ISCHR(st.st_mode));
@@ -123,8 +124,8 @@ TEST(AtomicFile, SymlinkToAFifoOrToNothingIsRefused) {
                        "output path is a symbolic link to a FIFO (named pipe): '"));
   EXPECT_TRUE(fs::is_fifo(fs::symlink_status(dir / "pipe")));
   fs::create_symlink(dir / "nowhere", dir / "dangling");
-  EXPECT_TRUE(contains(writeError(dir / "dangling"),
-                       "output path is a symbolic link to a missing file"));
+  EXPECT_TRUE(
+      contains(writeError(dir / "dangling"), "output path is a symbolic link to a missing file"));
   EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir / "dangling")));
   EXPECT_FALSE(fs::exists(dir / "nowhere"));
 }

@@ -21,14 +21,15 @@ std::string parseError(const std::string& data, const std::string& name) {
 }
 
 TEST(MeshIoRobustness, CoordinatesBeyondABillionMillimetresAreRefused) {
-  const std::string obj = "v 0 0 0\nv 1e308 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 1 4 2\n"
-                          "f 2 4 3\n";
+  const std::string obj =
+      "v 0 0 0\nv 1e308 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 1 4 2\n"
+      "f 2 4 3\n";
   const std::string message = parseError(obj, "huge.obj");
-  EXPECT_NE(message.find("coordinate beyond ±1e9 mm (1e+308, 0, 0)"), std::string::npos)
-      << message;
+  EXPECT_NE(message.find("coordinate beyond ±1e9 mm (1e+308, 0, 0)"), std::string::npos) << message;
   EXPECT_NE(message.find("huge.obj"), std::string::npos) << message;
-  const std::string stl = "solid s\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\n"
-                          "vertex 0 -2e9 0\nvertex 0 0 1\nendloop\nendfacet\nendsolid s\n";
+  const std::string stl =
+      "solid s\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\n"
+      "vertex 0 -2e9 0\nvertex 0 0 1\nendloop\nendfacet\nendsolid s\n";
   EXPECT_NE(parseError(stl, "huge.stl").find("coordinate beyond ±1e9 mm"), std::string::npos);
   // A billion millimetres itself is accepted.
   const TriMesh mesh = parseMesh("v 0 0 0\nv 1e9 0 0\nv 0 1 0\nf 1 2 3\n", "edge.obj");

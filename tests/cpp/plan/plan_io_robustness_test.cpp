@@ -96,15 +96,14 @@ TEST(PlanIoRobustness, NumberBeyondTheDoubleRangeNamesFileLineAndColumn) {
 }
 
 TEST(PlanIoRobustness, NegativeLengthsAreRefusedAsTheSchemaDoes) {
-  EXPECT_TRUE(contains(
-      readError(editedPlan([](Json& d) { d["layers"][0]["height_mm"] = -1.5; })),
-      "plan.json: /layers/0/height_mm must not be negative: -1.5"));
-  EXPECT_TRUE(contains(
-      readError(editedPlan([](Json& d) { d["parameters"]["layer_thickness_mm"] = -2; })),
-      "plan.json: /parameters/layer_thickness_mm must not be negative: -2"));
-  EXPECT_TRUE(contains(
-      readError(editedPlan([](Json& d) { d["parameters"]["voxel_size_mm"] = -0.5; })),
-      "/parameters/voxel_size_mm must not be negative"));
+  EXPECT_TRUE(contains(readError(editedPlan([](Json& d) { d["layers"][0]["height_mm"] = -1.5; })),
+                       "plan.json: /layers/0/height_mm must not be negative: -1.5"));
+  EXPECT_TRUE(
+      contains(readError(editedPlan([](Json& d) { d["parameters"]["layer_thickness_mm"] = -2; })),
+               "plan.json: /parameters/layer_thickness_mm must not be negative: -2"));
+  EXPECT_TRUE(
+      contains(readError(editedPlan([](Json& d) { d["parameters"]["voxel_size_mm"] = -0.5; })),
+               "/parameters/voxel_size_mm must not be negative"));
 }
 
 TEST(PlanIoRobustness, HugeValuesAreEchoedShort) {

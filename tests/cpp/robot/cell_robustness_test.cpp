@@ -43,8 +43,9 @@ TEST(CellRobustness, HundredThousandNestedObjectsAreRefusedNotRecursed) {
   std::string deep;
   for (int i = 0; i < 100000; ++i) deep += "{\"robot\":";
   const std::string message = cellError(deep);
-  EXPECT_TRUE(contains(message, "cell.json: not valid JSON: arrays and objects nest deeper than "
-                                "64 levels at line 1, column 577"));
+  EXPECT_TRUE(contains(message,
+                       "cell.json: not valid JSON: arrays and objects nest deeper than "
+                       "64 levels at line 1, column 577"));
   EXPECT_TRUE(contains(message, "; fix the syntax of the cell file"));
 }
 
@@ -81,8 +82,9 @@ TEST(CellRobustness, HugeValuesAreEchoedShort) {
 TEST(CellRobustness, SpeedsThatWouldBeWrittenAsZeroAreRefused) {
   Json j = Json::parse(defaultCellText());
   j["process"]["weld_speed_mm_s"] = 1e-300;
-  EXPECT_TRUE(contains(cellError(j.dump()), "field /process/weld_speed_mm_s would be written as 0 "
-                                            "in mm/s: 1e-300; give at least 0.05 mm/s"));
+  EXPECT_TRUE(contains(cellError(j.dump()),
+                       "field /process/weld_speed_mm_s would be written as 0 "
+                       "in mm/s: 1e-300; give at least 0.05 mm/s"));
   j["process"]["weld_speed_mm_s"] = 0.05;
   EXPECT_EQ(cellError(j.dump()), "");
   j["process"]["speed_unit"] = "cm/min";
@@ -117,8 +119,8 @@ TEST(CellRobustness, CommandLineExitsWithTwoNamingTheFile) {
         testing::runCli({"export", (dir / "plan.json").string(), "--cell", cell.string(),
                          "--format", "jbi", "-o", (dir / "out.jbi").string(), "-q"});
     EXPECT_EQ(run.exitCode, 2) << run.err;
-    EXPECT_TRUE(contains(run.err, "curvedslicer: error: " + cell.filename().string() +
-                                      ": not valid JSON: "));
+    EXPECT_TRUE(contains(
+        run.err, "curvedslicer: error: " + cell.filename().string() + ": not valid JSON: "));
     EXPECT_FALSE(fs::exists(dir / "out.jbi"));
   }
 }

@@ -50,8 +50,8 @@ TEST(VoxelizeOverlap, OverlappingBoxesGiveTheirUnionAndCountTheOverlap) {
     for (int j = 0; j < g.dims.y(); ++j) {
       for (int k = 0; k < g.dims.z(); ++k) {
         const Vec3 c = g.centerInGrid(Vec3i(i, j, k));
-        const bool want = c.x() > 0 && c.x() < 25 && c.y() > 0 && c.y() < 30 && c.z() > 0 &&
-                          c.z() < 20;
+        const bool want =
+            c.x() > 0 && c.x() < 25 && c.y() > 0 && c.y() < 30 && c.z() > 0 && c.z() < 20;
         ASSERT_EQ(result.grid.isInside(i, j, k), want) << c.transpose();
       }
     }
@@ -83,8 +83,8 @@ TEST(VoxelizeOverlap, NestedShellsAreAUnionButAnInvertedInnerShellIsACavity) {
 
 TEST(VoxelizeOverlap, EdgesThatDoNotCancelFallBackToParity) {
   // One flipped triangle: no winding number; parity makes the overlap a hole, as before.
-  TriMesh soup = combined(makeBox(Vec3(0, 0, 0), Vec3(20, 30, 20)),
-                          makeBox(Vec3(5, 0, 0), Vec3(25, 30, 20)));
+  TriMesh soup =
+      combined(makeBox(Vec3(0, 0, 0), Vec3(20, 30, 20)), makeBox(Vec3(5, 0, 0), Vec3(25, 30, 20)));
   std::swap(soup.triangles[0][1], soup.triangles[0][2]);
   const VoxelizeResult result = voxelize(soup, modelAligned(1.0));
   EXPECT_EQ(result.stats.fillRule, FillRule::Parity);

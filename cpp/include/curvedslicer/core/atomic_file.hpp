@@ -17,10 +17,10 @@ namespace curvedslicer {
 ///         against mistakes, not against a concurrent process swapping the path.
 std::filesystem::path resolveOutputPath(const std::filesystem::path& path);
 
-/// Writes `path` atomically (onto `resolveOutputPath(path)`): `write` fills the stream of a temporary sibling file, which then
-/// replaces `path`. On any exception (from `write` or the file system) the temporary file is
-/// removed, `path` is left as it was, and the exception propagates (file-system errors as
-/// `IoError` naming the path).
+/// Writes `path` atomically (onto `resolveOutputPath(path)`): `write` fills the stream of a
+/// temporary sibling file, which then replaces `path`. On any exception (from `write` or the file
+/// system) the temporary file is removed, `path` is left as it was, and the exception propagates
+/// (file-system errors as `IoError` naming the path).
 void writeFileAtomically(const std::filesystem::path& path,
                          const std::function<void(std::ostream&)>& write, bool binary = false);
 

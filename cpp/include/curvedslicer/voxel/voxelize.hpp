@@ -8,9 +8,10 @@
 // Inside = non-zero winding number when the surface's edges cancel (closed and consistently
 // oriented, possibly several overlapping or nested shells: their union; voxels inside two or more
 // shells are counted as overlap), else odd crossing parity (robust to flipped triangles). Columns
-// whose crossings do not close (an odd count: holes) are resolved voxel by voxel by rays along the grid's x and y axes (majority of the rays
-// with an even count); the result says how many columns and voxels needed that.
-// Cost: O(T + cells) with T the triangle-column incidences; parallel over columns (OpenMP).
+// whose crossings do not close (an odd count: holes) are resolved voxel by voxel by rays along the
+// grid's x and y axes (majority of the rays with an even count); the result says how many columns
+// and voxels needed that. Cost: O(T + cells) with T the triangle-column incidences; parallel over
+// columns (OpenMP).
 #pragma once
 
 #include <cstddef>
