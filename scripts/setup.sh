@@ -16,6 +16,7 @@ packages=(
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-data-exchange-dev
   freecad-python3 xvfb xauth
+  clang libomp-dev  # tests/fuzz: libFuzzer (libclang-common-14-dev, pulled by clang-14), OpenMP
 )
 
 missing=()

@@ -23,10 +23,58 @@ fs::path temporarySibling(const fs::path& path) {
   return tmp;
 }
 
+/// "a FIFO (named pipe)", "a character device", ... for messages.
+std::string describeFileType(fs::file_type type) {
+  switch (type) {
+    case fs::file_type::directory:
+      return "a folder";
+    case fs::file_type::character:
+      return "a character device";
+    case fs::file_type::block:
+      return "a block device";
+    case fs::file_type::fifo:
+      return "a FIFO (named pipe)";
+    case fs::file_type::socket:
+      return "a socket";
+    default:
+      return "not a regular file";
+  }
+}
+
 }  // namespace
 
-void writeFileAtomically(const fs::path& path, const std::function<void(std::ostream&)>& write,
+fs::path resolveOutputPath(const fs::path& path) {
+  std::error_code ec;
+  const fs::file_status own = fs::symlink_status(path, ec);
+  if (ec || own.type() == fs::file_type::not_found) return path;
+  if (fs::is_regular_file(own)) return path;
+  const std::string advice =
+      "; choose a regular file path (outputs never replace devices, pipes, "
+      "sockets or folders)";
+  if (!fs::is_symlink(own)) {
+    throw IoError("output path is " + describeFileType(own.type()) + ", not a regular file: '" +
+                  path.string() + "'" + advice);
+  }
+  const fs::file_status target = fs::status(path, ec);
+  if (ec || target.type() == fs::file_type::not_found) {
+    throw IoError("output path is a symbolic link to a missing file: '" + path.string() +
+                  "'; remove the link or point it at an existing file");
+  }
+  if (!fs::is_regular_file(target)) {
+    throw IoError("output path is a symbolic link to " + describeFileType(target.type()) + ": '" +
+                  path.string() + "'" + advice);
+  }
+  const fs::path resolved = fs::canonical(path, ec);
+  if (ec) {
+    throw IoError("cannot resolve the symbolic link '" + path.string() + "': " + ec.message() +
+                  "; check the link");
+  }
+  return resolved;
+}
+
+void writeFileAtomically(const fs::path& requested, const std::function<void(std::ostream&)>& write,
                          bool binary) {
+  const fs::path path = resolveOutputPath(requested);
   const fs::path parent = path.has_parent_path() ? path.parent_path() : fs::path(".");
   std::error_code ec;
   if (!fs::is_directory(parent, ec)) {

@@ -12,6 +12,7 @@
 
 #include <unistd.h>
 
+#include "curvedslicer/core/atomic_file.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/export/gcode_writer.hpp"
 #include "curvedslicer/export/jbi_writer.hpp"
@@ -167,11 +168,12 @@ void writeExportFiles(const ExportResult& result, const fs::path& mainFile) {
                          "'; choose another output file name");
     }
   }
-  for (const fs::path& target : targets) {
+  for (fs::path& target : targets) {
     if (fs::is_directory(target, ec)) {
       throw IoError("an output file would replace a folder: '" + target.string() +
                     "'; choose another output file name");
     }
+    target = resolveOutputPath(target);  // no devices, FIFOs or sockets; through symlinks
   }
   static std::atomic<unsigned> counter{0};
   std::vector<fs::path> temps;

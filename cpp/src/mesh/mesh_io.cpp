@@ -207,11 +207,20 @@ MeshFormat detectFormat(std::string_view data, const fs::path& path) {
   return MeshFormat::StlBinary;  // reported as a size mismatch / truncated binary STL
 }
 
+/// Largest coordinate magnitude accepted, mm (1000 km): beyond it differences and volumes of the
+/// model overflow or lose all precision, and no part to be welded is that large.
+constexpr double kMaxCoordinate = 1e9;
+
 void requireFinite(const Vec3& p, const fs::path& path, const std::string& where) {
+  const std::string point =
+      "(" + formatDouble(p.x()) + ", " + formatDouble(p.y()) + ", " + formatDouble(p.z()) + ")";
   if (!p.allFinite()) {
-    throw InvalidInput("non-finite coordinate (" + formatDouble(p.x()) + ", " +
-                       formatDouble(p.y()) + ", " + formatDouble(p.z()) + ") at " + where + " of " +
-                       quoted(path) + "; repair or re-export the model");
+    throw InvalidInput("non-finite coordinate " + point + " at " + where + " of " + quoted(path) +
+                       "; repair or re-export the model");
+  }
+  if (p.cwiseAbs().maxCoeff() > kMaxCoordinate) {
+    throw InvalidInput("coordinate beyond ±1e9 mm " + point + " at " + where + " of " +
+                       quoted(path) + "; check the model's units or re-export it");
   }
 }
 
@@ -529,7 +538,10 @@ MeshFormat detectMeshFormat(const fs::path& path) {
 }
 
 TriMesh readMesh(const fs::path& path, MeshFormat format) {
-  const std::string data = readWholeFile(path);
+  return parseMesh(readWholeFile(path), path, format);
+}
+
+TriMesh parseMesh(std::string_view data, const fs::path& path, MeshFormat format) {
   if (format == MeshFormat::Auto) format = detectFormat(data, path);
   TriMesh mesh;
   switch (format) {

@@ -91,6 +91,8 @@ Json gridJson(const LayerJobResult& result) {
   j["odd_columns"] = s.oddColumns;
   j["resolved_voxels"] = s.resolvedVoxels;
   j["unresolved_voxels"] = s.unresolvedVoxels;
+  j["fill_rule"] = std::string(toString(s.fillRule));
+  j["overlap_voxels"] = s.overlapVoxels;
   return j;
 }
 

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/bounded_json.hpp"
 #include "curvedslicer/core/atomic_file.hpp"
 #include "curvedslicer/core/error.hpp"
 
@@ -152,7 +153,7 @@ class Reader {
       bool known = false;
       for (const char* key : keys) known = known || item.key() == key;
       for (const char* key : optional) known = known || item.key() == key;
-      if (!known) fail(where, "has an unknown key \"" + item.key() + "\"");
+      if (!known) fail(where, "has an unknown key " + abbreviateJson(Json(item.key())));
     }
   }
 
@@ -163,9 +164,17 @@ class Reader {
     return v;
   }
 
+  /// A number >= 0 (the schema's "minimum": 0).
+  double nonNegative(const Json& j, const std::string& where) const {
+    const double v = number(j, where);
+    if (v < 0.0) fail(where, "must not be negative: " + abbreviateJson(j));
+    return v;
+  }
+
   int integer(const Json& j, const std::string& where) const {
     if (!j.is_number_integer()) {
-      fail(where, "must be an integer, found " + std::string(j.type_name()) + " " + j.dump());
+      fail(where,
+           "must be an integer, found " + std::string(j.type_name()) + " " + abbreviateJson(j));
     }
     const auto v = j.get<long long>();
     if (v < 0 || v > 2147483647LL) fail(where, "is out of range: " + std::to_string(v));
@@ -226,7 +235,7 @@ PlanLayer readLayer(const Reader& r, const Json& j, const std::string& where) {
   r.expectKeys(j, where, {"index", "height_mm", "surface", "warnings", "paths"});
   PlanLayer layer;
   layer.index = r.integer(j["index"], where + "/index");
-  layer.height = r.number(j["height_mm"], where + "/height_mm");
+  layer.height = r.nonNegative(j["height_mm"], where + "/height_mm");
   layer.surface = r.string(j["surface"], where + "/surface");
   const Json& warnings = r.array(j["warnings"], where + "/warnings");
   for (std::size_t i = 0; i < warnings.size(); ++i) {
@@ -245,10 +254,11 @@ Plan readDocument(const Reader& r, const Json& doc) {
   // Format and version first, so that a newer file gets the "update" message, not a key error.
   if (!doc.contains("format") || !doc["format"].is_string() ||
       doc["format"].get<std::string>() != kPlanFormatName) {
-    throw InvalidInput(r.origin() + ": not a CurvedSlicer plan (\"format\" is " +
-                       (doc.contains("format") ? doc["format"].dump() : std::string("missing")) +
-                       ", expected \"" + std::string(kPlanFormatName) +
-                       "\"); pass a plan.json written by `curvedslicer plan`");
+    throw InvalidInput(
+        r.origin() + ": not a CurvedSlicer plan (\"format\" is " +
+        (doc.contains("format") ? abbreviateJson(doc["format"]) : std::string("missing")) +
+        ", expected \"" + std::string(kPlanFormatName) +
+        "\"); pass a plan.json written by `curvedslicer plan`");
   }
   if (!doc.contains("version") || !doc["version"].is_number_integer()) {
     r.fail("/version", "must be an integer");
@@ -271,26 +281,26 @@ Plan readDocument(const Reader& r, const Json& doc) {
                 "fit_tolerance_mm", "field_method", "surface_method", "initial_curve"},
                {"narrow_strips", "corner_angle_deg"});
   PlanParameters& p = plan.parameters;
-  p.layerThickness = r.number(pj["layer_thickness_mm"], "/parameters/layer_thickness_mm");
-  p.voxelSize = r.number(pj["voxel_size_mm"], "/parameters/voxel_size_mm");
-  p.beadSpacing = r.number(pj["bead_spacing_mm"], "/parameters/bead_spacing_mm");
-  p.pointSpacing = r.number(pj["point_spacing_mm"], "/parameters/point_spacing_mm");
-  p.fitTolerance = r.number(pj["fit_tolerance_mm"], "/parameters/fit_tolerance_mm");
+  p.layerThickness = r.nonNegative(pj["layer_thickness_mm"], "/parameters/layer_thickness_mm");
+  p.voxelSize = r.nonNegative(pj["voxel_size_mm"], "/parameters/voxel_size_mm");
+  p.beadSpacing = r.nonNegative(pj["bead_spacing_mm"], "/parameters/bead_spacing_mm");
+  p.pointSpacing = r.nonNegative(pj["point_spacing_mm"], "/parameters/point_spacing_mm");
+  p.fitTolerance = r.nonNegative(pj["fit_tolerance_mm"], "/parameters/fit_tolerance_mm");
   p.fieldMethod = r.string(pj["field_method"], "/parameters/field_method");
   p.surfaceMethod = r.string(pj["surface_method"], "/parameters/surface_method");
   p.initialCurve = r.string(pj["initial_curve"], "/parameters/initial_curve");
   if (pj.contains("narrow_strips")) {
     p.narrowStrips = r.string(pj["narrow_strips"], "/parameters/narrow_strips");
     if (p.narrowStrips != "centre_bead" && p.narrowStrips != "overlap") {
-      r.fail("/parameters/narrow_strips",
-             "is \"" + p.narrowStrips + "\": expected \"centre_bead\" or \"overlap\"");
+      r.fail("/parameters/narrow_strips", "is " + abbreviateJson(Json(p.narrowStrips)) +
+                                              ": expected \"centre_bead\" or \"overlap\"");
     }
   }
   if (pj.contains("corner_angle_deg")) {
     const double angle = r.number(pj["corner_angle_deg"], "/parameters/corner_angle_deg");
     if (!(angle > 0.0 && angle <= 180.0)) {
-      r.fail("/parameters/corner_angle_deg",
-             "is " + pj["corner_angle_deg"].dump() + ": expected an angle in (0, 180] degrees");
+      r.fail("/parameters/corner_angle_deg", "is " + abbreviateJson(pj["corner_angle_deg"]) +
+                                                 ": expected an angle in (0, 180] degrees");
     }
     p.cornerAngle = angle;
   }
@@ -300,7 +310,7 @@ Plan readDocument(const Reader& r, const Json& doc) {
     fieldsOk = fields[i].is_string() && fields[i].get<std::string>() == kPointFields[i];
   }
   if (!fieldsOk) {
-    r.fail("/point_fields", "is " + fields.dump() +
+    r.fail("/point_fields", "is " + abbreviateJson(fields) +
                                 ": expected [\"x\",\"y\",\"z\",\"nx\",\"ny\",\"nz\",\"vx\",\"vy\","
                                 "\"vz\"]");
   }
@@ -326,30 +336,18 @@ void validatePlan(const Plan& plan) {
 
 // ---- JSON writing -------------------------------------------------------------------------------
 
-std::string formatPlanJson(const Plan& plan) {
-  checkPlan(plan, "plan");
-  std::string out;
-  out.reserve(256 + plan.pointCount() * 200);
-  const PlanParameters& p = plan.parameters;
-  auto key = [&out](const char* indent, const char* name) {
-    out += indent;
-    out += '"';
-    out += name;
-    out += "\": ";
-  };
-  out += "{\n";
-  key("  ", "format");
-  appendString(out, std::string(kPlanFormatName), "format");
-  out += ",\n";
-  key("  ", "version");
-  out += std::to_string(Plan::kFormatVersion) + ",\n";
-  key("  ", "model");
-  appendString(out, plan.model, "model");
-  out += ",\n";
-  key("  ", "start");
-  appendString(out, plan.start, "start");
-  out += ",\n";
-  key("  ", "parameters");
+namespace {
+
+/// `indent"name": ` (a key of a hand-formatted JSON object).
+void appendKey(std::string& out, const char* indent, const char* name) {
+  out += indent;
+  out += '"';
+  out += name;
+  out += "\": ";
+}
+
+void appendParameters(std::string& out, const PlanParameters& p) {
+  appendKey(out, "  ", "parameters");
   out += "{\n";
   const std::initializer_list<std::pair<const char*, double>> numbers = {
       {"layer_thickness_mm", p.layerThickness},
@@ -358,30 +356,108 @@ std::string formatPlanJson(const Plan& plan) {
       {"point_spacing_mm", p.pointSpacing},
       {"fit_tolerance_mm", p.fitTolerance}};
   for (const auto& [name, value] : numbers) {
-    key("    ", name);
+    appendKey(out, "    ", name);
     appendNumber(out, value);
     out += ",\n";
   }
-  key("    ", "field_method");
+  appendKey(out, "    ", "field_method");
   appendString(out, p.fieldMethod, "field method");
   out += ",\n";
-  key("    ", "surface_method");
+  appendKey(out, "    ", "surface_method");
   appendString(out, p.surfaceMethod, "surface method");
   out += ",\n";
-  key("    ", "initial_curve");
+  appendKey(out, "    ", "initial_curve");
   appendString(out, p.initialCurve, "initial curve");
   if (!p.narrowStrips.empty()) {
     out += ",\n";
-    key("    ", "narrow_strips");
+    appendKey(out, "    ", "narrow_strips");
     appendString(out, p.narrowStrips, "narrow strips");
   }
   if (p.cornerAngle) {
     out += ",\n";
-    key("    ", "corner_angle_deg");
+    appendKey(out, "    ", "corner_angle_deg");
     appendNumber(out, *p.cornerAngle);
   }
   out += "\n  },\n";
-  key("  ", "point_fields");
+}
+
+/// One path object, followed by "," unless it is the layer's last.
+void appendPath(std::string& out, const PlanPath& path, bool last) {
+  out += "        {\n";
+  appendKey(out, "          ", "layer");
+  out += std::to_string(path.layer) + ",\n";
+  appendKey(out, "          ", "index");
+  out += std::to_string(path.index) + ",\n";
+  appendKey(out, "          ", "closed");
+  out += path.closed ? "true,\n" : "false,\n";
+  appendKey(out, "          ", "length_mm");
+  appendNumber(out, path.length);
+  out += ",\n";
+  appendKey(out, "          ", "points");
+  out += "[\n";
+  for (std::size_t qi = 0; qi < path.points.size(); ++qi) {
+    const PathPoint& q = path.points[qi];
+    out += "            [";
+    const Vec3* vs[3] = {&q.position, &q.normal, &q.deposition};
+    for (int v = 0; v < 3; ++v) {
+      for (int c = 0; c < 3; ++c) {
+        if (v || c) out += ", ";
+        appendNumber(out, (*vs[v])[c]);
+      }
+    }
+    out += qi + 1 < path.points.size() ? "],\n" : "]\n";
+  }
+  out += "          ]\n";
+  out += last ? "        }\n" : "        },\n";
+}
+
+/// One layer object (index `li`), followed by "," unless it is the plan's last.
+void appendLayer(std::string& out, const PlanLayer& layer, std::size_t li, bool last) {
+  out += "    {\n";
+  appendKey(out, "      ", "index");
+  out += std::to_string(layer.index) + ",\n";
+  appendKey(out, "      ", "height_mm");
+  appendNumber(out, layer.height);
+  out += ",\n";
+  appendKey(out, "      ", "surface");
+  appendString(out, layer.surface, pointer(static_cast<int>(li)) + "/surface");
+  out += ",\n";
+  appendKey(out, "      ", "warnings");
+  out += "[";
+  for (std::size_t w = 0; w < layer.warnings.size(); ++w) {
+    if (w) out += ", ";
+    appendString(out, layer.warnings[w], pointer(static_cast<int>(li)) + "/warnings");
+  }
+  out += "],\n";
+  appendKey(out, "      ", "paths");
+  out += layer.paths.empty() ? "[]\n" : "[\n";
+  for (std::size_t pi = 0; pi < layer.paths.size(); ++pi) {
+    appendPath(out, layer.paths[pi], pi + 1 == layer.paths.size());
+  }
+  if (!layer.paths.empty()) out += "      ]\n";
+  out += last ? "    }\n" : "    },\n";
+}
+
+}  // namespace
+
+std::string formatPlanJson(const Plan& plan) {
+  checkPlan(plan, "plan");
+  std::string out;
+  out.reserve(256 + plan.pointCount() * 200);
+  out += "{\n";
+  appendKey(out, "  ", "format");
+  appendString(out, std::string(kPlanFormatName), "format");
+  out += ",\n";
+  appendKey(out, "  ", "version");
+  out += std::to_string(Plan::kFormatVersion) + ",\n";
+  appendKey(out, "  ", "model");
+  appendString(out, plan.model, "model");
+  out += ",\n";
+  appendKey(out, "  ", "start");
+  appendString(out, plan.start, "start");
+  out += ",\n";
+  appendParameters(out, plan.parameters);
+  appendKey(out, "  ", "point_fields");
   out += "[";
   for (std::size_t i = 0; i < kPointFields.size(); ++i) {
     out += i ? ", \"" : "\"";
@@ -389,62 +465,10 @@ std::string formatPlanJson(const Plan& plan) {
     out += '"';
   }
   out += "],\n";
-  key("  ", "layers");
-  if (plan.layers.empty())
-    out += "[]\n";
-  else
-    out += "[\n";
+  appendKey(out, "  ", "layers");
+  out += plan.layers.empty() ? "[]\n" : "[\n";
   for (std::size_t li = 0; li < plan.layers.size(); ++li) {
-    const PlanLayer& layer = plan.layers[li];
-    out += "    {\n";
-    key("      ", "index");
-    out += std::to_string(layer.index) + ",\n";
-    key("      ", "height_mm");
-    appendNumber(out, layer.height);
-    out += ",\n";
-    key("      ", "surface");
-    appendString(out, layer.surface, pointer(static_cast<int>(li)) + "/surface");
-    out += ",\n";
-    key("      ", "warnings");
-    out += "[";
-    for (std::size_t w = 0; w < layer.warnings.size(); ++w) {
-      if (w) out += ", ";
-      appendString(out, layer.warnings[w], pointer(static_cast<int>(li)) + "/warnings");
-    }
-    out += "],\n";
-    key("      ", "paths");
-    out += layer.paths.empty() ? "[]\n" : "[\n";
-    for (std::size_t pi = 0; pi < layer.paths.size(); ++pi) {
-      const PlanPath& path = layer.paths[pi];
-      out += "        {\n";
-      key("          ", "layer");
-      out += std::to_string(path.layer) + ",\n";
-      key("          ", "index");
-      out += std::to_string(path.index) + ",\n";
-      key("          ", "closed");
-      out += path.closed ? "true,\n" : "false,\n";
-      key("          ", "length_mm");
-      appendNumber(out, path.length);
-      out += ",\n";
-      key("          ", "points");
-      out += "[\n";
-      for (std::size_t qi = 0; qi < path.points.size(); ++qi) {
-        const PathPoint& q = path.points[qi];
-        out += "            [";
-        const Vec3* vs[3] = {&q.position, &q.normal, &q.deposition};
-        for (int v = 0; v < 3; ++v) {
-          for (int c = 0; c < 3; ++c) {
-            if (v || c) out += ", ";
-            appendNumber(out, (*vs[v])[c]);
-          }
-        }
-        out += qi + 1 < path.points.size() ? "],\n" : "]\n";
-      }
-      out += "          ]\n";
-      out += pi + 1 < layer.paths.size() ? "        },\n" : "        }\n";
-    }
-    if (!layer.paths.empty()) out += "      ]\n";
-    out += li + 1 < plan.layers.size() ? "    },\n" : "    }\n";
+    appendLayer(out, plan.layers[li], li, li + 1 == plan.layers.size());
   }
   if (!plan.layers.empty()) out += "  ]\n";
   out += "}\n";
@@ -464,18 +488,15 @@ void writePlanJson(const std::filesystem::path& path, const Plan& plan) {
 
 Plan parsePlanJson(std::string_view text, std::string_view origin) {
   const Reader reader{std::string(origin)};
-  Json doc;
+  const Json doc = parseBoundedJson(text, std::string(origin) + " is not valid JSON",
+                                    "pass a plan.json written by `curvedslicer plan`");
   try {
-    doc = Json::parse(text.begin(), text.end());
-  } catch (const Json::parse_error& e) {
-    // e.what() reads "[json.exception.parse_error.101] parse error at line 3, column 5: ...".
-    std::string what = e.what();
-    const auto pos = what.find("] ");
-    if (pos != std::string::npos) what = what.substr(pos + 2);
-    throw InvalidInput(std::string(origin) + " is not valid JSON: " + what +
-                       "; pass a plan.json written by `curvedslicer plan`");
+    return readDocument(reader, doc);
+  } catch (const Json::exception& e) {
+    // The checks above should leave the library nothing to object to; name the file if it does.
+    throw InvalidInput(std::string(origin) + ": unexpected content (" +
+                       std::string(e.what()).substr(0, 200) + "); " + kRegenerate);
   }
-  return readDocument(reader, doc);
 }
 
 Plan readPlanJson(std::istream& in, std::string_view origin) {

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/bounded_json.hpp"
 #include "curvedslicer/core/error.hpp"
 
 namespace curvedslicer {
@@ -37,8 +38,11 @@ class Field {
 
   [[noreturn]] void fail(std::string_view key, std::string_view problem, std::string_view value,
                          std::string_view hint) const {
-    std::string where = key.empty() ? path_ : childPath(key);
-    if (where.empty()) where = "/";
+    const std::string full = key.empty() ? path_ : childPath(key);
+    const std::string where = full.empty() ? std::string("/")
+                              : full.size() <= 2 * kMaxEchoedJson
+                                  ? full
+                                  : full.substr(0, 2 * kMaxEchoedJson) + "...";
     throw InvalidInput(std::string(origin_) + ": field " + where + " " + std::string(problem) +
                        ": " + std::string(value) + "; " + std::string(hint));
   }
@@ -57,15 +61,15 @@ class Field {
 
   Field object(std::string_view key, std::string_view hint) {
     const Json& j = require(key, hint);
-    if (!j.is_object()) fail(key, "must be an object", j.dump(), hint);
+    if (!j.is_object()) fail(key, "must be an object", abbreviateJson(j), hint);
     return Field(j, childPath(key), origin_);
   }
 
   double number(std::string_view key, std::string_view hint) {
     const Json& j = require(key, hint);
-    if (!j.is_number()) fail(key, "must be a number", j.dump(), hint);
+    if (!j.is_number()) fail(key, "must be a number", abbreviateJson(j), hint);
     const double v = j.get<double>();
-    if (!std::isfinite(v)) fail(key, "must be finite", j.dump(), hint);
+    if (!std::isfinite(v)) fail(key, "must be finite", abbreviateJson(j), hint);
     return v;
   }
   double number(std::string_view key, double fallback, std::string_view hint) {
@@ -83,7 +87,7 @@ class Field {
   }
   int integer(std::string_view key, int lo, int hi, std::string_view hint) {
     const Json& j = require(key, hint);
-    if (!j.is_number_integer()) fail(key, "must be an integer", j.dump(), hint);
+    if (!j.is_number_integer()) fail(key, "must be an integer", abbreviateJson(j), hint);
     const long long v = j.get<long long>();
     if (v < lo || v > hi) {
       fail(key, "must be between " + std::to_string(lo) + " and " + std::to_string(hi),
@@ -98,13 +102,13 @@ class Field {
     if (!has(key)) return 1;
     const Json& j = require(key, hint);
     if (!j.is_number_integer() || (j.get<long long>() != 1 && j.get<long long>() != -1)) {
-      fail(key, "must be 1 or -1", j.dump(), hint);
+      fail(key, "must be 1 or -1", abbreviateJson(j), hint);
     }
     return static_cast<int>(j.get<long long>());
   }
   bool boolean(std::string_view key, std::string_view hint) {
     const Json& j = require(key, hint);
-    if (!j.is_boolean()) fail(key, "must be true or false", j.dump(), hint);
+    if (!j.is_boolean()) fail(key, "must be true or false", abbreviateJson(j), hint);
     return j.get<bool>();
   }
   bool boolean(std::string_view key, bool fallback, std::string_view hint) {
@@ -112,7 +116,7 @@ class Field {
   }
   std::string string(std::string_view key, std::string_view hint) {
     const Json& j = require(key, hint);
-    if (!j.is_string()) fail(key, "must be a string", j.dump(), hint);
+    if (!j.is_string()) fail(key, "must be a string", abbreviateJson(j), hint);
     return j.get<std::string>();
   }
   std::string string(std::string_view key, std::string fallback, std::string_view hint) {
@@ -121,13 +125,14 @@ class Field {
   std::vector<double> numbers(std::string_view key, std::size_t count, std::string_view hint) {
     const Json& j = require(key, hint);
     if (!j.is_array() || j.size() != count) {
-      fail(key, "must be an array of " + std::to_string(count) + " numbers", j.dump(), hint);
+      fail(key, "must be an array of " + std::to_string(count) + " numbers", abbreviateJson(j),
+           hint);
     }
     std::vector<double> out;
     for (const auto& e : j) {
       if (!e.is_number() || !std::isfinite(e.get<double>())) {
-        fail(key, "must be an array of " + std::to_string(count) + " finite numbers", j.dump(),
-             hint);
+        fail(key, "must be an array of " + std::to_string(count) + " finite numbers",
+             abbreviateJson(j), hint);
       }
       out.push_back(e.get<double>());
     }
@@ -140,7 +145,7 @@ class Field {
   Vec3 direction(std::string_view key, std::string_view hint) {
     const Vec3 v = vec3(key, hint);
     if (!(v.norm() > 1e-12))
-      fail(key, "must be a non-zero vector", require(key, hint).dump(), hint);
+      fail(key, "must be a non-zero vector", abbreviateJson(require(key, hint)), hint);
     return v.normalized();
   }
   template <class Enum>
@@ -152,7 +157,7 @@ class Field {
       if (s == name) return value;
       allowed += (allowed.empty() ? "" : ", ") + std::string(name);
     }
-    fail(key, "must be one of " + allowed, "\"" + s + "\"", hint);
+    fail(key, "must be one of " + allowed, abbreviateJson(Json(s)), hint);
   }
   /// Rejects keys that were not read (typos); "comment" and "sources" are documentation.
   void rejectUnknown() const {
@@ -160,7 +165,7 @@ class Field {
     for (const auto& item : json_.items()) {
       const std::string& key = item.key();
       if (used_.count(key) || key == "comment" || key == "sources" || key == "$schema") continue;
-      fail(key, "is not a known field", "\"" + key + "\"",
+      fail(key, "is not a known field", abbreviateJson(Json(key)),
            "check its spelling against resources/schema/cell.schema.json");
     }
   }
@@ -242,6 +247,219 @@ Json axisJson(const PositionerAxis& axis) {
 
 constexpr const char* kJointNames[6] = {"S", "L", "U", "R", "B", "T"};
 
+// ---- cell sections: one reader per top-level object ---------------------------------------------
+
+RobotKinematics readKinematics(Field& r) {
+  Field k = r.object("kinematics_mm", "give a1, a2, b, c1, c2, c3, c4 in mm");
+  RobotKinematics kin;
+  kin.a1 = k.number("a1", "S-L offset in mm");
+  kin.a2 = k.number("a2", "U-axis offset in mm");
+  kin.b = k.number("b", 0.0, "lateral offset in mm");
+  kin.c1 = k.number("c1", "height of the L axis in mm");
+  kin.c2 = k.positive("c2", "upper-arm length (L to U) in mm");
+  kin.c3 = k.positive("c3", "forearm length (U to wrist centre) in mm");
+  kin.c4 = k.nonNegative("c4", 0.0, "wrist centre to flange in mm");
+  k.rejectUnknown();
+  return kin;
+}
+
+void readJoints(Field& r, RobotDescription& robot, std::string_view origin) {
+  const Json& joints = r.require("joints", "give six joints S, L, U, R, B, T");
+  if (!joints.is_array() || joints.size() != 6) {
+    r.fail("joints", "must be an array of 6 joint objects", abbreviateJson(joints),
+           "give six joints S, L, U, R, B, T");
+  }
+  for (int i = 0; i < 6; ++i) {
+    const Json& jj = joints[static_cast<std::size_t>(i)];
+    Field jf(jj, r.childPath("joints") + "/" + std::to_string(i), origin);
+    if (!jj.is_object()) jf.fail("", "must be an object", abbreviateJson(jj), "describe the joint");
+    jf.string("name", kJointNames[i], "joint name");
+    robot.joints[i] = readLimit(jf, kJointNames[i]);
+    robot.jointSigns[i] = jf.sign("sign", "1 or -1: controller direction vs model direction");
+    robot.jointOffsets[i] = jf.number("offset_deg", 0.0, "model angle at controller zero") * kDeg;
+    jf.rejectUnknown();
+  }
+}
+
+RobotDescription readRobot(Field& top, std::string_view origin) {
+  Field r = top.object("robot", "describe the robot");
+  RobotDescription robot;
+  robot.model = r.string("model", "name the robot model");
+  robot.base = readPose(r, "base", "give the robot base frame in world");
+  robot.kinematics = readKinematics(r);
+  readJoints(r, robot, origin);
+  if (r.has("pulses_per_degree")) {
+    const auto ppd = r.numbers("pulses_per_degree", 6, "give six pulses-per-degree values");
+    for (double v : ppd) {
+      if (!(v > 0.0)) {
+        r.fail("pulses_per_degree", "must be positive", formatNumber(v),
+               "copy them from the controller's parameters");
+      }
+    }
+    robot.pulsesPerDegree = ppd;
+  }
+  r.rejectUnknown();
+  return robot;
+}
+
+ToolDescription readTool(Field& top) {
+  ToolDescription tool;
+  Field t = top.object("tool", "describe the torch");
+  tool.name = t.string("name", "", "tool name");
+  tool.number = t.integer("number", 1, 0, 63, "tool number in the controller (0..63)");
+  tool.tcp = readPose(t, "tcp", "give the TCP in the flange frame (z along the torch)");
+  t.rejectUnknown();
+  return tool;
+}
+
+PositionerDescription readPositioner(Field& top) {
+  Field p = top.object("positioner", "describe the tilt-rotate positioner");
+  PositionerDescription pos;
+  pos.model = p.string("model", "name the positioner model");
+  pos.base = readPose(p, "base", "give the positioner base frame in world");
+  Field tilt = p.object("tilt_axis", "give the tilt axis point_mm and direction");
+  pos.tiltAxisPoint = tilt.vec3("point_mm", "a point on the tilt axis, positioner base frame");
+  pos.tiltAxisDirection = tilt.direction("direction", "tilt axis direction, base frame");
+  tilt.rejectUnknown();
+  Field rot = p.object("rotation_axis", "give the rotation axis point_mm and direction");
+  pos.rotationAxisPoint = rot.vec3("point_mm", "table centre on the rotation axis at tilt 0");
+  pos.rotationAxisDirection = rot.direction("direction", "rotation axis direction at tilt 0");
+  const double cross = pos.tiltAxisDirection.cross(pos.rotationAxisDirection).norm();
+  if (cross < std::sin(1.0 * kDeg)) {
+    rot.fail("direction", "must not be parallel to the tilt axis",
+             "angle " + formatNumber(std::asin(std::min(1.0, cross)) / kDeg) + " deg",
+             "the axes must differ by at least 1 degree");
+  }
+  rot.rejectUnknown();
+  pos.tableToPart = readPose(p, "table_to_part", "give the part frame in the table frame");
+  pos.tilt = readAxis(p, "tilt", false);
+  pos.rotation = readAxis(p, "rotation", true);
+  p.rejectUnknown();
+  return pos;
+}
+
+void readArc(Field& pr, ProcessDescription& proc) {
+  Field arc = pr.object("arc", "give the arc conditions");
+  proc.arcControl = arc.choice<ArcControl>(
+      "control", {{"condition_file", ArcControl::ConditionFile}, {"direct", ArcControl::Direct}},
+      "condition_file (ASF#/AEF#) or direct (AC=, AV=)");
+  if (proc.arcControl == ArcControl::ConditionFile) {
+    proc.arcStartCondition = arc.integer("start_condition", 1, 48, "arc start file number");
+    proc.arcEndCondition = arc.integer("end_condition", 1, 12, "arc end file number");
+    proc.current = arc.nonNegative("current_a", 0.0, "welding current in A");
+    proc.voltage = arc.nonNegative("voltage_v", 0.0, "welding voltage in V");
+  } else {
+    proc.arcStartCondition = arc.integer("start_condition", 1, 1, 48, "arc start file number");
+    proc.arcEndCondition = arc.integer("end_condition", 1, 1, 12, "arc end file number");
+    proc.current = arc.positive("current_a", "welding current in A");
+    proc.voltage = arc.positive("voltage_v", "welding voltage in V");
+  }
+  proc.arcStartTime = arc.nonNegative("start_time_s", 0.0, "arc start time in s");
+  arc.rejectUnknown();
+}
+
+/// Programs give speeds in the controller's unit with 1 decimal (mm/s) or none (per minute): a
+/// speed that rounds to 0 there would be written as "V=0.0", which no controller can run.
+void checkSpeedsExpressible(Field& pr, const ProcessDescription& proc) {
+  double least = 0.05;  // mm/s written with one decimal
+  if (proc.speedUnit == SpeedUnit::CentimetresPerMinute) least = 0.5 / 6.0;
+  if (proc.speedUnit == SpeedUnit::MillimetresPerMinute) least = 0.5 / 60.0;
+  const std::pair<const char*, double> speeds[] = {{"weld_speed_mm_s", proc.weldSpeed},
+                                                   {"travel_speed_mm_s", proc.travelSpeed}};
+  for (const auto& [key, speed] : speeds) {
+    if (speed < least) {
+      pr.fail(key, "would be written as 0 in " + std::string(toString(proc.speedUnit)),
+              formatNumber(speed), "give at least " + formatNumber(least) + " mm/s");
+    }
+  }
+}
+
+ProcessDescription readProcess(Field& top) {
+  Field pr = top.object("process", "describe the welding process");
+  ProcessDescription proc;
+  proc.weldSpeed = pr.positive("weld_speed_mm_s", "give the welding speed in mm/s");
+  proc.travelSpeed = pr.positive("travel_speed_mm_s", "give the arc-off travel speed in mm/s");
+  proc.wireFeed = pr.positive("wire_feed_m_min", "give the wire feed speed in m/min");
+  proc.wireDiameter = pr.positive("wire_diameter_mm", "give the wire diameter in mm");
+  proc.wireDensity = pr.positive("wire_density_g_cm3", "give the wire density in g/cm3");
+  proc.depositionEfficiency =
+      pr.number("deposition_efficiency", 1.0, "fraction of the wire deposited, in (0, 1]");
+  if (!(proc.depositionEfficiency > 0.0 && proc.depositionEfficiency <= 1.0)) {
+    pr.fail("deposition_efficiency", "must be in (0, 1]", formatNumber(proc.depositionEfficiency),
+            "use e.g. 0.95");
+  }
+  proc.layerDwell = pr.nonNegative("layer_dwell_s", 0.0, "interlayer dwell in s");
+  proc.pathDwell = pr.nonNegative("path_dwell_s", 0.0, "dwell after each path in s");
+  proc.speedUnit = pr.choice<SpeedUnit>("speed_unit",
+                                        {{"mm/s", SpeedUnit::MillimetresPerSecond},
+                                         {"cm/min", SpeedUnit::CentimetresPerMinute},
+                                         {"mm/min", SpeedUnit::MillimetresPerMinute}},
+                                        "the speed unit set in the controller");
+  checkSpeedsExpressible(pr, proc);
+  readArc(pr, proc);
+  pr.rejectUnknown();
+  return proc;
+}
+
+ExportDescription readExport(Field& top) {
+  Field e = top.object("export", "give the export options");
+  ExportDescription ex;
+  ex.coordinated = e.boolean("coordinated", "true: robot and positioner move together");
+  ex.positionType = e.choice<PositionType>(
+      "position_type",
+      {{"pulse", PositionType::Pulse}, {"base", PositionType::Base}, {"user", PositionType::User}},
+      "how robot targets are written");
+  ex.maxLinesPerJob = e.integer("max_lines_per_job", 20, 1000000, "lines per job before split");
+  ex.lineEnding =
+      e.choice<LineEnding>("line_ending", {{"crlf", LineEnding::Crlf}, {"lf", LineEnding::Lf}},
+                           "crlf for Yaskawa controllers");
+  ex.maxNameLength = e.integer("max_name_length", 8, 32, "8 on NX100, 32 on DX100 and later");
+  ex.jobName = e.string("job_name", "base name of the jobs");
+  if (ex.jobName.empty() || static_cast<int>(ex.jobName.size()) > ex.maxNameLength) {
+    e.fail("job_name", "must have 1 to max_name_length characters",
+           abbreviateJson(Json(ex.jobName)), "use a shorter name");
+  }
+  for (char c : ex.jobName) {
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-')) {
+      e.fail("job_name", "may only contain letters, digits, '_' and '-'",
+             abbreviateJson(Json(ex.jobName)), "rename the job");
+    }
+  }
+  ex.userFrame = e.integer("user_frame", 1, 1, 63, "user frame number (1..63)");
+  e.rejectUnknown();
+  return ex;
+}
+
+Cell readCellDocument(const Json& root, std::string_view origin) {
+  if (!root.is_object()) {
+    throw InvalidInput(std::string(origin) + ": the cell description must be a JSON object: " +
+                       std::string(root.type_name()) + "; see resources/cells/ for examples");
+  }
+  Field top(root, "", origin);
+  Cell cell;
+  if (top.has("format") &&
+      top.string("format", "must be \"curvedslicer-cell\"") != "curvedslicer-cell") {
+    top.fail("format", "must be \"curvedslicer-cell\"", abbreviateJson(root["format"]),
+             "this is not a cell description");
+  }
+  if (top.has("version")) top.integer("version", 1, 1, "version 1 is the only cell format");
+  cell.name = top.string("name", "give the cell a name");
+  cell.description = top.string("description", "", "free text");
+  cell.gravity = top.direction("gravity", "give gravity as a direction in world, e.g. [0, 0, -1]");
+  cell.robot = readRobot(top, origin);
+  cell.tool = readTool(top);
+  cell.positioner = readPositioner(top);
+  cell.process = readProcess(top);
+  cell.exportOptions = readExport(top);
+  if (cell.exportOptions.positionType == PositionType::Pulse &&
+      cell.robot.pulsesPerDegree.empty()) {
+    top.fail("robot/pulses_per_degree", "is missing but export position_type is \"pulse\"",
+             "(absent)", "add the six pulses-per-degree values or use position_type \"base\"");
+  }
+  top.rejectUnknown();
+  return cell;
+}
+
 }  // namespace
 
 Pose makePose(const Vec3& translation, const Vec3& rpy) {
@@ -297,177 +515,16 @@ std::string_view toString(LineEnding ending) {
 }
 
 Cell parseCell(std::string_view text, std::string_view origin) {
-  Json root;
+  const Json root = parseBoundedJson(text, std::string(origin) + ": not valid JSON",
+                                     "fix the syntax of the cell file");
   try {
-    root = Json::parse(text.begin(), text.end());
-  } catch (const Json::parse_error& e) {
-    throw InvalidInput(std::string(origin) + ": not valid JSON: " + e.what() +
-                       "; fix the syntax of the cell file");
+    return readCellDocument(root, origin);
+  } catch (const Json::exception& e) {
+    // The field checks should leave the library nothing to object to; name the file if it does.
+    throw InvalidInput(std::string(origin) + ": unexpected content (" +
+                       std::string(e.what()).substr(0, 200) +
+                       "); check it against resources/schema/cell.schema.json");
   }
-  if (!root.is_object()) {
-    throw InvalidInput(std::string(origin) + ": the cell description must be a JSON object: " +
-                       std::string(root.type_name()) + "; see resources/cells/ for examples");
-  }
-  Field top(root, "", origin);
-  Cell cell;
-  if (top.has("format") &&
-      top.string("format", "must be \"curvedslicer-cell\"") != "curvedslicer-cell") {
-    top.fail("format", "must be \"curvedslicer-cell\"", root["format"].dump(),
-             "this is not a cell description");
-  }
-  if (top.has("version")) top.integer("version", 1, 1, "version 1 is the only cell format");
-  cell.name = top.string("name", "give the cell a name");
-  cell.description = top.string("description", "", "free text");
-  cell.gravity = top.direction("gravity", "give gravity as a direction in world, e.g. [0, 0, -1]");
-
-  {  // robot
-    Field r = top.object("robot", "describe the robot");
-    RobotDescription& robot = cell.robot;
-    robot.model = r.string("model", "name the robot model");
-    robot.base = readPose(r, "base", "give the robot base frame in world");
-    Field k = r.object("kinematics_mm", "give a1, a2, b, c1, c2, c3, c4 in mm");
-    RobotKinematics& kin = robot.kinematics;
-    kin.a1 = k.number("a1", "S-L offset in mm");
-    kin.a2 = k.number("a2", "U-axis offset in mm");
-    kin.b = k.number("b", 0.0, "lateral offset in mm");
-    kin.c1 = k.number("c1", "height of the L axis in mm");
-    kin.c2 = k.positive("c2", "upper-arm length (L to U) in mm");
-    kin.c3 = k.positive("c3", "forearm length (U to wrist centre) in mm");
-    kin.c4 = k.nonNegative("c4", 0.0, "wrist centre to flange in mm");
-    k.rejectUnknown();
-    const Json& joints = r.require("joints", "give six joints S, L, U, R, B, T");
-    if (!joints.is_array() || joints.size() != 6) {
-      r.fail("joints", "must be an array of 6 joint objects", joints.dump().substr(0, 80),
-             "give six joints S, L, U, R, B, T");
-    }
-    for (int i = 0; i < 6; ++i) {
-      const Json& jj = joints[static_cast<std::size_t>(i)];
-      Field jf(jj, r.childPath("joints") + "/" + std::to_string(i), origin);
-      if (!jj.is_object()) jf.fail("", "must be an object", jj.dump(), "describe the joint");
-      jf.string("name", kJointNames[i], "joint name");
-      robot.joints[i] = readLimit(jf, kJointNames[i]);
-      robot.jointSigns[i] = jf.sign("sign", "1 or -1: controller direction vs model direction");
-      robot.jointOffsets[i] = jf.number("offset_deg", 0.0, "model angle at controller zero") * kDeg;
-      jf.rejectUnknown();
-    }
-    if (r.has("pulses_per_degree")) {
-      const auto ppd = r.numbers("pulses_per_degree", 6, "give six pulses-per-degree values");
-      for (double v : ppd) {
-        if (!(v > 0.0)) {
-          r.fail("pulses_per_degree", "must be positive", formatNumber(v),
-                 "copy them from the controller's parameters");
-        }
-      }
-      robot.pulsesPerDegree = ppd;
-    }
-    r.rejectUnknown();
-  }
-  {  // tool
-    Field t = top.object("tool", "describe the torch");
-    cell.tool.name = t.string("name", "", "tool name");
-    cell.tool.number = t.integer("number", 1, 0, 63, "tool number in the controller (0..63)");
-    cell.tool.tcp = readPose(t, "tcp", "give the TCP in the flange frame (z along the torch)");
-    t.rejectUnknown();
-  }
-  {  // positioner
-    Field p = top.object("positioner", "describe the tilt-rotate positioner");
-    PositionerDescription& pos = cell.positioner;
-    pos.model = p.string("model", "name the positioner model");
-    pos.base = readPose(p, "base", "give the positioner base frame in world");
-    Field tilt = p.object("tilt_axis", "give the tilt axis point_mm and direction");
-    pos.tiltAxisPoint = tilt.vec3("point_mm", "a point on the tilt axis, positioner base frame");
-    pos.tiltAxisDirection = tilt.direction("direction", "tilt axis direction, base frame");
-    tilt.rejectUnknown();
-    Field rot = p.object("rotation_axis", "give the rotation axis point_mm and direction");
-    pos.rotationAxisPoint = rot.vec3("point_mm", "table centre on the rotation axis at tilt 0");
-    pos.rotationAxisDirection = rot.direction("direction", "rotation axis direction at tilt 0");
-    const double cross = pos.tiltAxisDirection.cross(pos.rotationAxisDirection).norm();
-    if (cross < std::sin(1.0 * kDeg)) {
-      rot.fail("direction", "must not be parallel to the tilt axis",
-               "angle " + formatNumber(std::asin(std::min(1.0, cross)) / kDeg) + " deg",
-               "the axes must differ by at least 1 degree");
-    }
-    rot.rejectUnknown();
-    pos.tableToPart = readPose(p, "table_to_part", "give the part frame in the table frame");
-    pos.tilt = readAxis(p, "tilt", false);
-    pos.rotation = readAxis(p, "rotation", true);
-    p.rejectUnknown();
-  }
-  {  // process
-    Field pr = top.object("process", "describe the welding process");
-    ProcessDescription& proc = cell.process;
-    proc.weldSpeed = pr.positive("weld_speed_mm_s", "give the welding speed in mm/s");
-    proc.travelSpeed = pr.positive("travel_speed_mm_s", "give the arc-off travel speed in mm/s");
-    proc.wireFeed = pr.positive("wire_feed_m_min", "give the wire feed speed in m/min");
-    proc.wireDiameter = pr.positive("wire_diameter_mm", "give the wire diameter in mm");
-    proc.wireDensity = pr.positive("wire_density_g_cm3", "give the wire density in g/cm3");
-    proc.depositionEfficiency =
-        pr.number("deposition_efficiency", 1.0, "fraction of the wire deposited, in (0, 1]");
-    if (!(proc.depositionEfficiency > 0.0 && proc.depositionEfficiency <= 1.0)) {
-      pr.fail("deposition_efficiency", "must be in (0, 1]", formatNumber(proc.depositionEfficiency),
-              "use e.g. 0.95");
-    }
-    proc.layerDwell = pr.nonNegative("layer_dwell_s", 0.0, "interlayer dwell in s");
-    proc.pathDwell = pr.nonNegative("path_dwell_s", 0.0, "dwell after each path in s");
-    proc.speedUnit = pr.choice<SpeedUnit>("speed_unit",
-                                          {{"mm/s", SpeedUnit::MillimetresPerSecond},
-                                           {"cm/min", SpeedUnit::CentimetresPerMinute},
-                                           {"mm/min", SpeedUnit::MillimetresPerMinute}},
-                                          "the speed unit set in the controller");
-    Field arc = pr.object("arc", "give the arc conditions");
-    proc.arcControl = arc.choice<ArcControl>(
-        "control", {{"condition_file", ArcControl::ConditionFile}, {"direct", ArcControl::Direct}},
-        "condition_file (ASF#/AEF#) or direct (AC=, AV=)");
-    if (proc.arcControl == ArcControl::ConditionFile) {
-      proc.arcStartCondition = arc.integer("start_condition", 1, 48, "arc start file number");
-      proc.arcEndCondition = arc.integer("end_condition", 1, 12, "arc end file number");
-      proc.current = arc.nonNegative("current_a", 0.0, "welding current in A");
-      proc.voltage = arc.nonNegative("voltage_v", 0.0, "welding voltage in V");
-    } else {
-      proc.arcStartCondition = arc.integer("start_condition", 1, 1, 48, "arc start file number");
-      proc.arcEndCondition = arc.integer("end_condition", 1, 1, 12, "arc end file number");
-      proc.current = arc.positive("current_a", "welding current in A");
-      proc.voltage = arc.positive("voltage_v", "welding voltage in V");
-    }
-    proc.arcStartTime = arc.nonNegative("start_time_s", 0.0, "arc start time in s");
-    arc.rejectUnknown();
-    pr.rejectUnknown();
-  }
-  {  // export
-    Field e = top.object("export", "give the export options");
-    ExportDescription& ex = cell.exportOptions;
-    ex.coordinated = e.boolean("coordinated", "true: robot and positioner move together");
-    ex.positionType = e.choice<PositionType>("position_type",
-                                             {{"pulse", PositionType::Pulse},
-                                              {"base", PositionType::Base},
-                                              {"user", PositionType::User}},
-                                             "how robot targets are written");
-    ex.maxLinesPerJob = e.integer("max_lines_per_job", 20, 1000000, "lines per job before split");
-    ex.lineEnding =
-        e.choice<LineEnding>("line_ending", {{"crlf", LineEnding::Crlf}, {"lf", LineEnding::Lf}},
-                             "crlf for Yaskawa controllers");
-    ex.maxNameLength = e.integer("max_name_length", 8, 32, "8 on NX100, 32 on DX100 and later");
-    ex.jobName = e.string("job_name", "base name of the jobs");
-    if (ex.jobName.empty() || static_cast<int>(ex.jobName.size()) > ex.maxNameLength) {
-      e.fail("job_name", "must have 1 to max_name_length characters", "\"" + ex.jobName + "\"",
-             "use a shorter name");
-    }
-    for (char c : ex.jobName) {
-      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-')) {
-        e.fail("job_name", "may only contain letters, digits, '_' and '-'",
-               "\"" + ex.jobName + "\"", "rename the job");
-      }
-    }
-    ex.userFrame = e.integer("user_frame", 1, 1, 63, "user frame number (1..63)");
-    e.rejectUnknown();
-  }
-  if (cell.exportOptions.positionType == PositionType::Pulse &&
-      cell.robot.pulsesPerDegree.empty()) {
-    top.fail("robot/pulses_per_degree", "is missing but export position_type is \"pulse\"",
-             "(absent)", "add the six pulses-per-degree values or use position_type \"base\"");
-  }
-  top.rejectUnknown();
-  return cell;
 }
 
 Cell readCell(const std::filesystem::path& path) {

@@ -19,8 +19,16 @@
 // interpolated from the triangle's (unsnapped) vertex depths with the exact barycentric weights,
 // so it always lies within the triangle's depth range.
 //
-// Fill rule: a voxel centre c on a ray is inside iff the number of crossings at depth ≤ c is odd
-// (half-open spans [enter, leave)).
+// Fill rule: non-zero winding when the surface is a closed, consistently oriented cycle (every
+// edge used as often in one direction as in the other, after the snapping and de-duplication
+// below): each crossing counts +1 where the ray enters (the triangle faces against the ray) and
+// −1 where it leaves, and a voxel centre c is inside iff the sum over the crossings at depth ≤ c
+// is not zero (half-open spans [enter, leave)). Overlapping or nested closed shells thus give
+// their union, and voxels with |sum| ≥ 2 are counted as overlap. On one embedded closed shell the
+// crossings alternate and this equals parity. A surface whose edges do not cancel (flipped
+// triangles, a missing facet) has no well-defined winding number: it is filled by parity, inside
+// iff the number of crossings at depth ≤ c is odd. A column whose winding does not return to 0
+// (parity: an odd number of crossings) is resolved as below.
 //
 // Triangles that repeat another triangle's three snapped vertices (in any order or orientation)
 // are used once, so duplicated facets in a triangle soup do not flip the parity.
@@ -35,6 +43,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <iomanip>
 #include <numeric>
@@ -61,6 +70,9 @@ constexpr std::int64_t kCellUnits = std::int64_t{1} << kLatticeBits;  ///< latti
 constexpr std::int64_t kHalfCell = kCellUnits / 2;
 /// Largest grid extent per axis (keeps lattice coordinates below 2^45 and indices in int).
 constexpr double kMaxDim = static_cast<double>(1 << 24);
+/// Largest cell count: the geodesic field indexes cells with int32 (checked here, before the
+/// mask is allocated, rather than after voxelizing).
+constexpr double kMaxCells = 2147483647.0;
 /// Fallback memory budget when the physical memory cannot be queried.
 constexpr double kFallbackBudgetBytes = 4e9;
 
@@ -73,6 +85,7 @@ std::string formatNumber(double value) {
 }
 
 std::string formatCount(double count) {
+  if (!(count < 1e18)) return formatNumber(count);  // beyond unsigned long long: 1e+30
   const std::string digits = std::to_string(static_cast<unsigned long long>(count));
   std::string grouped;
   for (std::size_t n = 0; n < digits.size(); ++n) {
@@ -85,7 +98,9 @@ std::string formatCount(double count) {
 std::string formatBytes(double bytes) {
   std::ostringstream out;
   out << std::fixed << std::setprecision(1);
-  if (bytes >= 1e9) {
+  if (!(bytes < 1e15)) {
+    out << std::scientific << std::setprecision(1) << bytes << " bytes";  // 1.0e+36 bytes
+  } else if (bytes >= 1e9) {
     out << bytes / 1e9 << " GB";
   } else if (bytes >= 1e6) {
     out << bytes / 1e6 << " MB";
@@ -179,7 +194,7 @@ struct LatticeExtent {
   std::array<double, 3> dims{};   ///< cells per axis
   double cells() const { return dims[0] * dims[1] * dims[2]; }
   bool withinLimits() const {
-    return dims[0] <= kMaxDim && dims[1] <= kMaxDim && dims[2] <= kMaxDim;
+    return dims[0] <= kMaxDim && dims[1] <= kMaxDim && dims[2] <= kMaxDim && cells() < kMaxCells;
   }
 };
 
@@ -237,7 +252,46 @@ struct LatticeMesh {
   std::vector<std::array<double, 3>> cell;
   std::vector<std::array<int, 3>> triangles;  ///< unique, not degenerate on the lattice
   std::array<double, 3> boxMin{}, boxMax{};   ///< cell units, over the vertices used
+  bool windingRule = false;  ///< edges cancel: fill by non-zero winding (else by parity)
 };
+
+/// True if every lattice edge of the triangles is used as often in one direction as in the other
+/// (a closed, consistently oriented surface, possibly several shells).
+bool edgesCancel(const LatticeMesh& m) {
+  // Weld vertices by lattice point: ids[v] is the same for vertices that snapped together.
+  std::vector<int> used;
+  used.reserve(3 * m.triangles.size());
+  for (const auto& tri : m.triangles) used.insert(used.end(), tri.begin(), tri.end());
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  std::stable_sort(used.begin(), used.end(),
+                   [&](int a, int b) { return m.lattice[a] < m.lattice[b]; });
+  std::vector<std::uint32_t> ids(m.lattice.size(), 0);
+  std::uint32_t next = 0;
+  for (std::size_t n = 0; n < used.size(); ++n) {
+    if (n > 0 && m.lattice[used[n]] != m.lattice[used[n - 1]]) ++next;
+    ids[used[n]] = next;
+  }
+  // Each directed edge as (smaller id, larger id) with +1 / −1 for its direction.
+  std::vector<std::pair<std::uint64_t, int>> edges;
+  edges.reserve(3 * m.triangles.size());
+  for (const auto& tri : m.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint64_t u = ids[tri[k]], v = ids[tri[(k + 1) % 3]];
+      edges.emplace_back(u < v ? (u << 32 | v) : (v << 32 | u), u < v ? 1 : -1);
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t n = 0; n < edges.size();) {
+    int sum = 0;
+    std::size_t end = n;
+    for (; end < edges.size() && edges[end].first == edges[n].first; ++end)
+      sum += edges[end].second;
+    if (sum != 0) return false;
+    n = end;
+  }
+  return true;
+}
 
 LatticeMesh buildLatticeMesh(const TriMesh& mesh, const GridGeometry& g) {
   LatticeMesh m;
@@ -282,6 +336,7 @@ LatticeMesh buildLatticeMesh(const TriMesh& mesh, const GridGeometry& g) {
       }
     }
   }
+  m.windingRule = edgesCancel(m);
   return m;
 }
 
@@ -312,8 +367,10 @@ std::int64_t columnCentre(int c) {
 
 /// Rays of one family: they run along axis `w`; a ray is identified by its column on axis `a`
 /// (the "slab") and on axis `b` (the "row"); the exact 2D test works in the (a, b) plane.
+/// `handedness` is +1 if (a, b, w) is a right-handed axis order, −1 if not.
 struct RayAxes {
   int a, b, w;
+  int handedness;
 };
 
 /// Triangles binned by the slabs (columns along axis a) their lattice box covers (CSR).
@@ -348,6 +405,8 @@ SlabBins binTriangles(const LatticeMesh& m, int axis, int slabs) {
 
 struct Hit {
   int row;
+  std::int8_t
+      winding;   ///< +1 where the ray enters (triangle facing against it), −1 where it leaves
   double depth;  ///< cell units along the ray axis
   bool operator<(const Hit& o) const { return row != o.row ? row < o.row : depth < o.depth; }
 };
@@ -426,44 +485,72 @@ void castSlab(const LatticeMesh& m, const SlabBins& bins, const RayAxes& axes, i
       const double w2 = static_cast<double>(value[0]);
       const double W = static_cast<double>(value[0] + value[1] + value[2]);
       const double depth = std::clamp(d0 + (w1 * (d1 - d0) + w2 * (d2 - d0)) / W, dMin, dMax);
-      hits.push_back({row, depth});
+      // sign[0] > 0: counter-clockwise in (a, b), so the normal points along +w in a right-handed
+      // order and the ray (running along +w) leaves there.
+      hits.push_back({row, static_cast<std::int8_t>(-sign[0] * axes.handedness), depth});
     }
   }
 }
 
 // ---- voxelize ----------------------------------------------------------------------------------
 
-/// Casts the z rays of x slab `i`, fills the inside spans of its even columns (mask of the slab
-/// only) and lists the rows of its odd columns. Returns the number of cells filled.
-std::size_t fillSlab(const LatticeMesh& m, const SlabBins& xBins, const GridGeometry& g, int i,
-                     std::uint8_t* mask, std::vector<Hit>& hits, std::vector<int>& oddRows) {
+/// Whether the crossings [begin, end) of one ray close up: winding sum 0 (winding rule) or an
+/// even count (parity). Rays that do not close cannot be filled from their own crossings.
+bool rayCloses(std::vector<Hit>::const_iterator begin, std::vector<Hit>::const_iterator end,
+               bool winding) {
+  if (!winding) return (end - begin) % 2 == 0;
+  int sum = 0;
+  for (auto h = begin; h != end; ++h) sum += h->winding;
+  return sum == 0;
+}
+
+/// Cells filled and cells inside more than one shell (|winding| ≥ 2) of one slab.
+struct SlabFill {
+  std::size_t filled = 0;
+  std::size_t overlap = 0;
+};
+
+/// Fills the voxels of one column from the crossings [begin, end) of its ray, sorted by depth:
+/// the centres c = k + ½ in each span [depth_p, depth_p+1) where the running winding sum after
+/// crossing p is not zero (winding rule) or p is even (parity).
+void fillColumn(std::vector<Hit>::const_iterator begin, std::vector<Hit>::const_iterator end,
+                bool winding, int nz, std::uint8_t* column, SlabFill& fill) {
+  int sum = 0;
+  for (auto p = begin; p + 1 < end; ++p) {
+    sum += p->winding;
+    if (winding ? sum == 0 : (p - begin) % 2 != 0) continue;
+    const double k0 = std::max(0.0, std::ceil(p->depth - 0.5));
+    const double k1 = std::min(static_cast<double>(nz), std::ceil((p + 1)->depth - 0.5));
+    if (k1 > k0) {
+      const auto count = static_cast<std::size_t>(k1 - k0);
+      std::memset(column + static_cast<std::size_t>(k0), 1, count);
+      fill.filled += count;
+      if (std::abs(sum) >= 2) fill.overlap += count;
+    }
+  }
+}
+
+/// Casts the z rays of x slab `i`, fills the inside spans of the columns whose rays close (mask
+/// of the slab only) and lists the rows of the others (the odd columns).
+SlabFill fillSlab(const LatticeMesh& m, const SlabBins& xBins, const GridGeometry& g, int i,
+                  std::uint8_t* mask, std::vector<Hit>& hits, std::vector<int>& oddRows) {
   const int ny = g.dims.y(), nz = g.dims.z();
   hits.clear();
-  castSlab(m, xBins, RayAxes{0, 1, 2}, i, 0, ny - 1, hits);
+  castSlab(m, xBins, RayAxes{0, 1, 2, 1}, i, 0, ny - 1, hits);
   std::sort(hits.begin(), hits.end());
   std::uint8_t* slab = mask + static_cast<std::size_t>(i) * g.strideX();
-  std::size_t filled = 0;
-  for (std::size_t h = 0; h < hits.size();) {
-    std::size_t end = h;
-    while (end < hits.size() && hits[end].row == hits[h].row) ++end;
-    if ((end - h) % 2 != 0) {
-      oddRows.push_back(hits[h].row);
+  SlabFill fill;
+  for (auto h = hits.cbegin(); h != hits.cend();) {
+    auto end = h;
+    while (end != hits.cend() && end->row == h->row) ++end;
+    if (!rayCloses(h, end, m.windingRule)) {
+      oddRows.push_back(h->row);
     } else {
-      std::uint8_t* column = slab + static_cast<std::size_t>(hits[h].row) * nz;
-      for (std::size_t p = h; p < end; p += 2) {
-        // Centres c with enter ≤ c < leave, c = k + ½.
-        const double k0 = std::max(0.0, std::ceil(hits[p].depth - 0.5));
-        const double k1 = std::min(static_cast<double>(nz), std::ceil(hits[p + 1].depth - 0.5));
-        if (k1 > k0) {
-          const auto count = static_cast<std::size_t>(k1 - k0);
-          std::memset(column + static_cast<std::size_t>(k0), 1, count);
-          filled += count;
-        }
-      }
+      fillColumn(h, end, m.windingRule, nz, slab + static_cast<std::size_t>(h->row) * nz, fill);
     }
     h = end;
   }
-  return filled;
+  return fill;
 }
 
 // ---- resolve odd columns -----------------------------------------------------------------------
@@ -503,7 +590,7 @@ void voteGroup(const LatticeMesh& m, const SlabBins& bins, const GridGeometry& g
                bool alongX, int kLo, int kHi, std::uint8_t* mask, std::vector<Hit>& hits) {
   const std::size_t begin = groups.starts[group], end = groups.starts[group + 1];
   const OddColumn& first = odd[groups.order[begin]];
-  const RayAxes axes = alongX ? RayAxes{1, 2, 0} : RayAxes{0, 2, 1};
+  const RayAxes axes = alongX ? RayAxes{1, 2, 0, 1} : RayAxes{0, 2, 1, -1};
   hits.clear();
   castSlab(m, bins, axes, alongX ? first.j : first.i, kLo, kHi, hits);
   std::sort(hits.begin(), hits.end());
@@ -514,13 +601,14 @@ void voteGroup(const LatticeMesh& m, const SlabBins& bins, const GridGeometry& g
     while (h != hits.end() && h->row < k) ++h;
     auto rowEnd = h;
     while (rowEnd != hits.end() && rowEnd->row == k) ++rowEnd;
-    if ((rowEnd - h) % 2 == 0) {
+    if (rayCloses(h, rowEnd, m.windingRule)) {
       for (std::size_t n = begin; n < end; ++n) {
         const OddColumn& col = odd[groups.order[n]];
         const double centre = (alongX ? col.i : col.j) + 0.5;
         const auto upTo = std::upper_bound(
             h, rowEnd, centre, [](double value, const Hit& hit) { return value < hit.depth; });
-        mask[g.index(col.i, col.j, k)] |= (upTo - h) % 2 != 0 ? insideVote : outsideVote;
+        const bool inside = m.windingRule ? !rayCloses(h, upTo, true) : (upTo - h) % 2 != 0;
+        mask[g.index(col.i, col.j, k)] |= inside ? insideVote : outsideVote;
       }
     }
     h = rowEnd;
@@ -576,6 +664,10 @@ std::size_t resolveOddColumns(const LatticeMesh& m, const SlabBins& xBins, const
 
 }  // namespace
 
+std::string_view toString(FillRule rule) {
+  return rule == FillRule::Parity ? "parity" : "nonzero";
+}
+
 double physicalMemoryBytes() {
   const long pages = ::sysconf(_SC_PHYS_PAGES);
   const long pageSize = ::sysconf(_SC_PAGE_SIZE);
@@ -604,13 +696,15 @@ GridGeometry planGrid(const TriMesh& mesh, const VoxelizeOptions& options) {
         << " at " << formatNumber(options.bytesPerCell) << " bytes per cell, over the memory "
         << "budget of " << formatBytes(budget);
     if (!extent.withinLimits()) {
-      msg << " (or over the limit of " << formatCount(kMaxDim) << " cells per axis)";
+      msg << " (or over the limits of " << formatCount(kMaxDim) << " cells per axis and "
+          << formatCount(kMaxCells) << " cells in all)";
     }
     const double fitting =
         smallestFittingVoxelSize(box, L, options.padding, options.bytesPerCell, budget);
     if (fitting > 0.0) {
-      msg << "; use a voxel size of at least " << formatLength(fitting)
-          << " mm or raise the memory budget";
+      // Beyond the per-axis or total cell limits a larger budget does not help.
+      msg << "; use a voxel size of at least " << formatLength(fitting) << " mm"
+          << (extent.withinLimits() ? " or raise the memory budget" : "");
     } else {
       msg << "; no voxel size fits, raise the memory budget";
     }
@@ -640,15 +734,20 @@ VoxelizeResult voxelize(const TriMesh& mesh, const VoxelizeOptions& options, Pro
   const SlabBins xBins = binTriangles(m, 0, nx);
   std::vector<HitBuffer> hitBuffers(static_cast<std::size_t>(omp_get_max_threads()));
   std::vector<std::vector<int>> oddRows(nx);
-  std::vector<std::size_t> filled(nx, 0);
+  std::vector<SlabFill> filled(nx);
   runChunked(nx, chunksForCells(static_cast<double>(g.cellCount())), progress.sub(0.0, 0.9),
              "voxelize", [&](int i, int thread) {
                filled[i] = fillSlab(m, xBins, g, i, grid.inside.data(), hitBuffers[thread].hits,
                                     oddRows[i]);
              });
-  grid.insideCount = std::accumulate(filled.begin(), filled.end(), std::size_t{0});
-
   VoxelizeStats& stats = result.stats;
+  grid.insideCount = 0;
+  for (const SlabFill& f : filled) {
+    grid.insideCount += f.filled;
+    stats.overlapVoxels += f.overlap;
+  }
+  stats.fillRule = m.windingRule ? FillRule::NonZeroWinding : FillRule::Parity;
+
   stats.columns = static_cast<std::size_t>(nx) * g.dims.y();
   std::vector<OddColumn> odd;  // sorted by (i, j)
   for (int i = 0; i < nx; ++i) {

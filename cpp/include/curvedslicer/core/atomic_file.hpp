@@ -9,10 +9,18 @@
 
 namespace curvedslicer {
 
-/// Writes `path` atomically: `write` fills the stream of a temporary sibling file, which then
-/// replaces `path`. On any exception (from `write` or the file system) the temporary file is
-/// removed, `path` is left as it was, and the exception propagates (file-system errors as
-/// `IoError` naming the path).
+/// The path a finished output file is renamed onto in place of `path`: `path` itself when nothing
+/// is there or a regular file is; the regular file a symbolic link resolves to when `path` is such
+/// a link (the link stays, its target is replaced). Never a device, FIFO, socket or folder.
+/// @throws IoError naming the path for anything else (a device, FIFO, socket, folder, a link to
+///         one of those or a dangling link). The check precedes the rename by a moment: it guards
+///         against mistakes, not against a concurrent process swapping the path.
+std::filesystem::path resolveOutputPath(const std::filesystem::path& path);
+
+/// Writes `path` atomically (onto `resolveOutputPath(path)`): `write` fills the stream of a
+/// temporary sibling file, which then replaces `path`. On any exception (from `write` or the file
+/// system) the temporary file is removed, `path` is left as it was, and the exception propagates
+/// (file-system errors as `IoError` naming the path).
 void writeFileAtomically(const std::filesystem::path& path,
                          const std::function<void(std::ostream&)>& write, bool binary = false);
 

@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 #include "curvedslicer/mesh/tri_mesh.hpp"
 
@@ -30,6 +31,11 @@ enum class MeshFormat {
 ///         with its size, a parse error with its line number, NaN/inf coordinates, an OBJ index out
 ///         of range, no triangles) — the message names the file and what to do.
 TriMesh readMesh(const std::filesystem::path& path, MeshFormat format = MeshFormat::Auto);
+
+/// Reads STL or OBJ content already in memory, as `readMesh` reads a file's; `path` only names
+/// the data in messages and, with `Auto`, lets the ".obj" extension choose OBJ. Same errors.
+TriMesh parseMesh(std::string_view data, const std::filesystem::path& path,
+                  MeshFormat format = MeshFormat::Auto);
 
 /// The format `readMesh` would use for this file (by content; OBJ by extension or content).
 MeshFormat detectMeshFormat(const std::filesystem::path& path);

@@ -5,13 +5,17 @@
 // The ray–triangle test is exact and watertight: vertices are snapped to a fine integer lattice in
 // the grid plane and 2D orientations are evaluated in 128-bit integers, with a symbolic
 // perturbation of the ray for ties, so a ray through a shared edge or vertex counts exactly once.
-// Inside = odd crossing parity (robust to flipped triangles). Columns with an odd number of hits
-// (holes) are resolved voxel by voxel by rays along the grid's x and y axes (majority of the rays
-// with an even count); the result says how many columns and voxels needed that.
-// Cost: O(T + cells) with T the triangle-column incidences; parallel over columns (OpenMP).
+// Inside = non-zero winding number when the surface's edges cancel (closed and consistently
+// oriented, possibly several overlapping or nested shells: their union; voxels inside two or more
+// shells are counted as overlap), else odd crossing parity (robust to flipped triangles). Columns
+// whose crossings do not close (an odd count: holes) are resolved voxel by voxel by rays along the
+// grid's x and y axes (majority of the rays with an even count); the result says how many columns
+// and voxels needed that. Cost: O(T + cells) with T the triangle-column incidences; parallel over
+// columns (OpenMP).
 #pragma once
 
 #include <cstddef>
+#include <string_view>
 
 #include "curvedslicer/core/progress.hpp"
 #include "curvedslicer/mesh/tri_mesh.hpp"
@@ -29,9 +33,19 @@ struct VoxelizeOptions {
   double bytesPerCell = 16.0;
 };
 
+/// How voxel centres were classified (see voxelize.cpp).
+enum class FillRule {
+  NonZeroWinding,  ///< closed, consistently oriented surface: union of its shells
+  Parity,          ///< edges do not cancel (flipped or missing triangles): odd crossing count
+};
+
+std::string_view toString(FillRule rule);  ///< "nonzero" or "parity"
+
 struct VoxelizeStats {
+  FillRule fillRule = FillRule::NonZeroWinding;
+  std::size_t overlapVoxels = 0;     ///< voxels inside two or more shells (winding |w| >= 2)
   std::size_t columns = 0;           ///< z columns cast
-  std::size_t oddColumns = 0;        ///< z columns with an odd number of crossings
+  std::size_t oddColumns = 0;        ///< z columns whose crossings do not close (odd count)
   std::size_t resolvedVoxels = 0;    ///< voxels of odd columns decided by x/y rays
   std::size_t unresolvedVoxels = 0;  ///< voxels where no ray had an even count (left outside)
   double seconds = 0.0;

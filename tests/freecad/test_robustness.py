@@ -1,0 +1,61 @@
+"""Hostile files through the workbench API do not take FreeCAD down (issue 13): a 100,000-deep
+cell.json and a cell with a number beyond the double range are InvalidInput naming the file; an
+export onto a FIFO is an IoError that leaves the FIFO in place."""
+
+import os
+import stat
+import sys
+
+sys.path.insert(0, os.environ.get("CURVEDSLICER_TEST_DIR", os.path.dirname(__file__)))
+
+import cs_testing  # noqa: E402
+from freecad.curvedslicer import api  # noqa: E402
+from freecad.curvedslicer.core import InvalidInput, IoError  # noqa: E402
+
+
+class TestRobustness(cs_testing.DocumentTestCase):
+    def box_job(self):
+        box = self.box(20, 16, 6)
+        job = api.make_job(self.doc, box, layer_thickness=2.0, voxel_size=1.0, bead_spacing=4.0,
+                           point_spacing=2.0, cell_file="")
+        api.run(job, progress=False)
+        return job
+
+    def test_hostile_cell_files_raise_invalid_input(self):
+        job = self.box_job()
+        deep = cs_testing.tmp_path("deep_cell.json")
+        with open(deep, "w") as f:
+            f.write("[" * 100000)
+        overflow = cs_testing.tmp_path("overflow_cell.json")
+        with open(overflow, "w") as f:
+            f.write('{"format": "curvedslicer-cell", "gravity": [0, 0, -1e999]}')
+        target = cs_testing.tmp_path("ROBUST.JBI")
+        for cell_file, detail in ((deep, "nest deeper than 64 levels at line 1, column 65"),
+                                  (overflow, "number overflow parsing '-1e999' at line 1")):
+            with self.assertRaises(InvalidInput) as caught:
+                api.export(job, target, format="jbi", cell_file=cell_file)
+            message = str(caught.exception)
+            self.assertIn(os.path.basename(cell_file) + ": not valid JSON", message)
+            self.assertIn(detail, message)
+            self.assertLess(len(message), 400)
+            self.assertFalse(os.path.exists(target))
+        # The job is still usable afterwards.
+        self.assertGreater(api.export(job, None, format="csv")["motion_count"], 0)
+
+    def test_export_onto_a_fifo_is_refused(self):
+        job = self.box_job()
+        fifo = cs_testing.tmp_path("robust_fifo.jbi")
+        if os.path.lexists(fifo):
+            os.remove(fifo)
+        os.mkfifo(fifo)
+        try:
+            with self.assertRaises(IoError) as caught:
+                api.export(job, fifo, format="jbi")
+            self.assertIn("output path is a FIFO (named pipe), not a regular file",
+                          str(caught.exception))
+            self.assertTrue(stat.S_ISFIFO(os.lstat(fifo).st_mode))
+        finally:
+            os.remove(fifo)
+
+
+cs_testing.main(__name__)
