@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Builds and runs every test twice: a Release build (build/; GoogleTest suites plus the FreeCAD
 # workbench tests under freecadcmd and xvfb-run) and an AddressSanitizer +
-# UndefinedBehaviorSanitizer build (build-asan/; benchmarks, Python module and FreeCAD tests off).
-# Prints a summary and exits non-zero if any build or test failed. Run scripts/setup.sh first for
+# UndefinedBehaviorSanitizer build (build-asan/; benchmarks, Python module and FreeCAD tests off);
+# then the libFuzzer targets of the file readers for 60 s each (build-fuzz/, tests/fuzz/). Prints a summary and exits non-zero if any build or test failed. Run scripts/setup.sh first for
 # the dependencies. CURVEDSLICER_BUILD_DIR / CURVEDSLICER_ASAN_BUILD_DIR override the two build
 # folders.
 set -uo pipefail
@@ -54,6 +54,22 @@ run_suite asan-ubsan "${CURVEDSLICER_ASAN_BUILD_DIR:-$repo/build-asan}" \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCURVEDSLICER_SANITIZE=ON -DCURVEDSLICER_BUILD_BENCH=OFF \
   -DCURVEDSLICER_BUILD_PYTHON=OFF -DCURVEDSLICER_BUILD_OCC=OFF
+
+# The readers under libFuzzer (clang, ASan + UBSan): 60 s each on their seed corpora
+# (tests/fuzz/README.md has the long run). A crash fails the run; the reproducer stays in
+# build-fuzz/artifacts/.
+fuzz_start=$(date +%s)
+echo "=== fuzz: 3 readers x 60 s (build-fuzz/) ==="
+if bash "$repo/tests/fuzz/run_fuzzers.sh" 60 >"$logs/fuzz.log" 2>&1; then
+  fuzz_status=PASS
+else
+  fuzz_status=FAIL
+  failed=1
+  tail -n 40 "$logs/fuzz.log"
+fi
+names+=(fuzz)
+results+=("$fuzz_status")
+details+=("3 readers x 60 s, log: $logs/fuzz.log ($(($(date +%s) - fuzz_start)) s)")
 
 echo
 echo "================ test summary ================"
