@@ -103,7 +103,12 @@ std::string_view fileExtension(ExportFormat format);
 /// The writer of `format`.
 std::unique_ptr<ProgramExporter> makeExporter(ExportFormat format);
 
-/// makeExporter(format)->write(…).
+/// Checks the options every writer relies on: the date must be "YYYY/MM/DD HH:MM" (digits where
+/// the pattern has them), so no header line can be broken or injected through it.
+/// @throws InvalidInput quoting the value (control characters escaped, long values cut).
+void validateExportOptions(const ExportOptions& options);
+
+/// validateExportOptions(options), then makeExporter(format)->write(…).
 ExportResult exportProgram(const MotionPlan& motion, const Cell& cell, ExportFormat format,
                            const ExportOptions& options = {}, const Progress& progress = {});
 
