@@ -14,7 +14,7 @@ struct ExportArguments {
   std::string format;
   std::string output;
   std::string name;  ///< program / job name; empty = the cell's job name
-  std::string gcodeMode = "tcp";
+  std::string gcodeMode;  ///< empty = ExportOptions{}.gcodeMode
   std::string date;  ///< empty = the fixed default (reproducible files)
   bool warnUnreachable = false;
   bool quiet = false;

@@ -59,6 +59,16 @@ ExportFormat parseExportFormat(std::string_view name) {
                      "'; use one of jbi, krl, rapid, ls, gcode, csv, json");
 }
 
+std::string_view toString(GcodeMode mode) {
+  return mode == GcodeMode::Machine ? "machine" : "tcp";
+}
+
+GcodeMode parseGcodeMode(std::string_view name) {
+  if (name == "tcp") return GcodeMode::Tcp;
+  if (name == "machine") return GcodeMode::Machine;
+  throw InvalidInput("unknown G-code mode: '" + std::string(name) + "'; use tcp or machine");
+}
+
 std::string_view fileExtension(ExportFormat format) {
   switch (format) {
     case ExportFormat::Jbi:

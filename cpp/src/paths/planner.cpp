@@ -43,10 +43,6 @@ std::string describeKind(InitialCurveKind kind) {
   return kind == InitialCurveKind::Plane ? "plane" : "surface";
 }
 
-std::string surfaceMethodName(SurfaceGeodesicMethod method) {
-  return method == SurfaceGeodesicMethod::Paper ? "paper" : "accurate";
-}
-
 void checkCornerAngle(double degrees) {
   if (!std::isfinite(degrees) || degrees <= 0.0 || degrees > 180.0) {
     throw InvalidInput("corner angle must be in (0, 180] degrees: " + formatMm(degrees) +
@@ -79,7 +75,7 @@ struct PathStages {
     p.pointSpacing = o.pointSpacing;
     p.fitTolerance = o.fitTolerance;
     p.cornerAngle = o.cornerAngle;
-    p.surfaceMethod = surfaceMethodName(o.geodesic.method);
+    p.surfaceMethod = std::string(toString(o.geodesic.method));
   }
 
   double minLength;  ///< mm, shortest deposited piece

@@ -17,6 +17,17 @@
 
 namespace curvedslicer {
 
+std::string_view toString(SurfaceGeodesicMethod method) {
+  return method == SurfaceGeodesicMethod::Paper ? "paper" : "accurate";
+}
+
+SurfaceGeodesicMethod parseSurfaceGeodesicMethod(std::string_view name) {
+  if (name == "accurate") return SurfaceGeodesicMethod::Accurate;
+  if (name == "paper") return SurfaceGeodesicMethod::Paper;
+  throw InvalidInput("unknown surface geodesic method: '" + std::string(name) +
+                     "'; choose accurate or paper");
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;

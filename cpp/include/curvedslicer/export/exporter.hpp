@@ -90,6 +90,12 @@ std::string_view toString(ExportFormat format);
 /// Parses a format name (case-insensitive). @throws InvalidInput listing the valid names.
 ExportFormat parseExportFormat(std::string_view name);
 
+/// "tcp" | "machine".
+std::string_view toString(GcodeMode mode);
+
+/// Parses a G-code mode name ("tcp" or "machine"). @throws InvalidInput listing the choices.
+GcodeMode parseGcodeMode(std::string_view name);
+
 /// The usual file extension of the main file, with the dot (".JBI", ".src", ".mod", ".LS",
 /// ".ngc", ".csv", ".json").
 std::string_view fileExtension(ExportFormat format);

@@ -28,6 +28,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "curvedslicer/core/progress.hpp"
@@ -40,6 +41,11 @@ enum class SurfaceGeodesicMethod {
   Accurate,  ///< curve inserted into the mesh, fast marching with unfolding (default)
   Paper,     ///< paper §3.1: Dijkstra over a search ball with the projected length of eq. 15
 };
+
+/// "accurate" | "paper" (the command line's, the workbench's and the plan file's names).
+std::string_view toString(SurfaceGeodesicMethod method);
+/// Parses "accurate" or "paper". @throws InvalidInput listing the choices.
+SurfaceGeodesicMethod parseSurfaceGeodesicMethod(std::string_view name);
 
 struct SurfaceGeodesicOptions {
   SurfaceGeodesicMethod method = SurfaceGeodesicMethod::Accurate;
