@@ -30,6 +30,20 @@ void recordProvenance(Plan& plan, const PlanJobOptions& options) {
 
 }  // namespace
 
+ThinWallOptions thinWallOptionsFrom(const PlannerOptions& planner) {
+  ThinWallOptions wall;
+  wall.beadSpacing = planner.beadSpacing;
+  wall.pointSpacing = planner.pointSpacing;
+  wall.fitTolerance = planner.fitTolerance;
+  wall.cornerAngle = planner.cornerAngle;
+  wall.geodesic = planner.geodesic;
+  wall.minPathLength = planner.minPathLength;
+  wall.seamSeparation = planner.seamSeparation;
+  wall.improvementPasses = planner.improvementPasses;
+  wall.deposition = planner.deposition;
+  return wall;
+}
+
 void validatePlanJobOptions(const PlanJobOptions& options) {
   if (options.thinWall) {
     validateThinWallOptions(*options.thinWall);
