@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "command_errors.hpp"
+#include "model_input.hpp"
 #include "curvedslicer/core/atomic_file.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/core/progress.hpp"
@@ -27,36 +28,32 @@ namespace curvedslicer::cli {
 
 namespace fs = std::filesystem;
 
+LayerJobArguments parseLayerJobArguments(const LayersArguments& args) {
+  LayerJobArguments job;
+  LayerJobOptions& o = job.options;
+  o.layers.layerThickness = parseLength(args.layerThickness, "layer thickness");
+  o.voxelize.voxelSize = parseLength(args.voxelSize, "voxel size");
+  if (!args.method.empty()) o.geodesic.method = parseGeodesicMethod(args.method);
+  if (!args.grid.empty()) o.voxelize.alignment = parseGridAlignment(args.grid);
+  if (!args.format.empty()) job.format = parseLayerFileFormat(args.format);
+  job.start = parseStartSurfaceSpec(args.start);
+  if (!args.memoryBudgetMb.empty()) {
+    const double budgetMb = parseLength(args.memoryBudgetMb, "memory budget");
+    if (!std::isfinite(budgetMb) || budgetMb < 0.0) {
+      throw InvalidInput("memory budget must be 0 (automatic) or a positive number of MB: '" +
+                         args.memoryBudgetMb + "'; pass e.g. --memory-budget 4096");
+    }
+    o.voxelize.memoryBudgetBytes = budgetMb * 1024.0 * 1024.0;
+  }
+  o.capHoles = args.capHoles;
+  job.tessellationTolerance = parseTessellationTolerance(args.tessellationTolerance);
+  return job;
+}
+
 namespace {
 
 constexpr const char* kVoxelSetsFile = "voxel_sets.ply";
 constexpr const char* kReportFile = "report.json";
-
-struct Job {
-  LayerJobOptions options;
-  StartSurfaceSpec start;
-  LayerFileFormat format = LayerFileFormat::Ply;
-};
-
-/// Parses and checks every argument without touching a file.
-Job parseArguments(const LayersArguments& args) {
-  Job job;
-  job.options.layers.layerThickness = parseLength(args.layerThickness, "layer thickness");
-  job.options.voxelize.voxelSize = parseLength(args.voxelSize, "voxel size");
-  job.options.geodesic.method = parseGeodesicMethod(args.method);
-  job.options.voxelize.alignment = parseGridAlignment(args.grid);
-  job.format = parseLayerFileFormat(args.format);
-  job.start = parseStartSurfaceSpec(args.start);
-  const double budgetMb = parseLength(args.memoryBudgetMb, "memory budget");
-  if (!std::isfinite(budgetMb) || budgetMb < 0.0) {
-    throw InvalidInput("memory budget must be 0 (automatic) or a positive number of MB: '" +
-                       args.memoryBudgetMb + "'; pass e.g. --memory-budget 4096");
-  }
-  job.options.voxelize.memoryBudgetBytes = budgetMb * 1024.0 * 1024.0;
-  job.options.capHoles = args.capHoles;
-  validateLayerJobOptions(job.options);
-  return job;
-}
 
 void printUnreachedWarning(const GeodesicResult& field) {
   const UnreachedVoxels& u = field.unreached;
@@ -154,7 +151,8 @@ int runLayersCommand(const LayersArguments& args) {
   const fs::path outputDir(args.output);
   try {
     using Clock = std::chrono::steady_clock;
-    Job job = parseArguments(args);
+    LayerJobArguments job = parseLayerJobArguments(args);
+    validateLayerJobOptions(job.options);
     checkOutputFolder(outputDir);
 
     const Progress progress([&display](double fraction, std::string_view stage) {
@@ -164,7 +162,8 @@ int runLayersCommand(const LayersArguments& args) {
     // ---- read ----------------------------------------------------------------------------------
     progress.report(0.0, "read");
     const auto readBegin = Clock::now();
-    const TriMesh model = readMesh(fs::path(args.model));
+    const TriMesh model = readModel(fs::path(args.model), job.tessellationTolerance,
+                                    job.options.voxelize.voxelSize);
     job.options.start = loadStartSurface(job.start);
     const double readSeconds = std::chrono::duration<double>(Clock::now() - readBegin).count();
     const std::size_t readPeak = peakResidentMemoryBytes();
