@@ -143,6 +143,32 @@ class StagingLayerSink final : public LayerSink {
   double seconds_ = 0.0;
 };
 
+/// Completes the timings (the layer stage's time includes the sink's writing, reported as
+/// "write") and stages report.json.
+void stageReport(OutputStaging& staging, const StagingLayerSink& sink, const LayersArguments& args,
+                 const LayerJobArguments& job, std::size_t modelTriangles, LayerJobResult& result,
+                 const Progress& writeProgress) {
+  using Clock = std::chrono::steady_clock;
+  const auto writeBegin = Clock::now();
+  for (StageTime& st : result.stageTimes) {
+    if (st.name == "layers") st.seconds = std::max(0.0, st.seconds - sink.seconds());
+  }
+  writeProgress.report(0.0, "write");
+  LayerReportInputs reportInputs;
+  reportInputs.modelPath = args.model;
+  reportInputs.modelFileTriangles = modelTriangles;
+  reportInputs.startSpec = args.start;
+  reportInputs.layerFormat = job.format;
+  reportInputs.layerFiles = sink.layerFiles();
+  reportInputs.voxelSetsFile = kVoxelSetsFile;
+  result.peakMemoryBytes = peakResidentMemoryBytes();
+  const double writeSeconds =
+      sink.seconds() + std::chrono::duration<double>(Clock::now() - writeBegin).count();
+  result.stageTimes.push_back(StageTime{"write", writeSeconds, result.peakMemoryBytes});
+  const std::string report = formatLayerReport(makeLayerReport(reportInputs, job.options, result));
+  staging.stage(kReportFile, [&](const fs::path& path) { writeTextFileAtomically(path, report); });
+}
+
 }  // namespace
 
 int runLayersCommand(const LayersArguments& args) {
@@ -177,36 +203,15 @@ int runLayersCommand(const LayersArguments& args) {
     result.stageTimes.insert(result.stageTimes.begin(), StageTime{"read", readSeconds, readPeak});
     result.totalSeconds += readSeconds;
 
-    // ---- write ---------------------------------------------------------------------------------
-    // The layer stage's time includes the sink's writing; that part is reported as "write".
-    const auto writeBegin = Clock::now();
-    for (StageTime& st : result.stageTimes) {
-      if (st.name == "layers") st.seconds = std::max(0.0, st.seconds - sink.seconds());
-    }
     const Progress writeProgress = progress.sub(0.95, 1.0);
-    writeProgress.report(0.0, "write");
-    const std::vector<std::string>& layerFiles = sink.layerFiles();
-    LayerReportInputs reportInputs;
-    reportInputs.modelPath = args.model;
-    reportInputs.modelFileTriangles = model.triangleCount();
-    reportInputs.startSpec = args.start;
-    reportInputs.layerFormat = job.format;
-    reportInputs.layerFiles = layerFiles;
-    reportInputs.voxelSetsFile = kVoxelSetsFile;
-    result.peakMemoryBytes = peakResidentMemoryBytes();
-    const double writeSeconds =
-        sink.seconds() + std::chrono::duration<double>(Clock::now() - writeBegin).count();
-    result.stageTimes.push_back(StageTime{"write", writeSeconds, result.peakMemoryBytes});
-    const std::string report =
-        formatLayerReport(makeLayerReport(reportInputs, job.options, result));
-    staging.stage(kReportFile,
-                  [&](const fs::path& path) { writeTextFileAtomically(path, report); });
+    stageReport(staging, sink, args, job, model.triangleCount(), result, writeProgress);
     writeProgress.report(1.0, "write");  // last chance to cancel: nothing is in place yet
     staging.commit(isLayerFileName);
     display.finishLine();
 
     if (!args.quiet) {
       printUnreachedWarning(result.field);
+      const std::vector<std::string>& layerFiles = sink.layerFiles();
       std::printf("curvedslicer: wrote %zu layers to %s (%s ... %s, %s, %s)\n", layerFiles.size(),
                   outputDir.string().c_str(), layerFiles.front().c_str(), layerFiles.back().c_str(),
                   kVoxelSetsFile, kReportFile);

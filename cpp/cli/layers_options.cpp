@@ -33,10 +33,10 @@ Exit codes: 0 success, 2 invalid input (including usage errors), 3 file I/O erro
 void addTessellationOption(CLI::App& command, LayersArguments& args) {
   command
       .add_option("--tessellation-tolerance", args.tessellationTolerance,
-                  "CAD models only: chord error of the tessellation, mm (> 0); default\n"
-                  "a quarter of the voxel size (with --thin-wall " +
+                  "CAD models only: chord error of the tessellation, mm (> 0);\n"
+                  "default a quarter of the voxel size (with --thin-wall " +
                       formatDefault(TessellationOptions{}.linearDeflection) +
-                      "); angular deflection " +
+                      ");\nangular deflection " +
                       formatDefault(TessellationOptions{}.angularDeflection) + " rad.")
       ->type_name("MM");
 }
@@ -79,21 +79,26 @@ void addLayersOptions(CLI::App& layers, LayersArguments& args) {
       ->type_name("MM");
   layers
       .add_option("--method", args.method,
-                  "Geodesic distance method: anyangle (any-angle propagation with\n"
-                  "line-of-sight tests) or paper (the paper's neighbourhood search,\n"
-                  "section 2.2); default " +
-                      formatDefault(toString(LayerJobOptions{}.geodesic.method)) + ".")
+                  "Geodesic distance method: " +
+                      describeChoices({{"anyangle", "any-angle\npropagation with line-of-sight tests"},
+                                       {"paper", "the paper's\nneighbourhood search, section 2.2"}},
+                                      toString(LayerJobOptions{}.geodesic.method)) +
+                      ".")
       ->type_name("NAME");
   layers
       .add_option("--grid", args.grid,
-                  "Voxel grid orientation: pca (principal axes of the model, paper\n"
-                  "section 2.1) or model (the model's x, y, z axes); default " +
-                      formatDefault(toString(LayerJobOptions{}.voxelize.alignment)) + ".")
+                  "Voxel grid orientation: " +
+                      describeChoices({{"pca", "principal axes of the\nmodel, paper section 2.1"},
+                                       {"model", "the model's x, y, z axes"}},
+                                      toString(LayerJobOptions{}.voxelize.alignment)) +
+                      ".")
       ->type_name("NAME");
   layers
       .add_option("--format", args.format,
-                  "Layer file format: ply (binary little-endian PLY) or obj; default " +
-                      formatDefault(toString(LayerJobArguments{}.format)) + ".")
+                  "Layer file format: " +
+                      describeChoices({{"ply", "binary little-endian\nPLY"}, {"obj", "Wavefront OBJ"}},
+                                      toString(LayerJobArguments{}.format)) +
+                      ".")
       ->type_name("NAME");
   layers
       .add_option("--memory-budget", args.memoryBudgetMb,

@@ -10,6 +10,8 @@
 #include <functional>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -24,6 +26,19 @@ inline std::string formatDefault(double value) {
   return buffer;
 }
 inline std::string formatDefault(std::string_view name) { return std::string(name); }
+
+/// "a (default; what a) or b (what b)": the choices of an enum option for a help text, the one
+/// named `defaultName` (toString of the struct's default) marked as the default.
+inline std::string describeChoices(
+    const std::vector<std::pair<std::string, std::string>>& choices, std::string_view defaultName) {
+  std::string text;
+  for (std::size_t k = 0; k < choices.size(); ++k) {
+    if (k > 0) text += k + 1 == choices.size() ? " or " : ", ";
+    const auto& [name, what] = choices[k];
+    text += name + (name == defaultName ? " (default; " : " (") + what + ")";
+  }
+  return text;
+}
 
 template <typename Options>
 class OptionBindings {

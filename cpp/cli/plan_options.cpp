@@ -50,8 +50,8 @@ void addPlannerOptions(CLI::App& plan, OptionBindings<PlannerOptions>& b) {
               "Spline fit tolerance, mm");
   b.addAngle(plan, "--corner-angle", &PlannerOptions::cornerAngle, "corner angle",
              "Where a path turns by more than this within 0.2 mm, the spline fit\n"
-             "keeps the raw vertex as an exact corner, degrees in (0, 180]\n"
-             "(180 keeps no corners, every path one smooth spline)");
+             "keeps the raw vertex as an exact corner, degrees in (0, 180];\n"
+             "180 keeps no corners, every path one smooth spline");
   b.add(plan, "--surface-method",
         "Surface geodesic distance: accurate (the curve inserted into the\n"
         "layer mesh, fast marching) or paper (eq. 15); default " +
@@ -85,8 +85,9 @@ void addPlanOptions(CLI::App& plan, PlanArguments& args) {
       ->type_name("FILE");
   plan.add_option("--start", l.start,
                   "Start surface, as for `layers` (default " + l.start +
-                      "); faces:IDS are 0-based\n"
-                      "triangle positions for STL/OBJ, FreeCAD face numbers (1-based) for CAD.")
+                      "); faces:IDS are\n"
+                      "0-based triangle positions for STL/OBJ, FreeCAD face numbers\n"
+                      "(1-based) for CAD.")
       ->type_name("SPEC");
   plan.add_option("--layer-thickness", l.layerThickness,
                   "Layer thickness h in mm (> 0); required unless --thin-wall.")
