@@ -255,6 +255,18 @@ std::string InitialCurve::describe() const {
   return "boundary";
 }
 
+std::string_view toString(WallEdgeKind kind) {
+  return kind == WallEdgeKind::NearestToPoint ? "nearest" : "lowest";
+}
+
+WallEdgeKind parseWallEdgeKind(std::string_view name) {
+  if (name == "lowest") return WallEdgeKind::LowestAlongAxis;
+  if (name == "nearest") return WallEdgeKind::NearestToPoint;
+  throw InvalidInput("unknown thin-wall edge kind: '" + std::string(name) +
+                     "'; choose lowest (the boundary loop lowest along an axis) or nearest (the "
+                     "loop nearest to a point)");
+}
+
 std::string narrowStripModeName(NarrowStripMode mode) {
   return mode == NarrowStripMode::Overlap ? "overlap" : "centre_bead";
 }

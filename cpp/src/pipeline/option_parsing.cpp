@@ -255,9 +255,10 @@ void parseThinWallEdge(std::string_view text, ThinWallOptions& options) {
 }
 
 std::string formatThinWallEdge(const ThinWallOptions& options) {
-  if (options.edge == WallEdgeKind::NearestToPoint) return "nearest:" + formatNumbers(options.point);
-  if (options.axis == Vec3::UnitZ()) return "lowest";
-  return "lowest:" + formatNumbers(options.axis);
+  const std::string kind(toString(options.edge));
+  if (options.edge == WallEdgeKind::NearestToPoint) return kind + ":" + formatNumbers(options.point);
+  if (options.axis == Vec3::UnitZ()) return kind;
+  return kind + ":" + formatNumbers(options.axis);
 }
 
 LayerFileFormat parseLayerFileFormat(std::string_view name) {

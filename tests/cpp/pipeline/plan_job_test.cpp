@@ -143,6 +143,10 @@ TEST(OptionVocabulary, EnumNamesRoundTrip) {
     EXPECT_EQ(parseLayerFileFormat(toString(f)), f);
   }
   for (auto g : {GcodeMode::Tcp, GcodeMode::Machine}) EXPECT_EQ(parseGcodeMode(toString(g)), g);
+  for (auto k : {WallEdgeKind::LowestAlongAxis, WallEdgeKind::NearestToPoint}) {
+    EXPECT_EQ(parseWallEdgeKind(toString(k)), k);
+  }
+  EXPECT_THROW(parseWallEdgeKind("highest"), InvalidInput);
   for (auto f : {ExportFormat::Jbi, ExportFormat::Krl, ExportFormat::Rapid, ExportFormat::Ls,
                  ExportFormat::Gcode, ExportFormat::Csv, ExportFormat::Json}) {
     EXPECT_EQ(parseExportFormat(toString(f)), f);

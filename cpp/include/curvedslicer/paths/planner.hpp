@@ -35,6 +35,7 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "curvedslicer/core/progress.hpp"
@@ -98,6 +99,12 @@ enum class WallEdgeKind {
   LowestAlongAxis,  ///< the loop whose lowest point along `axis` is lowest (e.g. on the plate)
   NearestToPoint,   ///< the loop nearest to `point`
 };
+
+/// "lowest" | "nearest" (the names in the thin-wall edge spec, pipeline/option_parsing.hpp, and
+/// the Python module's `edge` argument).
+std::string_view toString(WallEdgeKind kind);
+/// @throws InvalidInput for another name, listing the choices.
+WallEdgeKind parseWallEdgeKind(std::string_view name);
 
 struct ThinWallOptions {
   double beadSpacing = 1.65;   ///< mm, distance between beads along the surface (bead height)
