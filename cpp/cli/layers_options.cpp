@@ -43,6 +43,33 @@ void addTessellationOption(CLI::App& command, LayersArguments& args) {
 
 namespace {
 
+/// --method, --grid, --format: the enum choices, the default read from the options structs.
+void addLayersMethodOptions(CLI::App& layers, LayersArguments& args) {
+  layers
+      .add_option("--method", args.method,
+                  "Geodesic distance method: " +
+                      describeChoices({{"anyangle", "any-angle\npropagation with line-of-sight tests"},
+                                       {"paper", "the paper's\nneighbourhood search, section 2.2"}},
+                                      toString(LayerJobOptions{}.geodesic.method)) +
+                      ".")
+      ->type_name("NAME");
+  layers
+      .add_option("--grid", args.grid,
+                  "Voxel grid orientation: " +
+                      describeChoices({{"pca", "principal axes of the\nmodel, paper section 2.1"},
+                                       {"model", "the model's x, y, z axes"}},
+                                      toString(LayerJobOptions{}.voxelize.alignment)) +
+                      ".")
+      ->type_name("NAME");
+  layers
+      .add_option("--format", args.format,
+                  "Layer file format: " +
+                      describeChoices({{"ply", "binary little-endian\nPLY"}, {"obj", "Wavefront OBJ"}},
+                                      toString(LayerJobArguments{}.format)) +
+                      ".")
+      ->type_name("NAME");
+}
+
 void addLayersOptions(CLI::App& layers, LayersArguments& args) {
   layers
       .add_option("MODEL", args.model,
@@ -77,29 +104,7 @@ void addLayersOptions(CLI::App& layers, LayersArguments& args) {
                   "accurate; time and memory grow as 1/L^3.")
       ->required()
       ->type_name("MM");
-  layers
-      .add_option("--method", args.method,
-                  "Geodesic distance method: " +
-                      describeChoices({{"anyangle", "any-angle\npropagation with line-of-sight tests"},
-                                       {"paper", "the paper's\nneighbourhood search, section 2.2"}},
-                                      toString(LayerJobOptions{}.geodesic.method)) +
-                      ".")
-      ->type_name("NAME");
-  layers
-      .add_option("--grid", args.grid,
-                  "Voxel grid orientation: " +
-                      describeChoices({{"pca", "principal axes of the\nmodel, paper section 2.1"},
-                                       {"model", "the model's x, y, z axes"}},
-                                      toString(LayerJobOptions{}.voxelize.alignment)) +
-                      ".")
-      ->type_name("NAME");
-  layers
-      .add_option("--format", args.format,
-                  "Layer file format: " +
-                      describeChoices({{"ply", "binary little-endian\nPLY"}, {"obj", "Wavefront OBJ"}},
-                                      toString(LayerJobArguments{}.format)) +
-                      ".")
-      ->type_name("NAME");
+  addLayersMethodOptions(layers, args);
   layers
       .add_option("--memory-budget", args.memoryBudgetMb,
                   "Memory the job may use, in MB (2^20 bytes); a voxel grid that\n"
