@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "command_errors.hpp"
-#include "model_input.hpp"
 #include "curvedslicer/core/atomic_file.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/core/progress.hpp"
@@ -22,6 +21,7 @@
 #include "curvedslicer/pipeline/layer_pipeline.hpp"
 #include "curvedslicer/pipeline/option_parsing.hpp"
 #include "curvedslicer/pipeline/report_json.hpp"
+#include "model_input.hpp"
 #include "terminal_progress.hpp"
 
 namespace curvedslicer::cli {
@@ -188,8 +188,8 @@ int runLayersCommand(const LayersArguments& args) {
     // ---- read ----------------------------------------------------------------------------------
     progress.report(0.0, "read");
     const auto readBegin = Clock::now();
-    const TriMesh model = readModel(fs::path(args.model), job.tessellationTolerance,
-                                    job.options.voxelize.voxelSize);
+    const TriMesh model =
+        readModel(fs::path(args.model), job.tessellationTolerance, job.options.voxelize.voxelSize);
     job.options.start = loadStartSurface(job.start);
     const double readSeconds = std::chrono::duration<double>(Clock::now() - readBegin).count();
     const std::size_t readPeak = peakResidentMemoryBytes();

@@ -4,8 +4,8 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
-#include "layers_command.hpp"
 #include "curvedslicer/occ/shape_tessellation.hpp"
+#include "layers_command.hpp"
 #include "option_binding.hpp"
 
 namespace curvedslicer::cli {
@@ -46,12 +46,13 @@ namespace {
 /// --method, --grid, --format: the enum choices, the default read from the options structs.
 void addLayersMethodOptions(CLI::App& layers, LayersArguments& args) {
   layers
-      .add_option("--method", args.method,
-                  "Geodesic distance method: " +
-                      describeChoices({{"anyangle", "any-angle\npropagation with line-of-sight tests"},
-                                       {"paper", "the paper's\nneighbourhood search, section 2.2"}},
-                                      toString(LayerJobOptions{}.geodesic.method)) +
-                      ".")
+      .add_option(
+          "--method", args.method,
+          "Geodesic distance method: " +
+              describeChoices({{"anyangle", "any-angle\npropagation with line-of-sight tests"},
+                               {"paper", "the paper's\nneighbourhood search, section 2.2"}},
+                              toString(LayerJobOptions{}.geodesic.method)) +
+              ".")
       ->type_name("NAME");
   layers
       .add_option("--grid", args.grid,
@@ -62,11 +63,12 @@ void addLayersMethodOptions(CLI::App& layers, LayersArguments& args) {
                       ".")
       ->type_name("NAME");
   layers
-      .add_option("--format", args.format,
-                  "Layer file format: " +
-                      describeChoices({{"ply", "binary little-endian\nPLY"}, {"obj", "Wavefront OBJ"}},
-                                      toString(LayerJobArguments{}.format)) +
-                      ".")
+      .add_option(
+          "--format", args.format,
+          "Layer file format: " +
+              describeChoices({{"ply", "binary little-endian\nPLY"}, {"obj", "Wavefront OBJ"}},
+                              toString(LayerJobArguments{}.format)) +
+              ".")
       ->type_name("NAME");
 }
 

@@ -25,12 +25,14 @@ inline std::string formatDefault(double value) {
   std::snprintf(buffer, sizeof(buffer), "%g", value);
   return buffer;
 }
-inline std::string formatDefault(std::string_view name) { return std::string(name); }
+inline std::string formatDefault(std::string_view name) {
+  return std::string(name);
+}
 
 /// "a (default; what a) or b (what b)": the choices of an enum option for a help text, the one
 /// named `defaultName` (toString of the struct's default) marked as the default.
-inline std::string describeChoices(
-    const std::vector<std::pair<std::string, std::string>>& choices, std::string_view defaultName) {
+inline std::string describeChoices(const std::vector<std::pair<std::string, std::string>>& choices,
+                                   std::string_view defaultName) {
   std::string text;
   for (std::size_t k = 0; k < choices.size(); ++k) {
     if (k > 0) text += k + 1 == choices.size() ? " or " : ", ";
@@ -62,19 +64,17 @@ class OptionBindings {
   /// A length in mm (parseLength) stored in `field`; the help ends with the field's default.
   CLI::Option* addLength(CLI::App& app, const std::string& name, double Options::*field,
                          const std::string& what, const std::string& help) {
-    return add(app, name, help + " (default " + formatDefault(Options{}.*field) + ").", "MM",
-               [field, what](std::string_view text, Options& o) {
-                 o.*field = parseLength(text, what);
-               });
+    return add(
+        app, name, help + " (default " + formatDefault(Options{}.*field) + ").", "MM",
+        [field, what](std::string_view text, Options& o) { o.*field = parseLength(text, what); });
   }
 
   /// An angle in degrees (parseAngle) stored in `field`, as addLength.
   CLI::Option* addAngle(CLI::App& app, const std::string& name, double Options::*field,
                         const std::string& what, const std::string& help) {
-    return add(app, name, help + " (default " + formatDefault(Options{}.*field) + ").", "DEG",
-               [field, what](std::string_view text, Options& o) {
-                 o.*field = parseAngle(text, what);
-               });
+    return add(
+        app, name, help + " (default " + formatDefault(Options{}.*field) + ").", "DEG",
+        [field, what](std::string_view text, Options& o) { o.*field = parseAngle(text, what); });
   }
 
   /// Parses every option that was given into `options`, in the order they were added.

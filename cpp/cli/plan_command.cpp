@@ -112,7 +112,8 @@ int runPlanCommand(const PlanArguments& args) {
     progress.report(0.0, "read");
     const auto readBegin = std::chrono::steady_clock::now();
     const TriMesh model = readInputs(args, job);
-    PlanOutputInputs outputInputs{args.layers.model, model.triangleCount(), secondsSince(readBegin)};
+    PlanOutputInputs outputInputs{args.layers.model, model.triangleCount(),
+                                  secondsSince(readBegin)};
     PlanJobResult result = runPlanJob(model, job.options, progress.sub(0.0, 0.95));
     writePlanOutput(outputDir, outputInputs, job.options, result, progress.sub(0.95, 1.0));
     display.finishLine();

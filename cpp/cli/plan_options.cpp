@@ -56,8 +56,7 @@ void addPlannerOptions(CLI::App& plan, OptionBindings<PlannerOptions>& b) {
         "Surface geodesic distance: accurate (the curve inserted into the\n"
         "layer mesh, fast marching) or paper (eq. 15); default " +
             formatDefault(toString(PlannerOptions{}.geodesic.method)) + ".",
-        "NAME",
-        [](std::string_view text, PlannerOptions& o) {
+        "NAME", [](std::string_view text, PlannerOptions& o) {
           o.geodesic.method = parseSurfaceGeodesicMethod(text);
         });
   b.add(plan, "--narrow-strips",
@@ -67,9 +66,9 @@ void addPlannerOptions(CLI::App& plan, OptionBindings<PlannerOptions>& b) {
         "               joined to the ring piece it continues; every\n"
         "               change is reported per layer\n"
         "  overlap      keep the paths; their beads overlap there\n"
-        "Default " + narrowStripModeName(PlannerOptions{}.narrowStrips) + ".",
-        "MODE",
-        [](std::string_view text, PlannerOptions& o) {
+        "Default " +
+            narrowStripModeName(PlannerOptions{}.narrowStrips) + ".",
+        "MODE", [](std::string_view text, PlannerOptions& o) {
           o.narrowStrips = parseNarrowStripMode(std::string(text));
         });
 }
@@ -105,7 +104,8 @@ void addPlanOptions(CLI::App& plan, PlanArguments& args) {
                   "                       normal NX,NY,NZ (mm, model coordinates);\n"
                   "                       parallel paths on both sides\n"
                   "  mesh:FILE            the section with a surface mesh (STL/OBJ)\n"
-                  "Default " + args.initialCurve + ".")
+                  "Default " +
+                      args.initialCurve + ".")
       ->type_name("SPEC");
   plan.add_option("--thin-wall", args.thinWall,
                   "Thin-wall mode (the paper's turbine base): MODEL is the wall's\n"

@@ -256,7 +256,8 @@ void parseThinWallEdge(std::string_view text, ThinWallOptions& options) {
 
 std::string formatThinWallEdge(const ThinWallOptions& options) {
   const std::string kind(toString(options.edge));
-  if (options.edge == WallEdgeKind::NearestToPoint) return kind + ":" + formatNumbers(options.point);
+  if (options.edge == WallEdgeKind::NearestToPoint)
+    return kind + ":" + formatNumbers(options.point);
   if (options.axis == Vec3::UnitZ()) return kind;
   return kind + ":" + formatNumbers(options.axis);
 }

@@ -65,9 +65,9 @@ PlanResult planOnLayers(const std::vector<LayerSurface>& layers, const TriMesh& 
   PlanResult planned;
   if (options.thinWall) {
     if (!layers.empty()) {
-      throw InvalidInput("a thin wall is planned on its surface, not on layers: " +
-                         std::to_string(layers.size()) +
-                         " layers given; pass the wall as the surface and no layers");
+      throw InvalidInput(
+          "a thin wall is planned on its surface, not on layers: " + std::to_string(layers.size()) +
+          " layers given; pass the wall as the surface and no layers");
     }
     planned = planThinWall(startSurface, *options.thinWall, std::move(progress));
   } else {

@@ -19,12 +19,13 @@ namespace {
 using Json = nlohmann::ordered_json;
 
 Json depositionReport(const DepositionStats& d) {
-  return Json{{"points", d.points},
-              {"towards_surface", d.towardsSurface},
-              {"towards_beads", d.towardsBeads},
-              {"normal_fallbacks", d.normalFallbacks},
-              {"min_distance_mm", std::isfinite(d.minDistance) ? Json(d.minDistance) : Json(nullptr)},
-              {"max_distance_mm", d.maxDistance}};
+  return Json{
+      {"points", d.points},
+      {"towards_surface", d.towardsSurface},
+      {"towards_beads", d.towardsBeads},
+      {"normal_fallbacks", d.normalFallbacks},
+      {"min_distance_mm", std::isfinite(d.minDistance) ? Json(d.minDistance) : Json(nullptr)},
+      {"max_distance_mm", d.maxDistance}};
 }
 
 Json layerReport(const PlanLayer& layer) {
@@ -34,9 +35,8 @@ Json layerReport(const PlanLayer& layer) {
     length += p.length;
     points += p.points.size();
   }
-  return Json{{"index", layer.index},     {"height_mm", layer.height},
-              {"paths", layer.paths.size()}, {"points", points},
-              {"arc_length_mm", length},  {"warnings", layer.warnings}};
+  return Json{{"index", layer.index}, {"height_mm", layer.height}, {"paths", layer.paths.size()},
+              {"points", points},     {"arc_length_mm", length},   {"warnings", layer.warnings}};
 }
 
 Json plannerInputs(const PlanParameters& p) {
@@ -61,8 +61,7 @@ Json thinWallReport(const PlanOutputInputs& inputs, const ThinWallOptions& wall)
                           {"corner_angle_deg", wall.cornerAngle},
                           {"surface_method", std::string(toString(wall.geodesic.method))},
                           {"version", CURVEDSLICER_VERSION}};
-  report["stage_times"] =
-      Json::array({Json{{"stage", "read"}, {"seconds", inputs.readSeconds}}});
+  report["stage_times"] = Json::array({Json{{"stage", "read"}, {"seconds", inputs.readSeconds}}});
   return report;
 }
 

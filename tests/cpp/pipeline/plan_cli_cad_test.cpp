@@ -50,16 +50,18 @@ CliResult runCli(const std::vector<std::string>& args, const fs::path& dir) {
   return CliResult{WIFEXITED(status) ? WEXITSTATUS(status) : -1, readText(err)};
 }
 
-nlohmann::json readJson(const fs::path& path) { return nlohmann::json::parse(readText(path)); }
+nlohmann::json readJson(const fs::path& path) {
+  return nlohmann::json::parse(readText(path));
+}
 
 #ifdef CURVEDSLICER_CLI_HAS_OCC
 
 TEST(PlanCliCad, PlansABrepBox) {
   const fs::path dir = testing::freshTempDir();
-  const CliResult run = runCli({"plan", (kData / "cad_box.brep").string(), "--layer-thickness", "3",
-                          "--voxel", "1", "--bead-spacing", "3", "-o", (dir / "out").string(),
-                          "-q"},
-                         dir);
+  const CliResult run =
+      runCli({"plan", (kData / "cad_box.brep").string(), "--layer-thickness", "3", "--voxel", "1",
+              "--bead-spacing", "3", "-o", (dir / "out").string(), "-q"},
+             dir);
   ASSERT_EQ(run.exitCode, 0) << run.err;
   const Plan plan = readPlanJson(dir / "out/plan.json");
   EXPECT_EQ(plan.layers.size(), 3u);  // 3, 6, 9 mm above the plate (12 is the top face)
@@ -72,10 +74,10 @@ TEST(PlanCliCad, PlansABrepBox) {
 /// Lowest and highest z of the first layer of `layers` run from `start` on the box.
 std::pair<double, double> firstLayerZRange(const std::string& start) {
   const fs::path dir = testing::freshTempDir(start.substr(start.find(':') + 1));
-  const CliResult run = runCli({"layers", (kData / "cad_box.brep").string(), "--start", start,
-                          "--layer-thickness", "3", "--voxel", "1", "--format", "obj", "-o",
-                          (dir / "out").string(), "-q"},
-                         dir);
+  const CliResult run =
+      runCli({"layers", (kData / "cad_box.brep").string(), "--start", start, "--layer-thickness",
+              "3", "--voxel", "1", "--format", "obj", "-o", (dir / "out").string(), "-q"},
+             dir);
   EXPECT_EQ(run.exitCode, 0) << run.err;
   const TriMesh layer = readMesh(dir / "out/layer_0001.obj");
   double lo = 1e9, hi = -1e9;
@@ -98,10 +100,10 @@ TEST(PlanCliCad, StartFacesAreFreeCadFaceNumbers) {
   // There is no Face0 (numbers are 1-based) nor Face7.
   const fs::path dir = testing::freshTempDir("bad");
   for (const std::string ids : {"faces:0", "faces:7"}) {
-    const CliResult run = runCli({"layers", (kData / "cad_box.brep").string(), "--start", ids,
-                            "--layer-thickness", "3", "--voxel", "1", "-o",
-                            (dir / "out").string(), "-q"},
-                           dir);
+    const CliResult run =
+        runCli({"layers", (kData / "cad_box.brep").string(), "--start", ids, "--layer-thickness",
+                "3", "--voxel", "1", "-o", (dir / "out").string(), "-q"},
+               dir);
     EXPECT_EQ(run.exitCode, 2) << ids << ": " << run.err;
     EXPECT_FALSE(fs::exists(dir / "out"));
   }
@@ -110,9 +112,15 @@ TEST(PlanCliCad, StartFacesAreFreeCadFaceNumbers) {
 TEST(PlanCliCad, TessellationToleranceSetsTheChordError) {
   const auto triangles = [](const std::string& tolerance) {
     const fs::path dir = testing::freshTempDir(tolerance);
-    std::vector<std::string> args = {"layers", (kData / "cad_boss.step").string(),
-                                     "--layer-thickness", "4", "--voxel", "2", "-o",
-                                     (dir / "out").string(), "-q"};
+    std::vector<std::string> args = {"layers",
+                                     (kData / "cad_boss.step").string(),
+                                     "--layer-thickness",
+                                     "4",
+                                     "--voxel",
+                                     "2",
+                                     "-o",
+                                     (dir / "out").string(),
+                                     "-q"};
     if (!tolerance.empty()) args.insert(args.end(), {"--tessellation-tolerance", tolerance});
     const CliResult run = runCli(args, dir);
     EXPECT_EQ(run.exitCode, 0) << run.err;
@@ -130,10 +138,10 @@ TEST(PlanCliCad, TessellationToleranceSetsTheChordError) {
 
 TEST(PlanCliCad, CadInputNeedsTheOpenCascadeBuild) {
   const fs::path dir = testing::freshTempDir();
-  const CliResult run = runCli({"plan", (kData / "cad_box.brep").string(), "--layer-thickness", "3",
-                          "--voxel", "1", "--bead-spacing", "3", "-o", (dir / "out").string(),
-                          "-q"},
-                         dir);
+  const CliResult run =
+      runCli({"plan", (kData / "cad_box.brep").string(), "--layer-thickness", "3", "--voxel", "1",
+              "--bead-spacing", "3", "-o", (dir / "out").string(), "-q"},
+             dir);
   EXPECT_EQ(run.exitCode, 2) << run.err;
   EXPECT_NE(run.err.find("CAD input needs the OpenCASCADE build"), std::string::npos) << run.err;
   EXPECT_FALSE(fs::exists(dir / "out"));
@@ -144,10 +152,11 @@ TEST(PlanCliCad, CadInputNeedsTheOpenCascadeBuild) {
 TEST(PlanCliCad, BadTessellationToleranceExitsWithItsMessage) {
   const fs::path dir = testing::freshTempDir();
   for (const std::string bad : {"0", "-0.5", "nan", "fine"}) {
-    const CliResult run = runCli({"plan", (kData / "cad_box.brep").string(), "--layer-thickness", "3",
-                            "--voxel", "1", "--bead-spacing", "3", "--tessellation-tolerance", bad,
-                            "-o", (dir / "out").string(), "-q"},
-                           dir);
+    const CliResult run =
+        runCli({"plan", (kData / "cad_box.brep").string(), "--layer-thickness", "3", "--voxel", "1",
+                "--bead-spacing", "3", "--tessellation-tolerance", bad, "-o",
+                (dir / "out").string(), "-q"},
+               dir);
     EXPECT_EQ(run.exitCode, 2) << bad << ": " << run.err;
     EXPECT_NE(run.err.find("curvedslicer: error: tessellation tolerance"), std::string::npos)
         << run.err;

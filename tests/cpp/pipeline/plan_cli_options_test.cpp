@@ -52,8 +52,17 @@ std::string g(double value) {
 }
 
 std::vector<std::string> coarseBox(const fs::path& out) {
-  return {"plan", testing::modelPath("simple_box_closed_low_res.stl").string(), "--layer-thickness",
-          "20", "--voxel", "5", "--bead-spacing", "12", "-o", out.string(), "-q"};
+  return {"plan",
+          testing::modelPath("simple_box_closed_low_res.stl").string(),
+          "--layer-thickness",
+          "20",
+          "--voxel",
+          "5",
+          "--bead-spacing",
+          "12",
+          "-o",
+          out.string(),
+          "-q"};
 }
 
 TEST(PlanCliOptions, HelpShowsThePlannerDefaults) {
@@ -62,10 +71,11 @@ TEST(PlanCliOptions, HelpShowsThePlannerDefaults) {
   ASSERT_EQ(help.exitCode, 0) << help.err;
   const PlannerOptions defaults;
   for (const std::string& part : std::vector<std::string>{
-           "(default " + g(defaults.pointSpacing) + ")", "(default " + g(defaults.fitTolerance) + ")",
-        "(default " + g(defaults.cornerAngle) + ")",
-        "default " + std::string(toString(defaults.geodesic.method)),
-        "Default " + narrowStripModeName(defaults.narrowStrips), std::string("Default boundary"),
+           "(default " + g(defaults.pointSpacing) + ")",
+           "(default " + g(defaults.fitTolerance) + ")",
+           "(default " + g(defaults.cornerAngle) + ")",
+           "default " + std::string(toString(defaults.geodesic.method)),
+           "Default " + narrowStripModeName(defaults.narrowStrips), std::string("Default boundary"),
            std::string("--tessellation-tolerance")}) {
     EXPECT_NE(help.out.find(part), std::string::npos) << part << "\n" << help.out;
   }

@@ -188,9 +188,8 @@ TEST(OptionVocabulary, InitialCurveSpecs) {
   EXPECT_EQ(mesh.meshFile, std::filesystem::path("missing_surface.obj"));
   EXPECT_TRUE(mesh.curve.surface.empty());  // nothing read while parsing
   EXPECT_THROW(loadInitialCurve(mesh), InvalidInput);
-  const InitialCurve loaded =
-      loadInitialCurve(parseInitialCurveSpec("mesh:" + testing::modelPath("custom_base_surface.obj")
-                                                           .string()));
+  const InitialCurve loaded = loadInitialCurve(
+      parseInitialCurveSpec("mesh:" + testing::modelPath("custom_base_surface.obj").string()));
   EXPECT_GT(loaded.surface.triangleCount(), 0u);
   EXPECT_THROW(parseInitialCurveSpec("plane:1,2,3"), InvalidInput);
   EXPECT_THROW(parseInitialCurveSpec("spiral"), InvalidInput);
