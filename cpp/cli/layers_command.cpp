@@ -146,7 +146,7 @@ class StagingLayerSink final : public LayerSink {
 /// Completes the timings (the layer stage's time includes the sink's writing, reported as
 /// "write") and stages report.json.
 void stageReport(OutputStaging& staging, const StagingLayerSink& sink, const LayersArguments& args,
-                 const LayerJobArguments& job, std::size_t modelTriangles, LayerJobResult& result,
+                 const LayerJobArguments& job, const ModelInput& model, LayerJobResult& result,
                  const Progress& writeProgress) {
   using Clock = std::chrono::steady_clock;
   const auto writeBegin = Clock::now();
@@ -156,7 +156,8 @@ void stageReport(OutputStaging& staging, const StagingLayerSink& sink, const Lay
   writeProgress.report(0.0, "write");
   LayerReportInputs reportInputs;
   reportInputs.modelPath = args.model;
-  reportInputs.modelFileTriangles = modelTriangles;
+  reportInputs.modelFileTriangles = model.mesh.triangleCount();
+  reportInputs.tessellationTolerance = model.tessellationTolerance;
   reportInputs.startSpec = args.start;
   reportInputs.layerFormat = job.format;
   reportInputs.layerFiles = sink.layerFiles();
@@ -188,8 +189,9 @@ int runLayersCommand(const LayersArguments& args) {
     // ---- read ----------------------------------------------------------------------------------
     progress.report(0.0, "read");
     const auto readBegin = Clock::now();
-    const TriMesh model =
+    const ModelInput input =
         readModel(fs::path(args.model), job.tessellationTolerance, job.options.voxelize.voxelSize);
+    const TriMesh& model = input.mesh;
     job.options.start = loadStartSurface(job.start);
     const double readSeconds = std::chrono::duration<double>(Clock::now() - readBegin).count();
     const std::size_t readPeak = peakResidentMemoryBytes();
@@ -204,7 +206,7 @@ int runLayersCommand(const LayersArguments& args) {
     result.totalSeconds += readSeconds;
 
     const Progress writeProgress = progress.sub(0.95, 1.0);
-    stageReport(staging, sink, args, job, model.triangleCount(), result, writeProgress);
+    stageReport(staging, sink, args, job, input, result, writeProgress);
     writeProgress.report(1.0, "write");  // last chance to cancel: nothing is in place yet
     staging.commit(isLayerFileName);
     display.finishLine();

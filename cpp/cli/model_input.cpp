@@ -32,8 +32,8 @@ double parseTessellationTolerance(const std::string& text) {
   return tolerance;
 }
 
-TriMesh readModel(const std::filesystem::path& path, double tolerance, double voxelSize) {
-  if (!isCadFile(path)) return readMesh(path);
+ModelInput readModel(const std::filesystem::path& path, double tolerance, double voxelSize) {
+  if (!isCadFile(path)) return ModelInput{readMesh(path), 0.0};
 #ifdef CURVEDSLICER_CLI_HAS_OCC
   TessellationOptions options;
   if (tolerance > 0.0) {
@@ -41,7 +41,7 @@ TriMesh readModel(const std::filesystem::path& path, double tolerance, double vo
   } else if (voxelSize > 0.0) {
     options.linearDeflection = deflectionForVoxelSize(voxelSize);
   }
-  return tessellateCadFile(path, CadFormat::Auto, options);
+  return ModelInput{tessellateCadFile(path, CadFormat::Auto, options), options.linearDeflection};
 #else
   (void)tolerance;
   (void)voxelSize;

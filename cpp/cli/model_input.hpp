@@ -19,10 +19,16 @@ bool isCadFile(const std::filesystem::path& path);
 /// @throws InvalidInput for a value that is not a positive finite number.
 double parseTessellationTolerance(const std::string& text);
 
+/// A model as read.
+struct ModelInput {
+  TriMesh mesh;
+  double tessellationTolerance = 0.0;  ///< mm, the chord error used for a CAD file; 0: a mesh file
+};
+
 /// Reads `path`. A CAD file is tessellated with chord deflection `tolerance` (mm); 0 means
 /// deflectionForVoxelSize(voxelSize), or TessellationOptions{}'s when `voxelSize` <= 0 (thin
 /// wall); the angular deflection is TessellationOptions{}'s.
 /// @throws InvalidInput / IoError from reading; InvalidInput for a CAD file without OpenCASCADE.
-TriMesh readModel(const std::filesystem::path& path, double tolerance, double voxelSize);
+ModelInput readModel(const std::filesystem::path& path, double tolerance, double voxelSize);
 
 }  // namespace curvedslicer::cli

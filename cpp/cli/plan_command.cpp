@@ -68,9 +68,9 @@ PlanCommandJob parseArguments(const PlanArguments& args) {
 }
 
 /// Reads the model and the files the options name (start surface, initial-curve surface).
-TriMesh readInputs(const PlanArguments& args, PlanCommandJob& job) {
+ModelInput readInputs(const PlanArguments& args, PlanCommandJob& job) {
   const double voxel = job.options.thinWall ? 0.0 : job.options.layerJob.voxelize.voxelSize;
-  TriMesh model = readModel(fs::path(args.layers.model), job.tessellationTolerance, voxel);
+  ModelInput model = readModel(fs::path(args.layers.model), job.tessellationTolerance, voxel);
   if (!job.options.thinWall) {
     job.options.layerJob.start = loadStartSurface(job.start);
     job.options.planner.initialCurve = loadInitialCurve(job.initialCurve);
@@ -111,10 +111,10 @@ int runPlanCommand(const PlanArguments& args) {
     });
     progress.report(0.0, "read");
     const auto readBegin = std::chrono::steady_clock::now();
-    const TriMesh model = readInputs(args, job);
-    PlanOutputInputs outputInputs{args.layers.model, model.triangleCount(),
-                                  secondsSince(readBegin)};
-    PlanJobResult result = runPlanJob(model, job.options, progress.sub(0.0, 0.95));
+    const ModelInput model = readInputs(args, job);
+    const PlanOutputInputs outputInputs{args.layers.model, model.mesh.triangleCount(),
+                                        model.tessellationTolerance, secondsSince(readBegin)};
+    PlanJobResult result = runPlanJob(model.mesh, job.options, progress.sub(0.0, 0.95));
     writePlanOutput(outputDir, outputInputs, job.options, result, progress.sub(0.95, 1.0));
     display.finishLine();
     if (!args.layers.quiet) printSummary(result, outputDir);

@@ -130,6 +130,7 @@ Json makePlanJobReport(const PlanOutputInputs& inputs, const PlanJobOptions& opt
     LayerReportInputs layerInputs;
     layerInputs.modelPath = inputs.modelPath;
     layerInputs.modelFileTriangles = inputs.modelFileTriangles;
+    layerInputs.tessellationTolerance = inputs.tessellationTolerance;
     layerInputs.startSpec = options.startSpec;
     layerInputs.layerFormat = options.layerFormat;
     layerInputs.layerFiles = result.layerFiles;

@@ -124,7 +124,10 @@ TEST(PlanCliCad, TessellationToleranceSetsTheChordError) {
     if (!tolerance.empty()) args.insert(args.end(), {"--tessellation-tolerance", tolerance});
     const CliResult run = runCli(args, dir);
     EXPECT_EQ(run.exitCode, 0) << run.err;
-    return readJson(dir / "out/report.json")["mesh"]["file_triangles"].get<int>();
+    const nlohmann::json report = readJson(dir / "out/report.json");
+    const double recorded = report["inputs"]["tessellation_tolerance_mm"].get<double>();
+    EXPECT_EQ(recorded, tolerance.empty() ? 0.5 : std::stod(tolerance));
+    return report["mesh"]["file_triangles"].get<int>();
   };
   const int coarse = triangles("1");
   const int fine = triangles("0.01");

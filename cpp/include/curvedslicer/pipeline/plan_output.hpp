@@ -27,6 +27,7 @@ inline constexpr const char* kPlanCsvFileName = "plan.csv";
 struct PlanOutputInputs {
   std::string modelPath;               ///< as given by the user
   std::size_t modelFileTriangles = 0;  ///< triangles read from the file (before cleaning)
+  double tessellationTolerance = 0.0;  ///< mm, CAD models only (0: a mesh file, not reported)
   double readSeconds = 0.0;            ///< wall time of reading the inputs, s (stage "read")
 };
 
