@@ -50,11 +50,11 @@ CliResult runCli(const std::vector<std::string>& args, const fs::path& dir) {
   return CliResult{WIFEXITED(status) ? WEXITSTATUS(status) : -1, readText(err)};
 }
 
+#ifdef CURVEDSLICER_CLI_HAS_OCC
+
 nlohmann::json readJson(const fs::path& path) {
   return nlohmann::json::parse(readText(path));
 }
-
-#ifdef CURVEDSLICER_CLI_HAS_OCC
 
 TEST(PlanCliCad, PlansABrepBox) {
   const fs::path dir = testing::freshTempDir();
