@@ -597,12 +597,10 @@ std::size_t shortenCrowdedEnds(std::vector<Polyline>& lines, std::vector<bool>& 
   return cut;
 }
 
-}  // namespace
-
-NarrowStripResult resolveNarrowStrips(const std::vector<std::vector<Polyline>>& levels,
-                                      const std::vector<double>& levelValues, double spacing,
-                                      const NarrowStripOptions& options,
-                                      const std::vector<std::vector<Polyline>>& innerEdges) {
+void checkNarrowStripInputs(const std::vector<std::vector<Polyline>>& levels,
+                            const std::vector<double>& levelValues, double spacing,
+                            const NarrowStripOptions& options,
+                            const std::vector<std::vector<Polyline>>& innerEdges) {
   if (!std::isfinite(spacing) || spacing <= 0.0) {
     throw InvalidInput("bead spacing must be a positive number of mm: " + formatMm(spacing) +
                        "; pass a value such as 3.7");
@@ -623,353 +621,501 @@ NarrowStripResult resolveNarrowStrips(const std::vector<std::vector<Polyline>>& 
         formatMm(options.minSeparation) + ", " + formatMm(options.innerEdgeOffset) + ", " +
         formatMm(options.margin) + "; pass e.g. 0.95, 0.1 and 0.1");
   }
-  const double s = spacing;
-  const double delta = options.minSeparation * s + options.margin;
-  const double exclusion =
-      options.arcExclusion < 0.0 ? 0.5 * std::numbers::pi * s : options.arcExclusion;
-  const double h = options.sampleSpacing > 0.0 ? options.sampleSpacing : s / 16.0;
-  const double minLength = options.minLength < 0.0 ? s : options.minLength;
-  const double capLimit = 1.5 * exclusion;
-  const double u = options.innerEdgeOffset;
+}
 
-  NarrowStripResult result;
-  std::vector<OutPath> out;
-  const auto addOut = [&](Polyline line, int level, bool centre, std::string what) {
+/// The lengths (mm) every phase of resolveNarrowStrips works with.
+struct StripLengths {
+  double s = 0.0;          // bead spacing
+  double delta = 0.0;      // δ: paths closer than this are narrow
+  double exclusion = 0.0;  // arc length along a line not compared with itself
+  double h = 0.0;          // sample spacing
+  double minLength = 0.0;  // shorter centre beads and pieces are dropped
+  double capLimit = 0.0;   // longest turn of a thin loop replaced by a centre bead's end
+  double u = 0.0;          // inner-edge offset
+};
+
+StripLengths deriveStripLengths(double spacing, const NarrowStripOptions& options) {
+  StripLengths len;
+  len.s = spacing;
+  len.delta = options.minSeparation * len.s + options.margin;
+  len.exclusion =
+      options.arcExclusion < 0.0 ? 0.5 * std::numbers::pi * len.s : options.arcExclusion;
+  len.h = options.sampleSpacing > 0.0 ? options.sampleSpacing : len.s / 16.0;
+  len.minLength = options.minLength < 0.0 ? len.s : options.minLength;
+  len.capLimit = 1.5 * len.exclusion;
+  len.u = options.innerEdgeOffset;
+  return len;
+}
+
+/// "GDTC x mm" of a level, for warnings.
+std::string levelName(const std::vector<double>& levelValues, std::size_t level) {
+  return "GDTC " + formatMm(levelValues[level]) + " mm";
+}
+
+/// Phases 1 and 2 of resolveNarrowStrips, level by level: thin rings and leftover strips become
+/// output paths (pieces and centre beads, whole).
+class StripCollector {
+ public:
+  StripCollector(const std::vector<double>& levelValues, const StripLengths& len,
+                 NarrowStripResult& result)
+      : levelValues_(levelValues), len_(len), result_(result) {}
+
+  void resolveThinRings(std::size_t level, const std::vector<Polyline>& lines);
+  void resolveLeftoverStrips(std::size_t level, const std::vector<Polyline>& innerEdges,
+                             const std::vector<Polyline>* nextLevel);
+  std::vector<OutPath>& paths() { return out_; }
+
+ private:
+  void addOut(Polyline line, int level, bool centre, std::string what) {
     OutPath o;
-    o.track = makeTrack(std::move(line), level, centre, h);
+    o.track = makeTrack(std::move(line), level, centre, len_.h);
     o.centre = centre;
     o.keep = {{0.0, o.track.length}};
     o.what = std::move(what);
-    out.push_back(std::move(o));
-  };
-  const auto where = [&](std::size_t level, const Polyline& line) {
-    return "GDTC " + formatMm(levelValues[level]) + " mm near " +
+    out_.push_back(std::move(o));
+  }
+  std::string where(std::size_t level, const Polyline& line) const {
+    return levelName(levelValues_, level) + " near " +
            formatPoint(line.points[line.points.size() / 2]);
-  };
+  }
+  void keepShortStretchesAsIs(std::size_t level, const std::vector<Track>& tracks, Narrowing& g,
+                              std::vector<bool>& capAfter, std::size_t& caps);
+  void addPiecesBetweenStrips(std::size_t level, const std::vector<Track>& tracks,
+                              const Narrowing& g, const std::vector<bool>& capAfter);
+  void addCentreBeads(std::size_t level, const std::vector<Track>& tracks, const Narrowing& g,
+                      const std::vector<bool>& capAfter);
+  std::vector<Track> collectFreeInnerEdges(std::size_t level,
+                                           const std::vector<Polyline>& innerEdges,
+                                           const std::vector<Polyline>* nextLevel) const;
+  void addLeftoverBeads(std::size_t level, const std::vector<Track>& edges);
 
-  for (std::size_t level = 0; level < levels.size(); ++level) {
-    const int lv = static_cast<int>(level);
-    // ---- thin rings: lines of the level closer than δ to themselves or each other ----
-    std::vector<Track> tracks;
-    for (const Polyline& line : levels[level]) {
-      if (line.points.size() >= 2) tracks.push_back(makeTrack(line, lv, false, h));
-    }
-    Narrowing g = findNarrowing(tracks, delta, exclusion, minLength);
-    result.closestBefore = std::min(result.closestBefore, g.closest);
-    std::size_t caps = 0;
-    std::vector<bool> capAfter = findCaps(tracks, g, capLimit, caps);
-    // Short narrow stretches (an acute corner of a ring, a brief pinch): the centre bead would
-    // lose about δ at every end that meets a kept piece (clearance, step 5) and be dropped for
-    // its length, leaving a hole where the ring was. There the ring is kept as it is.
-    std::vector<std::vector<char>> keepAsIs(tracks.size());
-    for (std::size_t t = 0; t < tracks.size(); ++t) keepAsIs[t].assign(tracks[t].samples.size(), 0);
-    std::size_t shortStretches = 0;
-    double shortest = kInf;
-    for (std::size_t r = 0; r < g.runs.size(); ++r) {
-      const Run& run = g.runs[r];
-      if (run.whole || !drawsBead(g, static_cast<int>(r))) continue;
-      double dMin = 0.0, dMax = 0.0;
-      const Polyline centre = drawMidline(tracks, g, static_cast<int>(r), capAfter, dMin, dMax);
-      int openEnds = 2;
-      if (capAfter[r]) --openEnds;
-      if (run.partner >= 0 && capAfter[run.partner] && g.runs[run.partner].track == run.track &&
-          g.previousRun(static_cast<int>(r)) == run.partner) {
-        --openEnds;
-      }
-      if (centre.length() - openEnds * delta >= minLength) continue;
-      ++shortStretches;
-      shortest = std::min(shortest, dMin);
-      for (const int k : {static_cast<int>(r), run.partner}) {
-        if (k < 0) continue;
-        const Run& q = g.runs[k];
-        const std::size_t n = tracks[q.track].samples.size();
-        for (std::size_t i = 0; i < q.count; ++i) keepAsIs[q.track][(q.first + i) % n] = 1;
-      }
-    }
-    if (shortStretches > 0) {
-      g = findNarrowing(tracks, delta, exclusion, minLength, &keepAsIs);
-      caps = 0;
-      capAfter = findCaps(tracks, g, capLimit, caps);
-      result.keptShortStretches += shortStretches;
-      result.warnings.push_back("GDTC " + formatMm(levelValues[level]) +
-                                " mm: " + std::to_string(shortStretches) +
-                                " short stretch(es) where paths come " + formatMm(shortest) +
-                                " mm close (under " + formatMm(delta) +
-                                " mm; e.g. an acute corner) kept as they are: a centre bead there "
-                                "would be shorter than " +
-                                formatMm(minLength) + " mm; the beads overlap locally");
-    }
-    result.droppedCaps += caps;
-    std::vector<Polyline> pieces;
-    for (std::size_t t = 0; t < tracks.size(); ++t) collectPieces(tracks, g, t, capAfter, pieces);
-    std::size_t shortPieces = 0;
-    for (Polyline& piece : pieces) {
-      // Dropped now, not after the centre beads have kept clear of them.
-      if (piece.length() < minLength) {
-        ++shortPieces;
-        continue;
-      }
-      addOut(std::move(piece), lv, false, "");
-    }
-    if (shortPieces > 0) {
-      result.warnings.push_back("GDTC " + formatMm(levelValues[level]) +
-                                " mm: " + std::to_string(shortPieces) +
-                                " piece(s) of paths between narrow stretches shorter than " +
-                                formatMm(minLength) + " mm not deposited");
-    }
-    for (std::size_t r = 0; r < g.runs.size(); ++r) {
-      if (!drawsBead(g, static_cast<int>(r))) continue;
-      double dMin = 0.0, dMax = 0.0;
-      Polyline centre = drawMidline(tracks, g, static_cast<int>(r), capAfter, dMin, dMax);
-      if (centre.points.size() < 2) continue;
-      const std::string what = where(level, centre) + ": paths " + formatMm(dMin) + "–" +
-                               formatMm(dMax) + " mm apart (under " + formatMm(delta) +
-                               " mm = 0.95·s + margin)";
-      if (centre.length() < minLength) {
-        ++result.droppedCentreBeads;
-        result.warnings.push_back(what + " replaced by nothing: a centre bead would be " +
-                                  formatMm(centre.length()) + " mm long, under " +
-                                  formatMm(minLength) + " mm; under-filled there");
-        continue;
-      }
-      result.widestUnderfill = std::max(result.widestUnderfill, 0.5 * dMax);
-      result.warnings.push_back(what + " replaced by one centre bead of " +
-                                formatMm(centre.length()) +
-                                " mm; the strip beside it is under-filled by up to " +
-                                formatMm(0.5 * dMax) + " mm on each side");
-      addOut(std::move(centre), lv, true, what);
-    }
+  const std::vector<double>& levelValues_;
+  const StripLengths& len_;
+  NarrowStripResult& result_;
+  std::vector<OutPath> out_;
+};
 
-    // ---- leftover strips: beyond the inner edge of the beads at this level ----
-    if (innerEdges.empty() || innerEdges[level].empty()) continue;
-    // Where the next level has a ring, the inner edge runs s/2 − u outside it: not a leftover.
-    std::vector<Track> next;
-    if (level + 1 < levels.size()) {
-      for (const Polyline& line : levels[level + 1]) {
-        if (line.points.size() >= 2) next.push_back(makeTrack(line, lv + 1, false, h));
-      }
+// ---- thin rings: lines of the level closer than δ to themselves or each other ----
+
+void StripCollector::resolveThinRings(std::size_t level, const std::vector<Polyline>& lines) {
+  const int lv = static_cast<int>(level);
+  std::vector<Track> tracks;
+  for (const Polyline& line : lines) {
+    if (line.points.size() >= 2) tracks.push_back(makeTrack(line, lv, false, len_.h));
+  }
+  Narrowing g = findNarrowing(tracks, len_.delta, len_.exclusion, len_.minLength);
+  result_.closestBefore = std::min(result_.closestBefore, g.closest);
+  std::size_t caps = 0;
+  std::vector<bool> capAfter = findCaps(tracks, g, len_.capLimit, caps);
+  keepShortStretchesAsIs(level, tracks, g, capAfter, caps);
+  result_.droppedCaps += caps;
+  addPiecesBetweenStrips(level, tracks, g, capAfter);
+  addCentreBeads(level, tracks, g, capAfter);
+}
+
+/// Short narrow stretches (an acute corner of a ring, a brief pinch): the centre bead would
+/// lose about δ at every end that meets a kept piece (clearance, step 5) and be dropped for
+/// its length, leaving a hole where the ring was. There the ring is kept as it is: the
+/// narrowing `g` and its caps are found again without those stretches.
+void StripCollector::keepShortStretchesAsIs(std::size_t level, const std::vector<Track>& tracks,
+                                            Narrowing& g, std::vector<bool>& capAfter,
+                                            std::size_t& caps) {
+  std::vector<std::vector<char>> keepAsIs(tracks.size());
+  for (std::size_t t = 0; t < tracks.size(); ++t) keepAsIs[t].assign(tracks[t].samples.size(), 0);
+  std::size_t shortStretches = 0;
+  double shortest = kInf;
+  for (std::size_t r = 0; r < g.runs.size(); ++r) {
+    const Run& run = g.runs[r];
+    if (run.whole || !drawsBead(g, static_cast<int>(r))) continue;
+    double dMin = 0.0, dMax = 0.0;
+    const Polyline centre = drawMidline(tracks, g, static_cast<int>(r), capAfter, dMin, dMax);
+    int openEnds = 2;
+    if (capAfter[r]) --openEnds;
+    if (run.partner >= 0 && capAfter[run.partner] && g.runs[run.partner].track == run.track &&
+        g.previousRun(static_cast<int>(r)) == run.partner) {
+      --openEnds;
     }
-    const double reach = 0.5 * s - u + 0.25 * s;
-    SampleGrid nextGrid(reach);
-    for (std::size_t t = 0; t < next.size(); ++t) {
-      for (std::size_t k = 0; k < next[t].samples.size(); ++k) {
-        nextGrid.add(static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(k),
-                     next[t].samples[k]);
-      }
+    if (centre.length() - openEnds * len_.delta >= len_.minLength) continue;
+    ++shortStretches;
+    shortest = std::min(shortest, dMin);
+    for (const int k : {static_cast<int>(r), run.partner}) {
+      if (k < 0) continue;
+      const Run& q = g.runs[k];
+      const std::size_t n = tracks[q.track].samples.size();
+      for (std::size_t i = 0; i < q.count; ++i) keepAsIs[q.track][(q.first + i) % n] = 1;
     }
-    std::vector<Track> edges;
-    for (const Polyline& line : innerEdges[level]) {
-      if (line.points.size() < 2) continue;
-      const Track tr = makeTrack(line, lv, false, h);
-      const std::size_t n = tr.samples.size();
-      std::vector<bool> free(n, true);
-      for (std::size_t k = 0; k < n; ++k) {
-        nextGrid.visit(tr.samples[k], reach, [&](std::uint32_t ot, std::uint32_t ok) {
-          if ((next[ot].samples[ok] - tr.samples[k]).norm() < reach) free[k] = false;
-        });
-      }
-      if (std::all_of(free.begin(), free.end(), [](bool f) { return f; })) {
-        edges.push_back(tr);
-        continue;
-      }
-      // Free stretches as open lines.
-      std::size_t start = 0;
-      if (tr.line.closed) {
-        while (free[start]) ++start;  // a taken sample exists
-      }
-      for (std::size_t i = 0; i < n;) {
-        if (!free[(start + i) % n]) {
-          ++i;
-          continue;
-        }
-        const std::size_t a = start + i;
-        while (i < n && free[(start + i) % n]) ++i;
-        const std::size_t b = start + i - 1;
-        if (b > a) {
-          Polyline piece = cutLine(tr, tr.arcOf(a % n), tr.arcOf(b % n));
-          if (piece.points.size() >= 2) edges.push_back(makeTrack(std::move(piece), lv, false, h));
-        }
-      }
+  }
+  if (shortStretches == 0) return;
+  g = findNarrowing(tracks, len_.delta, len_.exclusion, len_.minLength, &keepAsIs);
+  caps = 0;
+  capAfter = findCaps(tracks, g, len_.capLimit, caps);
+  result_.keptShortStretches += shortStretches;
+  result_.warnings.push_back(levelName(levelValues_, level) + ": " +
+                             std::to_string(shortStretches) +
+                             " short stretch(es) where paths come " + formatMm(shortest) +
+                             " mm close (under " + formatMm(len_.delta) +
+                             " mm; e.g. an acute corner) kept as they are: a centre bead there "
+                             "would be shorter than " +
+                             formatMm(len_.minLength) + " mm; the beads overlap locally");
+}
+
+void StripCollector::addPiecesBetweenStrips(std::size_t level, const std::vector<Track>& tracks,
+                                            const Narrowing& g,
+                                            const std::vector<bool>& capAfter) {
+  std::vector<Polyline> pieces;
+  for (std::size_t t = 0; t < tracks.size(); ++t) collectPieces(tracks, g, t, capAfter, pieces);
+  std::size_t shortPieces = 0;
+  for (Polyline& piece : pieces) {
+    // Dropped now, not after the centre beads have kept clear of them.
+    if (piece.length() < len_.minLength) {
+      ++shortPieces;
+      continue;
     }
-    if (edges.empty()) continue;
-    // The two sides of a leftover strip are less than s − 2u apart; its width is that + 2u.
-    const Narrowing e = findNarrowing(edges, s, exclusion, minLength);
-    const std::vector<bool> edgeCaps = findCaps(edges, e, capLimit, result.droppedCaps);
-    std::size_t shortLeftovers = 0;
-    for (std::size_t r = 0; r < e.runs.size(); ++r) {
-      if (!drawsBead(e, static_cast<int>(r))) continue;
-      double dMin = 0.0, dMax = 0.0;
-      Polyline centre = drawMidline(edges, e, static_cast<int>(r), edgeCaps, dMin, dMax);
-      if (centre.points.size() < 2) continue;
-      if (centre.length() < minLength) {  // a spot, like an iso-line fragment: counted only
-        ++shortLeftovers;
-        continue;
-      }
-      const std::string what = where(level, centre) + ": a leftover strip " +
-                               formatMm(dMin + 2 * u) + "–" + formatMm(dMax + 2 * u) +
-                               " mm wide and about " + formatMm(centre.length()) + " mm long";
-      result.warnings.push_back(what +
-                                " lies beyond the inner edge of these beads; a centre bead "
-                                "fills it where it is at least " +
-                                formatMm(2 * delta - s) + " mm wide (" + formatMm(delta) +
-                                " mm from the beads beside it), the rest is left empty");
-      addOut(std::move(centre), lv, true, what);
+    addOut(std::move(piece), static_cast<int>(level), false, "");
+  }
+  if (shortPieces > 0) {
+    result_.warnings.push_back(levelName(levelValues_, level) + ": " +
+                               std::to_string(shortPieces) +
+                               " piece(s) of paths between narrow stretches shorter than " +
+                               formatMm(len_.minLength) + " mm not deposited");
+  }
+}
+
+void StripCollector::addCentreBeads(std::size_t level, const std::vector<Track>& tracks,
+                                    const Narrowing& g, const std::vector<bool>& capAfter) {
+  for (std::size_t r = 0; r < g.runs.size(); ++r) {
+    if (!drawsBead(g, static_cast<int>(r))) continue;
+    double dMin = 0.0, dMax = 0.0;
+    Polyline centre = drawMidline(tracks, g, static_cast<int>(r), capAfter, dMin, dMax);
+    if (centre.points.size() < 2) continue;
+    const std::string what = where(level, centre) + ": paths " + formatMm(dMin) + "–" +
+                             formatMm(dMax) + " mm apart (under " + formatMm(len_.delta) +
+                             " mm = 0.95·s + margin)";
+    if (centre.length() < len_.minLength) {
+      ++result_.droppedCentreBeads;
+      result_.warnings.push_back(what + " replaced by nothing: a centre bead would be " +
+                                 formatMm(centre.length()) + " mm long, under " +
+                                 formatMm(len_.minLength) + " mm; under-filled there");
+      continue;
     }
-    if (shortLeftovers > 0) {
-      result.warnings.push_back("GDTC " + formatMm(levelValues[level]) +
-                                " mm: " + std::to_string(shortLeftovers) +
-                                " leftover strip(s) shorter than " + formatMm(minLength) +
-                                " mm beyond the inner edge of these beads left empty");
+    result_.widestUnderfill = std::max(result_.widestUnderfill, 0.5 * dMax);
+    result_.warnings.push_back(what + " replaced by one centre bead of " +
+                               formatMm(centre.length()) +
+                               " mm; the strip beside it is under-filled by up to " +
+                               formatMm(0.5 * dMax) + " mm on each side");
+    addOut(std::move(centre), static_cast<int>(level), true, what);
+  }
+}
+
+// ---- leftover strips: beyond the inner edge of the beads at this level ----
+
+void StripCollector::resolveLeftoverStrips(std::size_t level,
+                                           const std::vector<Polyline>& innerEdges,
+                                           const std::vector<Polyline>* nextLevel) {
+  if (innerEdges.empty()) return;
+  const std::vector<Track> edges = collectFreeInnerEdges(level, innerEdges, nextLevel);
+  if (edges.empty()) return;
+  addLeftoverBeads(level, edges);
+}
+
+/// Appends the stretches of `tr` whose samples are `free` to `edges`, as open lines.
+void appendFreeStretches(const Track& tr, const std::vector<bool>& free, int lv, double h,
+                         std::vector<Track>& edges) {
+  const std::size_t n = tr.samples.size();
+  std::size_t start = 0;
+  if (tr.line.closed) {
+    while (free[start]) ++start;  // a taken sample exists
+  }
+  for (std::size_t i = 0; i < n;) {
+    if (!free[(start + i) % n]) {
+      ++i;
+      continue;
+    }
+    const std::size_t a = start + i;
+    while (i < n && free[(start + i) % n]) ++i;
+    const std::size_t b = start + i - 1;
+    if (b > a) {
+      Polyline piece = cutLine(tr, tr.arcOf(a % n), tr.arcOf(b % n));
+      if (piece.points.size() >= 2) edges.push_back(makeTrack(std::move(piece), lv, false, h));
+    }
+  }
+}
+
+/// The level's inner edges, without the stretches next to a ring of the next level: where the
+/// next level has a ring, the inner edge runs s/2 − u outside it: not a leftover.
+std::vector<Track> StripCollector::collectFreeInnerEdges(
+    std::size_t level, const std::vector<Polyline>& innerEdges,
+    const std::vector<Polyline>* nextLevel) const {
+  const int lv = static_cast<int>(level);
+  std::vector<Track> next;
+  if (nextLevel != nullptr) {
+    for (const Polyline& line : *nextLevel) {
+      if (line.points.size() >= 2) next.push_back(makeTrack(line, lv + 1, false, len_.h));
+    }
+  }
+  const double reach = 0.5 * len_.s - len_.u + 0.25 * len_.s;
+  SampleGrid nextGrid(reach);
+  for (std::size_t t = 0; t < next.size(); ++t) {
+    for (std::size_t k = 0; k < next[t].samples.size(); ++k) {
+      nextGrid.add(static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(k),
+                   next[t].samples[k]);
+    }
+  }
+  std::vector<Track> edges;
+  for (const Polyline& line : innerEdges) {
+    if (line.points.size() < 2) continue;
+    const Track tr = makeTrack(line, lv, false, len_.h);
+    const std::size_t n = tr.samples.size();
+    std::vector<bool> free(n, true);
+    for (std::size_t k = 0; k < n; ++k) {
+      nextGrid.visit(tr.samples[k], reach, [&](std::uint32_t ot, std::uint32_t ok) {
+        if ((next[ot].samples[ok] - tr.samples[k]).norm() < reach) free[k] = false;
+      });
+    }
+    if (std::all_of(free.begin(), free.end(), [](bool f) { return f; })) {
+      edges.push_back(tr);
+      continue;
+    }
+    appendFreeStretches(tr, free, lv, len_.h, edges);
+  }
+  return edges;
+}
+
+/// The two sides of a leftover strip are less than s − 2u apart; its width is that + 2u.
+void StripCollector::addLeftoverBeads(std::size_t level, const std::vector<Track>& edges) {
+  const double s = len_.s, u = len_.u, delta = len_.delta;
+  const Narrowing e = findNarrowing(edges, s, len_.exclusion, len_.minLength);
+  const std::vector<bool> edgeCaps = findCaps(edges, e, len_.capLimit, result_.droppedCaps);
+  std::size_t shortLeftovers = 0;
+  for (std::size_t r = 0; r < e.runs.size(); ++r) {
+    if (!drawsBead(e, static_cast<int>(r))) continue;
+    double dMin = 0.0, dMax = 0.0;
+    Polyline centre = drawMidline(edges, e, static_cast<int>(r), edgeCaps, dMin, dMax);
+    if (centre.points.size() < 2) continue;
+    if (centre.length() < len_.minLength) {  // a spot, like an iso-line fragment: counted only
+      ++shortLeftovers;
+      continue;
+    }
+    const std::string what = where(level, centre) + ": a leftover strip " +
+                             formatMm(dMin + 2 * u) + "–" + formatMm(dMax + 2 * u) +
+                             " mm wide and about " + formatMm(centre.length()) + " mm long";
+    result_.warnings.push_back(what +
+                               " lies beyond the inner edge of these beads; a centre bead "
+                               "fills it where it is at least " +
+                               formatMm(2 * delta - s) + " mm wide (" + formatMm(delta) +
+                               " mm from the beads beside it), the rest is left empty");
+    addOut(std::move(centre), static_cast<int>(level), true, what);
+  }
+  if (shortLeftovers > 0) {
+    result_.warnings.push_back(levelName(levelValues_, level) + ": " +
+                               std::to_string(shortLeftovers) +
+                               " leftover strip(s) shorter than " + formatMm(len_.minLength) +
+                               " mm beyond the inner edge of these beads left empty");
+  }
+}
+
+// ---- clearance: centre beads split (longest first), then piece ends shortened ----
+
+/// Phase 3 of resolveNarrowStrips: every output path keeps the arc ranges that are δ from the
+/// paths settled before it. A centre bead yields to the pieces and to the centre beads settled
+/// before it (longer ones), so two beads drawn on one ridge keep the longer one whole.
+class ClearancePass {
+ public:
+  ClearancePass(std::vector<OutPath>& out, std::size_t levelCount, const StripLengths& len,
+                NarrowStripResult& result)
+      : out_(out), len_(len), result_(result), grid_(len.delta), settled_(out.size(), false),
+        longestCut_(levelCount, 0.0), cutEnds_(levelCount, 0) {
+    for (std::size_t t = 0; t < out_.size(); ++t) {
+      for (std::size_t k = 0; k < out_[t].track.samples.size(); ++k) {
+        grid_.add(static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(k),
+                  out_[t].track.samples[k]);
+      }
     }
   }
 
-  // ---- clearance: centre beads split (longest first), then piece ends shortened ----
-  SampleGrid grid(delta);
-  for (std::size_t t = 0; t < out.size(); ++t) {
-    for (std::size_t k = 0; k < out[t].track.samples.size(); ++k) {
-      grid.add(static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(k),
-               out[t].track.samples[k]);
-    }
-  }
-  // A centre bead yields to the pieces and to the centre beads settled before it (longer ones),
-  // so two beads drawn on one ridge keep the longer one whole.
-  std::vector<bool> settled(out.size(), false);
-  const auto active = [&](std::size_t t, std::size_t k) {
-    const double arc = out[t].track.arcOf(k);
-    for (const auto& [a, b] : out[t].keep) {
+  void run(const std::vector<double>& levelValues);
+
+ private:
+  bool active(std::size_t t, std::size_t k) const {
+    const double arc = out_[t].track.arcOf(k);
+    for (const auto& [a, b] : out_[t].keep) {
       if (arc >= a - 1e-9 && arc <= b + 1e-9) return true;
     }
     return false;
-  };
-  const auto clear = [&](std::size_t t, std::size_t k) {
-    const Track& tr = out[t].track;
-    const Vec3& p = tr.samples[k];
-    bool ok = true;
-    grid.visit(p, delta, [&](std::uint32_t ot, std::uint32_t ok2) {
-      if (!ok) return;
-      const Track& o = out[ot].track;
-      const int dl = std::abs(o.level - tr.level);
-      if (dl > 1 || (dl == 1 && !out[t].centre)) return;
-      if (ot == t && tr.arcDistance(tr.arcOf(k), tr.arcOf(ok2)) <= exclusion) return;
-      if (ot != t && out[ot].centre && !settled[ot]) return;
-      if (!active(ot, ok2)) return;
-      if ((o.samples[ok2] - p).norm() < delta) ok = false;
-    });
-    return ok;
-  };
-  std::vector<std::size_t> order(out.size());
-  for (std::size_t t = 0; t < out.size(); ++t) order[t] = t;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    if (out[a].centre != out[b].centre) return out[a].centre;
-    return out[a].centre && out[a].track.length > out[b].track.length;
+  }
+  bool clear(std::size_t t, std::size_t k) const;
+  std::vector<std::pair<double, double>> clearStretches(std::size_t t) const;
+  std::vector<std::pair<double, double>> trimEnds(std::size_t t);
+  std::vector<std::pair<double, double>> keepLongEnough(
+      std::size_t t, const std::vector<std::pair<double, double>>& keep,
+      double& keptLength) const;
+  void warnAboutCentreBead(const OutPath& o, double keptLength);
+
+  std::vector<OutPath>& out_;
+  const StripLengths& len_;
+  NarrowStripResult& result_;
+  SampleGrid grid_;
+  std::vector<bool> settled_;
+  std::vector<double> longestCut_;
+  std::vector<std::size_t> cutEnds_;
+};
+
+bool ClearancePass::clear(std::size_t t, std::size_t k) const {
+  const Track& tr = out_[t].track;
+  const Vec3& p = tr.samples[k];
+  bool ok = true;
+  grid_.visit(p, len_.delta, [&](std::uint32_t ot, std::uint32_t ok2) {
+    if (!ok) return;
+    const Track& o = out_[ot].track;
+    const int dl = std::abs(o.level - tr.level);
+    if (dl > 1 || (dl == 1 && !out_[t].centre)) return;
+    if (ot == t && tr.arcDistance(tr.arcOf(k), tr.arcOf(ok2)) <= len_.exclusion) return;
+    if (ot != t && out_[ot].centre && !settled_[ot]) return;
+    if (!active(ot, ok2)) return;
+    if ((o.samples[ok2] - p).norm() < len_.delta) ok = false;
   });
-  std::vector<double> longestCut(levels.size(), 0.0);
-  std::vector<std::size_t> cutEnds(levels.size(), 0);
+  return ok;
+}
+
+void ClearancePass::run(const std::vector<double>& levelValues) {
+  std::vector<std::size_t> order(out_.size());
+  for (std::size_t t = 0; t < out_.size(); ++t) order[t] = t;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (out_[a].centre != out_[b].centre) return out_[a].centre;
+    return out_[a].centre && out_[a].track.length > out_[b].track.length;
+  });
   for (const std::size_t t : order) {
-    OutPath& o = out[t];
-    const Track& tr = o.track;
-    if (tr.line.closed && !o.centre) {
-      settled[t] = true;
+    OutPath& o = out_[t];
+    if (o.track.line.closed && !o.centre) {
+      settled_[t] = true;
       continue;
     }
-    const std::size_t n = tr.samples.size();
-    std::vector<std::pair<double, double>> keep;
-    if (o.centre) {
-      // Every clear stretch.
-      for (std::size_t k = 0; k < n;) {
-        if (!clear(t, k)) {
-          ++k;
-          continue;
-        }
-        const std::size_t a = k;
-        while (k < n && clear(t, k)) ++k;
-        // A closed centre ring clear all round stays closed; otherwise its stretches are open.
-        keep.emplace_back(tr.arcOf(a),
-                          a == 0 && k == n && tr.line.closed ? tr.length : tr.arcOf(k - 1));
-      }
-    } else {
-      std::size_t a = 0;
-      while (a < n && !clear(t, a)) ++a;
-      if (a < n) {
-        std::size_t b = n - 1;
-        while (b > a && !clear(t, b)) --b;
-        keep.emplace_back(tr.arcOf(a), tr.arcOf(b));
-        for (const double cut : {tr.arcOf(a), tr.length - tr.arcOf(b)}) {
-          if (cut > 0.0) {
-            ++cutEnds[tr.level];
-            longestCut[tr.level] = std::max(longestCut[tr.level], cut);
-          }
-        }
-      }
-    }
+    const std::vector<std::pair<double, double>> keep = o.centre ? clearStretches(t) : trimEnds(t);
     double keptLength = 0.0;
-    std::vector<std::pair<double, double>> longEnough;
-    const auto take = [&](double a, double b) {
-      if (b - a >= minLength) {
-        longEnough.emplace_back(a, b);
-        keptLength += b - a;
-      }
-    };
-    if (!o.centre || keep.size() <= 1) {
-      for (const auto& [a, b] : keep) take(a, b);
-    } else {
-      // The stretches of one bead become separate paths: each keeps δ from those kept before
-      // it (where the midline folds back, the arc exclusion no longer applies between them).
-      const auto nearKept = [&](std::size_t k) {
-        for (const auto& [a, b] : longEnough) {
-          for (std::size_t j = 0; j < n; ++j) {
-            const double arc = tr.arcOf(j);
-            if (arc >= a - 1e-9 && arc <= b + 1e-9 &&
-                (tr.samples[j] - tr.samples[k]).norm() < delta) {
-              return true;
-            }
-          }
-        }
-        return false;
-      };
-      for (const auto& [a, b] : keep) {
-        std::size_t k = static_cast<std::size_t>(std::llround(a / tr.step));
-        const std::size_t last =
-            std::min(n - 1, static_cast<std::size_t>(std::llround(b / tr.step)));
-        while (k <= last) {
-          if (nearKept(k)) {
-            ++k;
-            continue;
-          }
-          const std::size_t first = k;
-          while (k <= last && !nearKept(k)) ++k;
-          take(tr.arcOf(first), k > last && b >= tr.length ? b : tr.arcOf(k - 1));
-        }
-      }
-    }
-    o.keep = std::move(longEnough);
-    settled[t] = true;
-    if (o.centre && o.keep.empty()) {
-      ++result.droppedCentreBeads;
-      result.warnings.push_back(o.what + ": the centre bead (" + formatMm(tr.length) +
-                                " mm) has no stretch of at least " + formatMm(minLength) +
-                                " mm that is " + formatMm(delta) +
-                                " mm from the other paths; dropped, the strip is left empty");
-    } else if (o.centre && keptLength < tr.length - 1e-9) {
-      result.warnings.push_back(o.what + ": the centre bead keeps " + formatMm(keptLength) +
-                                " of " + formatMm(tr.length) + " mm in " +
-                                std::to_string(o.keep.size()) + " piece(s) (" + formatMm(delta) +
-                                " mm from the other paths)");
+    o.keep = keepLongEnough(t, keep, keptLength);
+    settled_[t] = true;
+    warnAboutCentreBead(o, keptLength);
+  }
+  for (std::size_t level = 0; level < cutEnds_.size(); ++level) {
+    result_.shortenedEnds += cutEnds_[level];
+    if (cutEnds_[level] > 0) {
+      result_.warnings.push_back(
+          levelName(levelValues, level) + ": " + std::to_string(cutEnds_[level]) +
+          " path end(s) shortened by up to " + formatMm(longestCut_[level]) + " mm to keep " +
+          formatMm(len_.delta) + " mm from the neighbouring paths; under-filled there");
     }
   }
-  for (std::size_t level = 0; level < levels.size(); ++level) {
-    result.shortenedEnds += cutEnds[level];
-    if (cutEnds[level] > 0) {
-      result.warnings.push_back(
-          "GDTC " + formatMm(levelValues[level]) + " mm: " + std::to_string(cutEnds[level]) +
-          " path end(s) shortened by up to " + formatMm(longestCut[level]) + " mm to keep " +
-          formatMm(delta) + " mm from the neighbouring paths; under-filled there");
-    }
-  }
+}
 
-  // ---- output ----
-  result.levels.assign(levels.size(), {});
-  result.centreBead.assign(levels.size(), {});
+/// A centre bead: every clear stretch.
+std::vector<std::pair<double, double>> ClearancePass::clearStretches(std::size_t t) const {
+  const Track& tr = out_[t].track;
+  const std::size_t n = tr.samples.size();
+  std::vector<std::pair<double, double>> keep;
+  for (std::size_t k = 0; k < n;) {
+    if (!clear(t, k)) {
+      ++k;
+      continue;
+    }
+    const std::size_t a = k;
+    while (k < n && clear(t, k)) ++k;
+    // A closed centre ring clear all round stays closed; otherwise its stretches are open.
+    keep.emplace_back(tr.arcOf(a),
+                      a == 0 && k == n && tr.line.closed ? tr.length : tr.arcOf(k - 1));
+  }
+  return keep;
+}
+
+/// An open piece: its ends shortened up to the first clear sample.
+std::vector<std::pair<double, double>> ClearancePass::trimEnds(std::size_t t) {
+  const Track& tr = out_[t].track;
+  const std::size_t n = tr.samples.size();
+  std::vector<std::pair<double, double>> keep;
+  std::size_t a = 0;
+  while (a < n && !clear(t, a)) ++a;
+  if (a < n) {
+    std::size_t b = n - 1;
+    while (b > a && !clear(t, b)) --b;
+    keep.emplace_back(tr.arcOf(a), tr.arcOf(b));
+    for (const double cut : {tr.arcOf(a), tr.length - tr.arcOf(b)}) {
+      if (cut > 0.0) {
+        ++cutEnds_[tr.level];
+        longestCut_[tr.level] = std::max(longestCut_[tr.level], cut);
+      }
+    }
+  }
+  return keep;
+}
+
+/// The stretches at least minLength long; those of one centre bead become separate paths, each
+/// δ from those kept before it (where the midline folds back, the arc exclusion no longer
+/// applies between them). `keptLength` returns their total length.
+std::vector<std::pair<double, double>> ClearancePass::keepLongEnough(
+    std::size_t t, const std::vector<std::pair<double, double>>& keep, double& keptLength) const {
+  const OutPath& o = out_[t];
+  const Track& tr = o.track;
+  const std::size_t n = tr.samples.size();
+  std::vector<std::pair<double, double>> longEnough;
+  const auto take = [&](double a, double b) {
+    if (b - a >= len_.minLength) {
+      longEnough.emplace_back(a, b);
+      keptLength += b - a;
+    }
+  };
+  if (!o.centre || keep.size() <= 1) {
+    for (const auto& [a, b] : keep) take(a, b);
+    return longEnough;
+  }
+  const auto nearKept = [&](std::size_t k) {
+    for (const auto& [a, b] : longEnough) {
+      for (std::size_t j = 0; j < n; ++j) {
+        const double arc = tr.arcOf(j);
+        if (arc >= a - 1e-9 && arc <= b + 1e-9 &&
+            (tr.samples[j] - tr.samples[k]).norm() < len_.delta) {
+          return true;
+        }
+      }
+    }
+    return false;
+  };
+  for (const auto& [a, b] : keep) {
+    std::size_t k = static_cast<std::size_t>(std::llround(a / tr.step));
+    const std::size_t last = std::min(n - 1, static_cast<std::size_t>(std::llround(b / tr.step)));
+    while (k <= last) {
+      if (nearKept(k)) {
+        ++k;
+        continue;
+      }
+      const std::size_t first = k;
+      while (k <= last && !nearKept(k)) ++k;
+      take(tr.arcOf(first), k > last && b >= tr.length ? b : tr.arcOf(k - 1));
+    }
+  }
+  return longEnough;
+}
+
+void ClearancePass::warnAboutCentreBead(const OutPath& o, double keptLength) {
+  const Track& tr = o.track;
+  if (o.centre && o.keep.empty()) {
+    ++result_.droppedCentreBeads;
+    result_.warnings.push_back(o.what + ": the centre bead (" + formatMm(tr.length) +
+                               " mm) has no stretch of at least " + formatMm(len_.minLength) +
+                               " mm that is " + formatMm(len_.delta) +
+                               " mm from the other paths; dropped, the strip is left empty");
+  } else if (o.centre && keptLength < tr.length - 1e-9) {
+    result_.warnings.push_back(o.what + ": the centre bead keeps " + formatMm(keptLength) +
+                               " of " + formatMm(tr.length) + " mm in " +
+                               std::to_string(o.keep.size()) + " piece(s) (" +
+                               formatMm(len_.delta) + " mm from the other paths)");
+  }
+}
+
+// ---- output ----
+
+void emitKeptPaths(const std::vector<OutPath>& out, std::size_t levelCount,
+                   NarrowStripResult& result) {
+  result.levels.assign(levelCount, {});
+  result.centreBead.assign(levelCount, {});
   for (const OutPath& o : out) {
     const Track& tr = o.track;
     for (const auto& [a, b] : o.keep) {
@@ -981,27 +1127,53 @@ NarrowStripResult resolveNarrowStrips(const std::vector<std::vector<Polyline>>& 
       result.centreBead[tr.level].push_back(o.centre);
     }
   }
-  // ---- linking: a centre bead continues the open path whose end is next to its own ----
-  const double linkDistance = options.linkDistance < 0.0 ? 1.25 * delta : options.linkDistance;
-  if (linkDistance > 0.0) {
-    for (std::size_t level = 0; level < levels.size(); ++level) {
-      const std::size_t links =
-          linkOpenEnds(result.levels[level], result.centreBead[level], linkDistance, 0.5 * s, h);
-      if (links == 0) continue;
-      result.links += links;
-      // A connector passes the other end of the piece it joined at about 0.87·δ.
-      double longest = 0.0;
-      const std::size_t cut = shortenCrowdedEnds(result.levels[level], result.centreBead[level],
-                                                 delta, exclusion, minLength, h, longest);
-      if (cut > 0) {
-        result.shortenedEnds += cut;
-        result.warnings.push_back("GDTC " + formatMm(levelValues[level]) + " mm: " +
-                                  std::to_string(cut) + " path end(s) beside a joined centre " +
-                                  "bead shortened by up to " + formatMm(longest) + " mm to keep " +
-                                  formatMm(delta) + " mm from it; under-filled there");
-      }
+}
+
+// ---- linking: a centre bead continues the open path whose end is next to its own ----
+
+void linkCentreBeads(const std::vector<double>& levelValues, const StripLengths& len,
+                     double linkDistance, NarrowStripResult& result) {
+  for (std::size_t level = 0; level < result.levels.size(); ++level) {
+    const std::size_t links = linkOpenEnds(result.levels[level], result.centreBead[level],
+                                           linkDistance, 0.5 * len.s, len.h);
+    if (links == 0) continue;
+    result.links += links;
+    // A connector passes the other end of the piece it joined at about 0.87·δ.
+    double longest = 0.0;
+    const std::size_t cut =
+        shortenCrowdedEnds(result.levels[level], result.centreBead[level], len.delta,
+                           len.exclusion, len.minLength, len.h, longest);
+    if (cut > 0) {
+      result.shortenedEnds += cut;
+      result.warnings.push_back(levelName(levelValues, level) + ": " + std::to_string(cut) +
+                                " path end(s) beside a joined centre " +
+                                "bead shortened by up to " + formatMm(longest) + " mm to keep " +
+                                formatMm(len.delta) + " mm from it; under-filled there");
     }
   }
+}
+
+}  // namespace
+
+NarrowStripResult resolveNarrowStrips(const std::vector<std::vector<Polyline>>& levels,
+                                      const std::vector<double>& levelValues, double spacing,
+                                      const NarrowStripOptions& options,
+                                      const std::vector<std::vector<Polyline>>& innerEdges) {
+  checkNarrowStripInputs(levels, levelValues, spacing, options, innerEdges);
+  const StripLengths len = deriveStripLengths(spacing, options);
+  NarrowStripResult result;
+  StripCollector collector(levelValues, len, result);
+  for (std::size_t level = 0; level < levels.size(); ++level) {
+    collector.resolveThinRings(level, levels[level]);
+    if (innerEdges.empty()) continue;
+    collector.resolveLeftoverStrips(level, innerEdges[level],
+                                    level + 1 < levels.size() ? &levels[level + 1] : nullptr);
+  }
+  std::vector<OutPath>& out = collector.paths();
+  ClearancePass(out, levels.size(), len, result).run(levelValues);
+  emitKeptPaths(out, levels.size(), result);
+  const double linkDistance = options.linkDistance < 0.0 ? 1.25 * len.delta : options.linkDistance;
+  if (linkDistance > 0.0) linkCentreBeads(levelValues, len, linkDistance, result);
   return result;
 }
 
