@@ -10,10 +10,18 @@
 #include <unordered_map>
 
 #include "curvedslicer/core/error.hpp"
+#include "narrow_strips_internal.hpp"
 
 namespace curvedslicer {
 
 namespace {
+
+using paths_detail::cutLine;
+using paths_detail::linkOpenEnds;
+using paths_detail::makeTrack;
+using paths_detail::pointAt;
+using paths_detail::shortenCrowdedEnds;
+using paths_detail::Track;
 
 std::string formatMm(double value) {
   char buffer[64];
@@ -25,85 +33,6 @@ std::string formatPoint(const Vec3& p) {
   char buffer[128];
   std::snprintf(buffer, sizeof(buffer), "(%.1f, %.1f, %.1f)", p.x(), p.y(), p.z());
   return buffer;
-}
-
-/// A line with its arc lengths and evenly spaced samples (sample k at arc k·step).
-struct Track {
-  Polyline line;
-  std::vector<double> cum;  // computeCumulativeLengths
-  double length = 0.0;
-  std::vector<Vec3> samples;
-  double step = 0.0;
-  int level = 0;
-  bool centre = false;
-
-  double arcOf(std::size_t k) const { return std::min(length, static_cast<double>(k) * step); }
-  double arcDistance(double a, double b) const {
-    const double d = std::abs(a - b);
-    return line.closed ? std::min(d, length - d) : d;
-  }
-};
-
-/// The point at arc length t along the line (t unwrapped: for closed lines 0 ≤ t < 2·length).
-Vec3 pointAt(const Track& t, double arc) {
-  const std::size_t n = t.line.points.size();
-  if (n == 1 || !(t.length > 0.0)) return t.line.points.front();
-  const std::size_t segments = t.line.segmentCount();
-  if (t.line.closed) {
-    arc = std::fmod(arc, t.length);
-    if (arc < 0.0) arc += t.length;
-  } else {
-    arc = std::clamp(arc, 0.0, t.length);
-  }
-  // cum has segments + 1 entries; find the segment holding arc.
-  const auto it = std::upper_bound(t.cum.begin(), t.cum.begin() + segments + 1, arc);
-  std::size_t i = it == t.cum.begin() ? 0 : static_cast<std::size_t>(it - t.cum.begin()) - 1;
-  i = std::min(i, segments - 1);
-  const double a = t.cum[i], b = t.cum[i + 1];
-  const double u = b > a ? std::clamp((arc - a) / (b - a), 0.0, 1.0) : 0.0;
-  return (1.0 - u) * t.line.segmentStart(i) + u * t.line.segmentEnd(i);
-}
-
-Track makeTrack(Polyline line, int level, bool centre, double spacing) {
-  Track t;
-  t.line = std::move(line);
-  t.level = level;
-  t.centre = centre;
-  t.cum = computeCumulativeLengths(t.line);
-  t.length = t.line.length();
-  const std::size_t n =
-      std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(t.length / spacing)));
-  t.step = t.length / static_cast<double>(n);
-  const std::size_t count = t.line.closed && t.length > 0.0 ? n : n + 1;
-  t.samples.reserve(count);
-  for (std::size_t k = 0; k < count; ++k) {
-    t.samples.push_back(pointAt(t, static_cast<double>(k) * t.step));
-  }
-  return t;
-}
-
-/// The stretch [a, b] of arc length (closed lines: b < a wraps past the start), as an open line.
-Polyline cutLine(const Track& t, double a, double b) {
-  Polyline out;
-  if (t.line.closed && b < a) b += t.length;
-  out.points.push_back(pointAt(t, a));
-  const std::size_t n = t.line.points.size();
-  const std::size_t rounds = t.line.closed ? 2 : 1;
-  for (std::size_t r = 0; r < rounds; ++r) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const double arc = t.cum[i] + static_cast<double>(r) * t.length;
-      if (arc > a && arc < b) out.points.push_back(t.line.points[i]);
-    }
-  }
-  out.points.push_back(pointAt(t, b));
-  // Drop repeats (a cut next to a raw point).
-  std::size_t w = 0;
-  for (std::size_t i = 0; i < out.points.size(); ++i) {
-    if (w > 0 && (out.points[i] - out.points[w - 1]).norm() <= 1e-7) continue;
-    out.points[w++] = out.points[i];
-  }
-  out.points.resize(w);
-  return out;
 }
 
 /// Uniform hash grid of track samples.
@@ -429,173 +358,6 @@ struct OutPath {
   std::vector<std::pair<double, double>> keep;
   std::string what;  // for warnings: "GDTC x mm near (…)"
 };
-
-/// Removes the lines with fewer than 2 points, and their `centre` flags, keeping the order.
-void dropShortLines(std::vector<Polyline>& lines, std::vector<bool>& centre) {
-  std::size_t w = 0;
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (lines[i].points.size() < 2) continue;
-    if (w != i) {
-      lines[w] = std::move(lines[i]);
-      centre[w] = centre[i];
-    }
-    ++w;
-  }
-  lines.resize(w);
-  centre.resize(w);
-}
-
-/// Smallest distance from the segment a–b, sampled every `step`, to the lines other than
-/// `skipA` and `skipB`.
-double connectorClearance(const std::vector<Polyline>& lines, std::size_t skipA, std::size_t skipB,
-                          const Vec3& a, const Vec3& b, double step) {
-  const double length = (b - a).norm();
-  const std::size_t n =
-      std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(length / step)));
-  double nearest = kInf;
-  for (std::size_t k = 0; k <= n; ++k) {
-    const Vec3 p = a + (static_cast<double>(k) / static_cast<double>(n)) * (b - a);
-    for (std::size_t i = 0; i < lines.size(); ++i) {
-      if (i == skipA || i == skipB) continue;
-      nearest = std::min(nearest, closestPointOnPolyline(lines[i], p).distance);
-    }
-  }
-  return nearest;
-}
-
-/// Joins open lines end to end by straight connectors: a pair of ends at most `reach` apart, one
-/// of them a centre bead's, is joined nearest first, when the connector keeps `clearance` from
-/// every other line of the level and the join does not close a chain on itself. Joined lines
-/// replace the first of the two; `centre` says whether a line holds a centre bead.
-/// Returns the number of connectors.
-std::size_t linkOpenEnds(std::vector<Polyline>& lines, std::vector<bool>& centre, double reach,
-                         double clearance, double step) {
-  struct End {
-    std::size_t line;
-    bool atEnd;  // the line's last point (else its first)
-  };
-  struct Pair {
-    double distance;
-    End a, b;
-  };
-  const auto endPoint = [&](const End& e) -> const Vec3& {
-    return e.atEnd ? lines[e.line].points.back() : lines[e.line].points.front();
-  };
-  std::vector<Pair> pairs;
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (lines[i].closed || lines[i].points.size() < 2) continue;
-    for (std::size_t j = i + 1; j < lines.size(); ++j) {
-      if (lines[j].closed || lines[j].points.size() < 2 || !(centre[i] || centre[j])) continue;
-      for (const bool ei : {false, true}) {
-        for (const bool ej : {false, true}) {
-          const End a{i, ei}, b{j, ej};
-          const double d = (endPoint(a) - endPoint(b)).norm();
-          if (d <= reach) pairs.push_back({d, a, b});
-        }
-      }
-    }
-  }
-  if (pairs.empty()) return 0;
-  std::sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) {
-    if (x.distance != y.distance) return x.distance < y.distance;
-    if (x.a.line != y.a.line) return x.a.line < y.a.line;
-    if (x.b.line != y.b.line) return x.b.line < y.b.line;
-    return x.a.atEnd < y.a.atEnd || (x.a.atEnd == y.a.atEnd && x.b.atEnd < y.b.atEnd);
-  });
-  // Chains: every original line belongs to one chain (its current owner line index); an end can
-  // take one connector.
-  std::vector<std::size_t> owner(lines.size());
-  for (std::size_t i = 0; i < lines.size(); ++i) owner[i] = i;
-  const auto root = [&](std::size_t i) {
-    while (owner[i] != i) i = owner[i];
-    return i;
-  };
-  std::vector<std::array<bool, 2>> used(lines.size(), {false, false});
-  // Where each original end now sits: its chain's line and whether at that line's end.
-  std::vector<std::array<End, 2>> at(lines.size());
-  for (std::size_t i = 0; i < lines.size(); ++i) at[i] = {End{i, false}, End{i, true}};
-  std::size_t links = 0;
-  for (const Pair& pair : pairs) {
-    if (used[pair.a.line][pair.a.atEnd] || used[pair.b.line][pair.b.atEnd]) continue;
-    const std::size_t ra = root(pair.a.line), rb = root(pair.b.line);
-    if (ra == rb) continue;
-    const End ea = at[pair.a.line][pair.a.atEnd], eb = at[pair.b.line][pair.b.atEnd];
-    if (connectorClearance(lines, ra, rb, endPoint(ea), endPoint(eb), step) < clearance) continue;
-    // New chain line = (ra oriented to end at ea) + (rb oriented to start at eb).
-    Polyline& la = lines[ra];
-    Polyline& lb = lines[rb];
-    const bool flipA = !ea.atEnd, flipB = eb.atEnd;
-    if (flipA) std::reverse(la.points.begin(), la.points.end());
-    if (flipB) std::reverse(lb.points.begin(), lb.points.end());
-    // Ends of the original lines that sat in ra or rb move.
-    for (std::size_t i = 0; i < lines.size(); ++i) {
-      for (End& e : at[i]) {
-        if (e.line == ra && flipA) e.atEnd = !e.atEnd;
-        if (e.line == rb && flipB) e.atEnd = !e.atEnd;
-      }
-    }
-    for (std::size_t i = 0; i < lines.size(); ++i) {
-      for (End& e : at[i]) {
-        if (e.line == rb) e = End{ra, e.atEnd};  // rb's end stays an end; its start is joined
-      }
-    }
-    la.points.insert(la.points.end(), lb.points.begin(), lb.points.end());
-    lb.points.clear();
-    centre[ra] = centre[ra] || centre[rb];
-    owner[rb] = ra;
-    used[pair.a.line][pair.a.atEnd] = true;
-    used[pair.b.line][pair.b.atEnd] = true;
-    ++links;
-  }
-  dropShortLines(lines, centre);
-  return links;
-}
-
-/// Shortens the open lines' ends that come closer than `delta` to another line of the level, or
-/// to their own line further than `exclusion` along it (a connector passing the other end of the
-/// ring piece it joined). Lines left shorter than `minLength` are removed. Returns the number of
-/// ends shortened and the longest cut (mm).
-std::size_t shortenCrowdedEnds(std::vector<Polyline>& lines, std::vector<bool>& centre,
-                               double delta, double exclusion, double minLength, double step,
-                               double& longestCut) {
-  std::size_t cut = 0;
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (lines[i].closed || lines[i].points.size() < 2) continue;
-    const Track tr = makeTrack(lines[i], 0, false, step);
-    const std::size_t n = tr.samples.size();
-    const auto clear = [&](std::size_t k) {
-      const Vec3& p = tr.samples[k];
-      for (std::size_t j = 0; j < lines.size(); ++j) {
-        if (j == i || lines[j].points.size() < 2) continue;
-        if (closestPointOnPolyline(lines[j], p).distance < delta) return false;
-      }
-      for (std::size_t m = 0; m < n; ++m) {
-        if (tr.arcDistance(tr.arcOf(k), tr.arcOf(m)) > exclusion &&
-            (tr.samples[m] - p).norm() < delta) {
-          return false;
-        }
-      }
-      return true;
-    };
-    std::size_t a = 0;
-    while (a < n && !clear(a)) ++a;
-    if (a == n) {
-      lines[i].points.clear();
-      ++cut;
-      longestCut = std::max(longestCut, tr.length);
-      continue;
-    }
-    std::size_t b = n - 1;
-    while (b > a && !clear(b)) --b;
-    if (a == 0 && b == n - 1) continue;
-    const double from = tr.arcOf(a), to = b + 1 == n ? tr.length : tr.arcOf(b);
-    cut += (a > 0 ? 1 : 0) + (b + 1 < n ? 1 : 0);
-    longestCut = std::max({longestCut, from, tr.length - to});
-    lines[i] = to - from >= minLength ? cutLine(tr, from, to) : Polyline{};
-  }
-  dropShortLines(lines, centre);
-  return cut;
-}
 
 void checkNarrowStripInputs(const std::vector<std::vector<Polyline>>& levels,
                             const std::vector<double>& levelValues, double spacing,
