@@ -512,8 +512,8 @@ class AnyAnglePropagator {
       // No neighbour centre in sight (a surface fold thinner than a cell between them): the
       // nearest one, as the voxel graph connects them.
       via.best = via.items[0].first;
-      via.bestCell = static_cast<std::uint32_t>(static_cast<std::ptrdiff_t>(n) +
-                                                deltas_[via.items[0].second]);
+      via.bestCell =
+          static_cast<std::uint32_t>(static_cast<std::ptrdiff_t>(n) + deltas_[via.items[0].second]);
     }
     dist_[n] = static_cast<float>(via.best);
     parent_[n] = addPivot({cellCentre(g_.cell(via.bestCell)), dist_[via.bestCell], -1});
@@ -561,8 +561,7 @@ class AnyAnglePropagator {
       hit = *blockedAt;
     } else {
       evaluate(failed, x, &target);
-      blocked =
-          !boundary_->segmentClear(x, shortened(x, target, slackFor(failed)), mailbox_, &hit);
+      blocked = !boundary_->segmentClear(x, shortened(x, target, slackFor(failed)), mailbox_, &hit);
     }
     if (blocked) {
       boundary_->reflexEdgesNear(hit, kEdgeReach, moreEdges_);

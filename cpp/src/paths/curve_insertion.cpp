@@ -228,7 +228,9 @@ double measureCurveDeviation(const TriangleBvh& bvh, const std::vector<Polyline>
 class CurveTracer {
  public:
   CurveTracer(const TriMesh& surface, const TriangleBvh& bvh)
-      : bvh_(bvh), mesh_(surface), scale_(std::max(surface.bounds().diagonal(), 1e-300)),
+      : bvh_(bvh),
+        mesh_(surface),
+        scale_(std::max(surface.bounds().diagonal(), 1e-300)),
         maxSteps_(8 * surface.triangleCount() + 1000) {}
 
   void trace(const Polyline& curve);

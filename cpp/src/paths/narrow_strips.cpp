@@ -522,8 +522,7 @@ void StripCollector::keepShortStretchesAsIs(std::size_t level, const std::vector
 }
 
 void StripCollector::addPiecesBetweenStrips(std::size_t level, const std::vector<Track>& tracks,
-                                            const Narrowing& g,
-                                            const std::vector<bool>& capAfter) {
+                                            const Narrowing& g, const std::vector<bool>& capAfter) {
   std::vector<Polyline> pieces;
   for (std::size_t t = 0; t < tracks.size(); ++t) collectPieces(tracks, g, t, capAfter, pieces);
   std::size_t shortPieces = 0;
@@ -536,8 +535,7 @@ void StripCollector::addPiecesBetweenStrips(std::size_t level, const std::vector
     addOut(std::move(piece), static_cast<int>(level), false, "");
   }
   if (shortPieces > 0) {
-    result_.warnings.push_back(levelName(levelValues_, level) + ": " +
-                               std::to_string(shortPieces) +
+    result_.warnings.push_back(levelName(levelValues_, level) + ": " + std::to_string(shortPieces) +
                                " piece(s) of paths between narrow stretches shorter than " +
                                formatMm(len_.minLength) + " mm not deposited");
   }
@@ -658,9 +656,9 @@ void StripCollector::addLeftoverBeads(std::size_t level, const std::vector<Track
       ++shortLeftovers;
       continue;
     }
-    const std::string what = where(level, centre) + ": a leftover strip " +
-                             formatMm(dMin + 2 * u) + "–" + formatMm(dMax + 2 * u) +
-                             " mm wide and about " + formatMm(centre.length()) + " mm long";
+    const std::string what = where(level, centre) + ": a leftover strip " + formatMm(dMin + 2 * u) +
+                             "–" + formatMm(dMax + 2 * u) + " mm wide and about " +
+                             formatMm(centre.length()) + " mm long";
     result_.warnings.push_back(what +
                                " lies beyond the inner edge of these beads; a centre bead "
                                "fills it where it is at least " +
@@ -670,8 +668,8 @@ void StripCollector::addLeftoverBeads(std::size_t level, const std::vector<Track
   }
   if (shortLeftovers > 0) {
     result_.warnings.push_back(levelName(levelValues_, level) + ": " +
-                               std::to_string(shortLeftovers) +
-                               " leftover strip(s) shorter than " + formatMm(len_.minLength) +
+                               std::to_string(shortLeftovers) + " leftover strip(s) shorter than " +
+                               formatMm(len_.minLength) +
                                " mm beyond the inner edge of these beads left empty");
   }
 }
@@ -685,8 +683,13 @@ class ClearancePass {
  public:
   ClearancePass(std::vector<OutPath>& out, std::size_t levelCount, const StripLengths& len,
                 NarrowStripResult& result)
-      : out_(out), len_(len), result_(result), grid_(len.delta), settled_(out.size(), false),
-        longestCut_(levelCount, 0.0), cutEnds_(levelCount, 0) {
+      : out_(out),
+        len_(len),
+        result_(result),
+        grid_(len.delta),
+        settled_(out.size(), false),
+        longestCut_(levelCount, 0.0),
+        cutEnds_(levelCount, 0) {
     for (std::size_t t = 0; t < out_.size(); ++t) {
       for (std::size_t k = 0; k < out_[t].track.samples.size(); ++k) {
         grid_.add(static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(k),
@@ -709,8 +712,7 @@ class ClearancePass {
   std::vector<std::pair<double, double>> clearStretches(std::size_t t) const;
   std::vector<std::pair<double, double>> trimEnds(std::size_t t);
   std::vector<std::pair<double, double>> keepLongEnough(
-      std::size_t t, const std::vector<std::pair<double, double>>& keep,
-      double& keptLength) const;
+      std::size_t t, const std::vector<std::pair<double, double>>& keep, double& keptLength) const;
   void warnAboutCentreBead(const OutPath& o, double keptLength);
 
   std::vector<OutPath>& out_;
@@ -865,10 +867,9 @@ void ClearancePass::warnAboutCentreBead(const OutPath& o, double keptLength) {
                                " mm that is " + formatMm(len_.delta) +
                                " mm from the other paths; dropped, the strip is left empty");
   } else if (o.centre && keptLength < tr.length - 1e-9) {
-    result_.warnings.push_back(o.what + ": the centre bead keeps " + formatMm(keptLength) +
-                               " of " + formatMm(tr.length) + " mm in " +
-                               std::to_string(o.keep.size()) + " piece(s) (" +
-                               formatMm(len_.delta) + " mm from the other paths)");
+    result_.warnings.push_back(o.what + ": the centre bead keeps " + formatMm(keptLength) + " of " +
+                               formatMm(tr.length) + " mm in " + std::to_string(o.keep.size()) +
+                               " piece(s) (" + formatMm(len_.delta) + " mm from the other paths)");
   }
 }
 
@@ -903,8 +904,8 @@ void linkCentreBeads(const std::vector<double>& levelValues, const StripLengths&
     // A connector passes the other end of the piece it joined at about 0.87·δ.
     double longest = 0.0;
     const std::size_t cut =
-        shortenCrowdedEnds(result.levels[level], result.centreBead[level], len.delta,
-                           len.exclusion, len.minLength, len.h, longest);
+        shortenCrowdedEnds(result.levels[level], result.centreBead[level], len.delta, len.exclusion,
+                           len.minLength, len.h, longest);
     if (cut > 0) {
       result.shortenedEnds += cut;
       result.warnings.push_back(levelName(levelValues, level) + ": " + std::to_string(cut) +

@@ -851,8 +851,8 @@ PieceFit fitPiece(const std::vector<Vec3>& pts, const std::vector<char>& keep, s
     // Too few points for a cubic, or no spline within the tolerance: keep the (merged) raw
     // vertices; the deviation of that polyline is measured like a spline's.
     fit.spline = makePolylineSpline(fitPts);
-    fit.deviation = measureDeviation(fit.spline, rawLine, rawU, rawLine, rawU, false,
-                                     0.5 * options.tolerance);
+    fit.deviation =
+        measureDeviation(fit.spline, rawLine, rawU, rawLine, rawU, false, 0.5 * options.tolerance);
     fit.polyline = std::move(fitPts);
   }
   return fit;

@@ -365,8 +365,8 @@ class LayerTail {
   double minLength() const { return stages_.minLength; }
   /// The note for `dropped` (> 0) pieces shorter than the shortest deposited one.
   std::string droppedNote(std::size_t dropped) const {
-    return std::to_string(dropped) + " path piece(s) shorter than " +
-           formatMm(stages_.minLength) + " mm not deposited";
+    return std::to_string(dropped) + " path piece(s) shorter than " + formatMm(stages_.minLength) +
+           " mm not deposited";
   }
 
   // ---- order ----
@@ -382,8 +382,8 @@ class LayerTail {
     if (ordered.seamsTooClose > 0) {
       layer.warnings.push_back(std::to_string(ordered.seamsTooClose) +
                                " ring(s) too short to keep the seam " +
-                               formatMm(stages_.ordering.seamSeparation) + " mm from the previous " +
-                               seamNeighbour_ + "'s seams");
+                               formatMm(stages_.ordering.seamSeparation) +
+                               " mm from the previous " + seamNeighbour_ + "'s seams");
     }
   }
 
@@ -419,9 +419,13 @@ double largestFiniteDistance(const SurfaceGeodesicResult& gdtc) {
 class LayerPlanner {
  public:
   LayerPlanner(const TriMesh& startSurface, const PlannerOptions& options, PlanResult& result)
-      : options_(options), s_(options.beadSpacing), stages_(options),
+      : options_(options),
+        s_(options.beadSpacing),
+        stages_(options),
         fromBoundary_(options.initialCurve.kind == InitialCurveKind::Boundary),
-        result_(result), timer_(result.stats), tail_(stages_, result.stats, timer_, "layer") {
+        result_(result),
+        timer_(result.stats),
+        tail_(stages_, result.stats, timer_, "layer") {
     narrowStrips_.margin = 2.0 * options.fitTolerance;
     narrowStrips_.minLength = stages_.minLength;
     stages_.record(options, result.plan.parameters);
@@ -455,8 +459,7 @@ class LayerPlanner {
   void resolveNarrowStripsOf(const SurfaceGeodesicResult& gdtc, const std::vector<double>& values,
                              std::vector<std::vector<Polyline>>& levelLines, PlanLayer& layer);
   void noteMissingBeads(const std::vector<double>& values, double maxDistance,
-                        const std::vector<RawBead>& beads, std::size_t dropped,
-                        PlanLayer& layer);
+                        const std::vector<RawBead>& beads, std::size_t dropped, PlanLayer& layer);
 
   const PlannerOptions& options_;
   const double s_;
@@ -534,15 +537,13 @@ std::vector<Polyline> LayerPlanner::findInitialCurves(const TriMesh& mesh,
 /// (nothing to insert). Sections are inserted into the mesh. A failure is the layer's warning.
 std::optional<SurfaceGeodesicResult> LayerPlanner::computeLayerGeodesic(
     const TriMesh& mesh, const std::vector<Polyline>& curves,
-    const std::vector<std::int32_t>& boundaryVertices, const Progress& progress,
-    PlanLayer& layer) {
+    const std::vector<std::int32_t>& boundaryVertices, const Progress& progress, PlanLayer& layer) {
   try {
     return timer_.run(kGeodesic, [&] {
       return fromBoundary_
-                 ? computeSurfaceGeodesicFromVertices(mesh, boundaryVertices, {},
-                                                      options_.geodesic, progress.sub(0.0, 0.7))
-                 : computeSurfaceGeodesic(mesh, curves, options_.geodesic,
-                                          progress.sub(0.0, 0.7));
+                 ? computeSurfaceGeodesicFromVertices(mesh, boundaryVertices, {}, options_.geodesic,
+                                                      progress.sub(0.0, 0.7))
+                 : computeSurfaceGeodesic(mesh, curves, options_.geodesic, progress.sub(0.0, 0.7));
     });
   } catch (const NumericalFailure& e) {
     warn(layer, std::string("the surface distance from the initial curve failed (") + e.what() +
@@ -619,9 +620,8 @@ void LayerPlanner::resolveNarrowStripsOf(const SurfaceGeodesicResult& gdtc,
   }
   const std::vector<std::vector<Polyline>> innerEdges =
       timer_.run(kIso, [&] { return extractIsoLines(gdtc.mesh, gdtc.distance, edgeValues); });
-  NarrowStripResult strips = timer_.run(kIso, [&] {
-    return resolveNarrowStrips(levelLines, values, s_, narrowStrips_, innerEdges);
-  });
+  NarrowStripResult strips = timer_.run(
+      kIso, [&] { return resolveNarrowStrips(levelLines, values, s_, narrowStrips_, innerEdges); });
   reportNarrowStrips(strips, layer.warnings);
   levelLines = std::move(strips.levels);
 }
@@ -695,8 +695,7 @@ SurfaceGeodesicResult computeWallGeodesic(const TriMesh& surface, const Polyline
     return sources.size() == edge.points.size()
                ? computeSurfaceGeodesicFromVertices(surface, sources, {}, options.geodesic,
                                                     progress.sub(0.0, 0.5))
-               : computeSurfaceGeodesic(surface, {edge}, options.geodesic,
-                                        progress.sub(0.0, 0.5));
+               : computeSurfaceGeodesic(surface, {edge}, options.geodesic, progress.sub(0.0, 0.5));
   });
 }
 
@@ -831,8 +830,8 @@ PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options, 
     const Progress beadProgress =
         progress.sub(0.5 + 0.5 * k / values.size(), 0.5 + 0.5 * (k + 1) / values.size());
     beadProgress.report(0.0, kStages[kIso]);
-    plan.layers.push_back(planWallBead(k, values[k], levelLines[k], bvh, WallGrowth{gdtc},
-                                       options, tail, previousBeads));
+    plan.layers.push_back(planWallBead(k, values[k], levelLines[k], bvh, WallGrowth{gdtc}, options,
+                                       tail, previousBeads));
     beadProgress.report(1.0, kStages[kDeposition]);
   }
   finishStats(result, timer);

@@ -173,8 +173,13 @@ class TriangleUpdate {
   TriangleUpdate(const TriMesh& mesh, const Unfolder& unfolder, const std::vector<double>& d,
                  const std::vector<char>& accepted, const SurfaceGeodesicOptions& options,
                  SurfaceGeodesicResult& result)
-      : mesh_(mesh), V(mesh.vertices), unfolder_(unfolder), d_(d), accepted_(accepted),
-        options_(options), result_(result) {}
+      : mesh_(mesh),
+        V(mesh.vertices),
+        unfolder_(unfolder),
+        d_(d),
+        accepted_(accepted),
+        options_(options),
+        result_(result) {}
 
   double operator()(int t, std::int32_t w, std::int32_t v, std::int32_t x) {
     const Vec3 C = V[w];

@@ -552,8 +552,13 @@ class RobotKinematicsPass {
  public:
   RobotKinematicsPass(const Cell& cell, const Vec3& gravity, const MotionOptions& options,
                       MotionPlan& result, WarningLog& warnings)
-      : cell_(cell), gravity_(gravity), options_(options), result_(result), warnings_(warnings),
-        baseInverse_(cell.robot.base.inverse()), tcpInverse_(cell.tool.tcp.inverse()),
+      : cell_(cell),
+        gravity_(gravity),
+        options_(options),
+        result_(result),
+        warnings_(warnings),
+        baseInverse_(cell.robot.base.inverse()),
+        tcpInverse_(cell.tool.tcp.inverse()),
         shortfall_(result.points.size(), 0.0) {}
 
   void run(const Progress& progress);
@@ -561,8 +566,7 @@ class RobotKinematicsPass {
  private:
   void setToolPoses(const MotionPathSpan& span);
   void solvePath(const MotionPathSpan& span);
-  std::size_t solvePathJoints(const MotionPathSpan& span, const JointVector& start,
-                              bool haveStart);
+  std::size_t solvePathJoints(const MotionPathSpan& span, const JointVector& start, bool haveStart);
   IkSolution chooseSolution(const IkResult& ik, const JointVector& reference, bool pathStart,
                             int pathConfiguration, bool& inside) const;
   void recordFailures(const MotionPathSpan& span);
