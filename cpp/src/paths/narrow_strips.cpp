@@ -122,112 +122,96 @@ struct Narrowing {
   }
 };
 
-/// `bridge`: a stretch of wide samples shorter than this (mm) between narrow ones of the same
-/// track, whose samples all face a point within 1.25 × threshold, counts as narrow (so one strip
-/// whose width wavers around the threshold gives one centre bead, not pieces and gaps).
-/// `keepWide` (optional): per track, per sample, non-zero = never narrow (set after bridging).
-Narrowing findNarrowing(const std::vector<Track>& tracks, double threshold, double exclusion,
-                        double bridge, const std::vector<std::vector<char>>* keepWide = nullptr) {
-  Narrowing g;
-  const double reach = 1.25 * threshold;
-  SampleGrid grid(reach);
-  for (std::size_t t = 0; t < tracks.size(); ++t) {
-    for (std::size_t k = 0; k < tracks[t].samples.size(); ++k) {
-      grid.add(static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(k), tracks[t].samples[k]);
+/// The nearest sample to sample k of track t on another part of the level (the same track
+/// further than `exclusion` along it) within `reach`, refined onto the partner's neighbouring
+/// segments; track −1 when there is none.
+Partner findPartner(const std::vector<Track>& tracks, const SampleGrid& grid, std::size_t t,
+                    std::size_t k, double reach, double exclusion) {
+  const Track& tr = tracks[t];
+  const Vec3& p = tr.samples[k];
+  Partner best;
+  grid.visit(p, reach, [&](std::uint32_t ot, std::uint32_t ok) {
+    if (ot == t && tr.arcDistance(tr.arcOf(k), tr.arcOf(ok)) <= exclusion) return;
+    const double d = (tracks[ot].samples[ok] - p).norm();
+    if (d < best.distance) best = {static_cast<int>(ot), ok, tracks[ot].samples[ok], d};
+  });
+  if (best.distance >= reach) return Partner{};
+  // Refine onto the partner's neighbouring segments.
+  const Track& o = tracks[best.track];
+  const std::size_t m = o.samples.size();
+  const std::size_t at = best.sample;
+  for (const int side : {-1, 1}) {
+    if (!o.line.closed && ((side < 0 && at == 0) || (side > 0 && at + 1 >= m))) continue;
+    const std::size_t j = side < 0 ? (at + m - 1) % m : (at + 1) % m;
+    const Vec3 q = closestOnSegment(p, o.samples[at], o.samples[j]);
+    if ((q - p).norm() < best.distance) {
+      best.point = q;
+      best.distance = (q - p).norm();
     }
   }
-  std::vector<std::vector<Partner>> nearest(tracks.size());
-  g.partners.resize(tracks.size());
-  for (std::size_t t = 0; t < tracks.size(); ++t) {
-    const Track& tr = tracks[t];
-    g.partners[t].resize(tr.samples.size());
-    nearest[t].resize(tr.samples.size());
-    for (std::size_t k = 0; k < tr.samples.size(); ++k) {
-      const Vec3& p = tr.samples[k];
-      Partner best;
-      grid.visit(p, reach, [&](std::uint32_t ot, std::uint32_t ok) {
-        if (ot == t && tr.arcDistance(tr.arcOf(k), tr.arcOf(ok)) <= exclusion) return;
-        const double d = (tracks[ot].samples[ok] - p).norm();
-        if (d < best.distance) best = {static_cast<int>(ot), ok, tracks[ot].samples[ok], d};
-      });
-      if (best.distance >= reach) continue;
-      // Refine onto the partner's neighbouring segments.
-      const Track& o = tracks[best.track];
-      const std::size_t m = o.samples.size();
-      const std::size_t at = best.sample;
-      for (const int side : {-1, 1}) {
-        if (!o.line.closed && ((side < 0 && at == 0) || (side > 0 && at + 1 >= m))) continue;
-        const std::size_t j = side < 0 ? (at + m - 1) % m : (at + 1) % m;
-        const Vec3 q = closestOnSegment(p, o.samples[at], o.samples[j]);
-        if ((q - p).norm() < best.distance) {
-          best.point = q;
-          best.distance = (q - p).norm();
-        }
-      }
-      nearest[t][k] = best;
-      if (best.distance < threshold) {
-        g.closest = std::min(g.closest, best.distance);
-        g.partners[t][k] = best;
-      }
-    }
-    // Bridge short wide stretches between narrow samples.
-    const std::size_t n = tr.samples.size();
-    const auto narrow = [&](std::size_t k) { return g.partners[t][k % n].track >= 0; };
-    const std::size_t maxGap =
-        tr.step > 0.0 ? static_cast<std::size_t>(std::min(bridge / tr.step, double(n))) : 0;
-    for (std::size_t k = 0; k < n; ++k) {
-      if (!narrow(k) || narrow(k + 1)) continue;
-      if (!tr.line.closed && k + 1 >= n) break;
-      std::size_t gap = 1;  // wide samples after k
-      while (gap <= maxGap && gap < n && !narrow(k + 1 + gap)) ++gap;
-      if (gap > maxGap || gap >= n) continue;
-      if (!tr.line.closed && k + 1 + gap >= n) continue;
-      bool near = true;
-      for (std::size_t i = 1; i <= gap; ++i) near = near && nearest[t][(k + i) % n].track >= 0;
-      if (!near) continue;
-      for (std::size_t i = 1; i <= gap; ++i) g.partners[t][(k + i) % n] = nearest[t][(k + i) % n];
-    }
-    if (keepWide != nullptr) {
-      for (std::size_t k = 0; k < n; ++k) {
-        if ((*keepWide)[t][k]) g.partners[t][k] = Partner{};
-      }
-    }
+  return best;
+}
+
+/// Bridges short wide stretches between narrow samples of a track: `partners` (the narrow
+/// ones) takes the `nearest` partners of a stretch shorter than `bridge` whose samples all have
+/// one.
+void bridgeWideStretches(const Track& tr, const std::vector<Partner>& nearest, double bridge,
+                         std::vector<Partner>& partners) {
+  const std::size_t n = tr.samples.size();
+  const auto narrow = [&](std::size_t k) { return partners[k % n].track >= 0; };
+  const std::size_t maxGap =
+      tr.step > 0.0 ? static_cast<std::size_t>(std::min(bridge / tr.step, double(n))) : 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!narrow(k) || narrow(k + 1)) continue;
+    if (!tr.line.closed && k + 1 >= n) break;
+    std::size_t gap = 1;  // wide samples after k
+    while (gap <= maxGap && gap < n && !narrow(k + 1 + gap)) ++gap;
+    if (gap > maxGap || gap >= n) continue;
+    if (!tr.line.closed && k + 1 + gap >= n) continue;
+    bool near = true;
+    for (std::size_t i = 1; i <= gap; ++i) near = near && nearest[(k + i) % n].track >= 0;
+    if (!near) continue;
+    for (std::size_t i = 1; i <= gap; ++i) partners[(k + i) % n] = nearest[(k + i) % n];
   }
-  g.runOf.resize(tracks.size());
-  g.trackRuns.resize(tracks.size());
-  for (std::size_t t = 0; t < tracks.size(); ++t) {
-    const std::size_t n = tracks[t].samples.size();
-    g.runOf[t].assign(n, -1);
-    const auto narrow = [&](std::size_t k) { return g.partners[t][k % n].track >= 0; };
-    std::size_t start = 0;
-    if (tracks[t].line.closed) {
-      std::size_t wide = n;
-      for (std::size_t k = 0; k < n && wide == n; ++k) {
-        if (!narrow(k)) wide = k;
-      }
-      if (wide == n) {
-        g.runs.push_back({static_cast<int>(t), 0, n, true, -1});
-        std::fill(g.runOf[t].begin(), g.runOf[t].end(), static_cast<int>(g.runs.size()) - 1);
-        g.trackRuns[t].push_back(static_cast<int>(g.runs.size()) - 1);
-        continue;
-      }
-      start = wide;
+}
+
+/// The runs of narrow samples of track t (a closed track narrow all round: one whole run).
+void collectRuns(const std::vector<Track>& tracks, std::size_t t, Narrowing& g) {
+  const std::size_t n = tracks[t].samples.size();
+  g.runOf[t].assign(n, -1);
+  const auto narrow = [&](std::size_t k) { return g.partners[t][k % n].track >= 0; };
+  std::size_t start = 0;
+  if (tracks[t].line.closed) {
+    std::size_t wide = n;
+    for (std::size_t k = 0; k < n && wide == n; ++k) {
+      if (!narrow(k)) wide = k;
     }
-    for (std::size_t i = 0; i < n;) {
-      if (!narrow(start + i)) {
-        ++i;
-        continue;
-      }
-      Run run{static_cast<int>(t), (start + i) % n, 0, false, -1};
-      while (i < n && narrow(start + i)) {
-        g.runOf[t][(start + i) % n] = static_cast<int>(g.runs.size());
-        ++run.count;
-        ++i;
-      }
-      g.trackRuns[t].push_back(static_cast<int>(g.runs.size()));
-      g.runs.push_back(run);
+    if (wide == n) {
+      g.runs.push_back({static_cast<int>(t), 0, n, true, -1});
+      std::fill(g.runOf[t].begin(), g.runOf[t].end(), static_cast<int>(g.runs.size()) - 1);
+      g.trackRuns[t].push_back(static_cast<int>(g.runs.size()) - 1);
+      return;
     }
+    start = wide;
   }
+  for (std::size_t i = 0; i < n;) {
+    if (!narrow(start + i)) {
+      ++i;
+      continue;
+    }
+    Run run{static_cast<int>(t), (start + i) % n, 0, false, -1};
+    while (i < n && narrow(start + i)) {
+      g.runOf[t][(start + i) % n] = static_cast<int>(g.runs.size());
+      ++run.count;
+      ++i;
+    }
+    g.trackRuns[t].push_back(static_cast<int>(g.runs.size()));
+    g.runs.push_back(run);
+  }
+}
+
+/// Each run's partner: the run holding most of its samples' partners.
+void votePartnerRuns(const std::vector<Track>& tracks, Narrowing& g) {
   for (Run& run : g.runs) {
     std::map<int, std::size_t> votes;
     const std::size_t n = tracks[run.track].samples.size();
@@ -244,6 +228,45 @@ Narrowing findNarrowing(const std::vector<Track>& tracks, double threshold, doub
       }
     }
   }
+}
+
+/// `bridge`: a stretch of wide samples shorter than this (mm) between narrow ones of the same
+/// track, whose samples all face a point within 1.25 × threshold, counts as narrow (so one strip
+/// whose width wavers around the threshold gives one centre bead, not pieces and gaps).
+/// `keepWide` (optional): per track, per sample, non-zero = never narrow (set after bridging).
+Narrowing findNarrowing(const std::vector<Track>& tracks, double threshold, double exclusion,
+                        double bridge, const std::vector<std::vector<char>>* keepWide = nullptr) {
+  Narrowing g;
+  const double reach = 1.25 * threshold;
+  SampleGrid grid(reach);
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    for (std::size_t k = 0; k < tracks[t].samples.size(); ++k) {
+      grid.add(static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(k), tracks[t].samples[k]);
+    }
+  }
+  g.partners.resize(tracks.size());
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    const std::size_t n = tracks[t].samples.size();
+    g.partners[t].resize(n);
+    std::vector<Partner> nearest(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      nearest[k] = findPartner(tracks, grid, t, k, reach, exclusion);
+      if (nearest[k].track >= 0 && nearest[k].distance < threshold) {
+        g.closest = std::min(g.closest, nearest[k].distance);
+        g.partners[t][k] = nearest[k];
+      }
+    }
+    bridgeWideStretches(tracks[t], nearest, bridge, g.partners[t]);
+    if (keepWide != nullptr) {
+      for (std::size_t k = 0; k < n; ++k) {
+        if ((*keepWide)[t][k]) g.partners[t][k] = Partner{};
+      }
+    }
+  }
+  g.runOf.resize(tracks.size());
+  g.trackRuns.resize(tracks.size());
+  for (std::size_t t = 0; t < tracks.size(); ++t) collectRuns(tracks, t, g);
+  votePartnerRuns(tracks, g);
   return g;
 }
 

@@ -351,7 +351,8 @@ class LayerTail {
       : stages_(stages), stats_(stats), timer_(timer), seamNeighbour_(seamNeighbour) {}
 
   // ---- fit ----
-  /// Fits `lines` and projects them onto `projectOnto` as beads; counts dropped pieces.
+  /// Fits `lines` and projects them onto `projectOnto` as beads (appended to `beads`); pieces too
+  /// short or too few points to deposit are counted in `dropped`.
   template <typename NormalFn>
   void fit(const std::vector<Polyline>& lines, const TriangleBvh& projectOnto, NormalFn&& normalOf,
            std::vector<RawBead>& beads, std::size_t& dropped) {
@@ -361,6 +362,7 @@ class LayerTail {
       return 0;
     });
   }
+  /// Adds a layer's dropped pieces to the statistics.
   void countDropped(std::size_t dropped) { stats_.droppedFragments += dropped; }
   double minLength() const { return stages_.minLength; }
   /// The note for `dropped` (> 0) pieces shorter than the shortest deposited one.
