@@ -44,13 +44,7 @@ ExportOptions parseExportOptions(const ExportArguments& args) {
     }
     options.date = args.date;
   }
-  if (args.gcodeMode == "tcp") {
-    options.gcodeMode = GcodeMode::Tcp;
-  } else if (args.gcodeMode == "machine") {
-    options.gcodeMode = GcodeMode::Machine;
-  } else {
-    throw InvalidInput("unknown G-code mode: '" + args.gcodeMode + "'; use tcp or machine");
-  }
+  if (!args.gcodeMode.empty()) options.gcodeMode = parseGcodeMode(args.gcodeMode);
   return options;
 }
 

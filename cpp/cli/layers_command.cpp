@@ -21,42 +21,39 @@
 #include "curvedslicer/pipeline/layer_pipeline.hpp"
 #include "curvedslicer/pipeline/option_parsing.hpp"
 #include "curvedslicer/pipeline/report_json.hpp"
+#include "model_input.hpp"
 #include "terminal_progress.hpp"
 
 namespace curvedslicer::cli {
 
 namespace fs = std::filesystem;
 
+LayerJobArguments parseLayerJobArguments(const LayersArguments& args) {
+  LayerJobArguments job;
+  LayerJobOptions& o = job.options;
+  o.layers.layerThickness = parseLength(args.layerThickness, "layer thickness");
+  o.voxelize.voxelSize = parseLength(args.voxelSize, "voxel size");
+  if (!args.method.empty()) o.geodesic.method = parseGeodesicMethod(args.method);
+  if (!args.grid.empty()) o.voxelize.alignment = parseGridAlignment(args.grid);
+  if (!args.format.empty()) job.format = parseLayerFileFormat(args.format);
+  job.start = parseStartSurfaceSpec(args.start);
+  if (!args.memoryBudgetMb.empty()) {
+    const double budgetMb = parseLength(args.memoryBudgetMb, "memory budget");
+    if (!std::isfinite(budgetMb) || budgetMb < 0.0) {
+      throw InvalidInput("memory budget must be 0 (automatic) or a positive number of MB: '" +
+                         args.memoryBudgetMb + "'; pass e.g. --memory-budget 4096");
+    }
+    o.voxelize.memoryBudgetBytes = budgetMb * 1024.0 * 1024.0;
+  }
+  o.capHoles = args.capHoles;
+  job.tessellationTolerance = parseTessellationTolerance(args.tessellationTolerance);
+  return job;
+}
+
 namespace {
 
 constexpr const char* kVoxelSetsFile = "voxel_sets.ply";
 constexpr const char* kReportFile = "report.json";
-
-struct Job {
-  LayerJobOptions options;
-  StartSurfaceSpec start;
-  LayerFileFormat format = LayerFileFormat::Ply;
-};
-
-/// Parses and checks every argument without touching a file.
-Job parseArguments(const LayersArguments& args) {
-  Job job;
-  job.options.layers.layerThickness = parseLength(args.layerThickness, "layer thickness");
-  job.options.voxelize.voxelSize = parseLength(args.voxelSize, "voxel size");
-  job.options.geodesic.method = parseGeodesicMethod(args.method);
-  job.options.voxelize.alignment = parseGridAlignment(args.grid);
-  job.format = parseLayerFileFormat(args.format);
-  job.start = parseStartSurfaceSpec(args.start);
-  const double budgetMb = parseLength(args.memoryBudgetMb, "memory budget");
-  if (!std::isfinite(budgetMb) || budgetMb < 0.0) {
-    throw InvalidInput("memory budget must be 0 (automatic) or a positive number of MB: '" +
-                       args.memoryBudgetMb + "'; pass e.g. --memory-budget 4096");
-  }
-  job.options.voxelize.memoryBudgetBytes = budgetMb * 1024.0 * 1024.0;
-  job.options.capHoles = args.capHoles;
-  validateLayerJobOptions(job.options);
-  return job;
-}
 
 void printUnreachedWarning(const GeodesicResult& field) {
   const UnreachedVoxels& u = field.unreached;
@@ -146,6 +143,33 @@ class StagingLayerSink final : public LayerSink {
   double seconds_ = 0.0;
 };
 
+/// Completes the timings (the layer stage's time includes the sink's writing, reported as
+/// "write") and stages report.json.
+void stageReport(OutputStaging& staging, const StagingLayerSink& sink, const LayersArguments& args,
+                 const LayerJobArguments& job, const ModelInput& model, LayerJobResult& result,
+                 const Progress& writeProgress) {
+  using Clock = std::chrono::steady_clock;
+  const auto writeBegin = Clock::now();
+  for (StageTime& st : result.stageTimes) {
+    if (st.name == "layers") st.seconds = std::max(0.0, st.seconds - sink.seconds());
+  }
+  writeProgress.report(0.0, "write");
+  LayerReportInputs reportInputs;
+  reportInputs.modelPath = args.model;
+  reportInputs.modelFileTriangles = model.mesh.triangleCount();
+  reportInputs.tessellationTolerance = model.tessellationTolerance;
+  reportInputs.startSpec = args.start;
+  reportInputs.layerFormat = job.format;
+  reportInputs.layerFiles = sink.layerFiles();
+  reportInputs.voxelSetsFile = kVoxelSetsFile;
+  result.peakMemoryBytes = peakResidentMemoryBytes();
+  const double writeSeconds =
+      sink.seconds() + std::chrono::duration<double>(Clock::now() - writeBegin).count();
+  result.stageTimes.push_back(StageTime{"write", writeSeconds, result.peakMemoryBytes});
+  const std::string report = formatLayerReport(makeLayerReport(reportInputs, job.options, result));
+  staging.stage(kReportFile, [&](const fs::path& path) { writeTextFileAtomically(path, report); });
+}
+
 }  // namespace
 
 int runLayersCommand(const LayersArguments& args) {
@@ -154,7 +178,8 @@ int runLayersCommand(const LayersArguments& args) {
   const fs::path outputDir(args.output);
   try {
     using Clock = std::chrono::steady_clock;
-    Job job = parseArguments(args);
+    LayerJobArguments job = parseLayerJobArguments(args);
+    validateLayerJobOptions(job.options);
     checkOutputFolder(outputDir);
 
     const Progress progress([&display](double fraction, std::string_view stage) {
@@ -164,7 +189,9 @@ int runLayersCommand(const LayersArguments& args) {
     // ---- read ----------------------------------------------------------------------------------
     progress.report(0.0, "read");
     const auto readBegin = Clock::now();
-    const TriMesh model = readMesh(fs::path(args.model));
+    const ModelInput input =
+        readModel(fs::path(args.model), job.tessellationTolerance, job.options.voxelize.voxelSize);
+    const TriMesh& model = input.mesh;
     job.options.start = loadStartSurface(job.start);
     const double readSeconds = std::chrono::duration<double>(Clock::now() - readBegin).count();
     const std::size_t readPeak = peakResidentMemoryBytes();
@@ -178,36 +205,15 @@ int runLayersCommand(const LayersArguments& args) {
     result.stageTimes.insert(result.stageTimes.begin(), StageTime{"read", readSeconds, readPeak});
     result.totalSeconds += readSeconds;
 
-    // ---- write ---------------------------------------------------------------------------------
-    // The layer stage's time includes the sink's writing; that part is reported as "write".
-    const auto writeBegin = Clock::now();
-    for (StageTime& st : result.stageTimes) {
-      if (st.name == "layers") st.seconds = std::max(0.0, st.seconds - sink.seconds());
-    }
     const Progress writeProgress = progress.sub(0.95, 1.0);
-    writeProgress.report(0.0, "write");
-    const std::vector<std::string>& layerFiles = sink.layerFiles();
-    LayerReportInputs reportInputs;
-    reportInputs.modelPath = args.model;
-    reportInputs.modelFileTriangles = model.triangleCount();
-    reportInputs.startSpec = args.start;
-    reportInputs.layerFormat = job.format;
-    reportInputs.layerFiles = layerFiles;
-    reportInputs.voxelSetsFile = kVoxelSetsFile;
-    result.peakMemoryBytes = peakResidentMemoryBytes();
-    const double writeSeconds =
-        sink.seconds() + std::chrono::duration<double>(Clock::now() - writeBegin).count();
-    result.stageTimes.push_back(StageTime{"write", writeSeconds, result.peakMemoryBytes});
-    const std::string report =
-        formatLayerReport(makeLayerReport(reportInputs, job.options, result));
-    staging.stage(kReportFile,
-                  [&](const fs::path& path) { writeTextFileAtomically(path, report); });
+    stageReport(staging, sink, args, job, input, result, writeProgress);
     writeProgress.report(1.0, "write");  // last chance to cancel: nothing is in place yet
     staging.commit(isLayerFileName);
     display.finishLine();
 
     if (!args.quiet) {
       printUnreachedWarning(result.field);
+      const std::vector<std::string>& layerFiles = sink.layerFiles();
       std::printf("curvedslicer: wrote %zu layers to %s (%s ... %s, %s, %s)\n", layerFiles.size(),
                   outputDir.string().c_str(), layerFiles.front().c_str(), layerFiles.back().c_str(),
                   kVoxelSetsFile, kReportFile);

@@ -5,6 +5,13 @@
 
 #include <string>
 
+#include "curvedslicer/pipeline/layer_pipeline.hpp"
+#include "curvedslicer/pipeline/option_parsing.hpp"
+
+namespace CLI {
+class App;
+}
+
 namespace curvedslicer::cli {
 
 /// Exit codes of the command line.
@@ -19,20 +26,39 @@ enum ExitCode : int {
 };
 
 /// The command's arguments as typed (numbers are parsed and checked by `runLayersCommand`, so
-/// every message has the core's "<what>: <value>; <what to do>" form).
+/// every message has the core's "<what>: <value>; <what to do>" form). Empty texts mean the
+/// default of LayerJobOptions{}.
 struct LayersArguments {
   std::string model;
-  std::string start = "plane:bottom";
+  std::string start = "plane:bottom";  ///< the spec recorded as given (StartSurface{} default)
   std::string layerThickness;
   std::string voxelSize;
-  std::string method = "anyangle";
-  std::string grid = "pca";
-  std::string format = "ply";
-  std::string memoryBudgetMb = "0";
+  std::string method;
+  std::string grid;
+  std::string format;
+  std::string memoryBudgetMb;
+  std::string tessellationTolerance;  ///< CAD models only; empty: voxel/4
   bool capHoles = false;
   bool quiet = false;
   std::string output;
 };
+
+/// The layer job as the arguments describe it (files not read yet).
+struct LayerJobArguments {
+  LayerJobOptions options;  ///< start surface left at the default until loadStartSurface(start)
+  StartSurfaceSpec start;
+  LayerFileFormat format = LayerFileFormat::Ply;
+  double tessellationTolerance = 0.0;  ///< mm; 0: automatic (model_input.hpp)
+};
+
+/// Parses every layer-job argument (not validated: validateLayerJobOptions). Texts left empty
+/// keep LayerJobOptions{}'s values.
+/// @throws InvalidInput naming the argument and its value.
+LayerJobArguments parseLayerJobArguments(const LayersArguments& args);
+
+/// Adds --tessellation-tolerance (bound to `args.tessellationTolerance`) to `command`
+/// (layers_options.cpp; used by `layers` and `plan`).
+void addTessellationOption(CLI::App& command, LayersArguments& args);
 
 /// Runs the command; prints progress and errors on stderr, a summary on stdout.
 /// @return the exit code.

@@ -4,7 +4,9 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "curvedslicer/occ/shape_tessellation.hpp"
 #include "layers_command.hpp"
+#include "option_binding.hpp"
 
 namespace curvedslicer::cli {
 
@@ -26,11 +28,56 @@ Layer files of an earlier run in DIR are replaced.
 Exit codes: 0 success, 2 invalid input (including usage errors), 3 file I/O error,
 4 resource limit (memory budget), 5 numerical failure, 130 interrupted (Ctrl-C), 1 other.)";
 
+}  // namespace
+
+void addTessellationOption(CLI::App& command, LayersArguments& args) {
+  command
+      .add_option("--tessellation-tolerance", args.tessellationTolerance,
+                  "CAD models only: chord error of the tessellation, mm (> 0);\n"
+                  "default a quarter of the voxel size (with --thin-wall " +
+                      formatDefault(TessellationOptions{}.linearDeflection) +
+                      ");\nangular deflection " +
+                      formatDefault(TessellationOptions{}.angularDeflection) + " rad.")
+      ->type_name("MM");
+}
+
+namespace {
+
+/// --method, --grid, --format: the enum choices, the default read from the options structs.
+void addLayersMethodOptions(CLI::App& layers, LayersArguments& args) {
+  layers
+      .add_option(
+          "--method", args.method,
+          "Geodesic distance method: " +
+              describeChoices({{"anyangle", "any-angle\npropagation with line-of-sight tests"},
+                               {"paper", "the paper's\nneighbourhood search, section 2.2"}},
+                              toString(LayerJobOptions{}.geodesic.method)) +
+              ".")
+      ->type_name("NAME");
+  layers
+      .add_option("--grid", args.grid,
+                  "Voxel grid orientation: " +
+                      describeChoices({{"pca", "principal axes of the\nmodel, paper section 2.1"},
+                                       {"model", "the model's x, y, z axes"}},
+                                      toString(LayerJobOptions{}.voxelize.alignment)) +
+                      ".")
+      ->type_name("NAME");
+  layers
+      .add_option(
+          "--format", args.format,
+          "Layer file format: " +
+              describeChoices({{"ply", "binary little-endian\nPLY"}, {"obj", "Wavefront OBJ"}},
+                              toString(LayerJobArguments{}.format)) +
+              ".")
+      ->type_name("NAME");
+}
+
 void addLayersOptions(CLI::App& layers, LayersArguments& args) {
   layers
       .add_option("MODEL", args.model,
-                  "The part: a closed triangle mesh, STL (binary or ASCII) or OBJ,\n"
-                  "in mm.")
+                  "The part, in mm: a closed triangle mesh, STL (binary or ASCII) or\n"
+                  "OBJ, or a CAD solid, STEP (.step/.stp), IGES (.iges/.igs) or BREP\n"
+                  "(.brep/.brp), tessellated with --tessellation-tolerance.")
       ->required()
       ->type_name("FILE");
   layers
@@ -40,8 +87,10 @@ void addLayersOptions(CLI::App& layers, LayersArguments& args) {
                   "                z = lowest z of the model (default)\n"
                   "  plane:z=MM    the horizontal plane at height MM (mm, model\n"
                   "                coordinates)\n"
-                  "  faces:IDS     triangles of the model by 0-based position in the\n"
-                  "                file, a comma list with ranges, e.g. faces:0-9,15\n"
+                  "  faces:IDS     faces of the model, a comma list with ranges, e.g.\n"
+                  "                faces:0-9,15: for STL/OBJ 0-based triangle positions\n"
+                  "                in the file; for a CAD model FreeCAD's face numbers\n"
+                  "                (Face1 = 1, 1-based)\n"
                   "  mesh:FILE     a separate surface mesh (STL or OBJ, mm, model\n"
                   "                coordinates), e.g. a curved base plate")
       ->type_name("SPEC");
@@ -57,27 +106,14 @@ void addLayersOptions(CLI::App& layers, LayersArguments& args) {
                   "accurate; time and memory grow as 1/L^3.")
       ->required()
       ->type_name("MM");
-  layers
-      .add_option("--method", args.method,
-                  "Geodesic distance method: anyangle (default; any-angle\n"
-                  "propagation with line-of-sight tests) or paper (the paper's\n"
-                  "neighbourhood search, section 2.2).")
-      ->type_name("NAME");
-  layers
-      .add_option("--grid", args.grid,
-                  "Voxel grid orientation: pca (default; principal axes of the\n"
-                  "model, paper section 2.1) or model (the model's x, y, z axes).")
-      ->type_name("NAME");
-  layers
-      .add_option("--format", args.format,
-                  "Layer file format: ply (default; binary little-endian PLY) or obj.")
-      ->type_name("NAME");
+  addLayersMethodOptions(layers, args);
   layers
       .add_option("--memory-budget", args.memoryBudgetMb,
                   "Memory the job may use, in MB (2^20 bytes); a voxel grid that\n"
                   "would not fit is refused before it is allocated.\n"
                   "Default 0 = 80 % of physical memory.")
       ->type_name("MB");
+  addTessellationOption(layers, args);
   layers.add_flag("--cap-holes", args.capHoles,
                   "Close the holes of an open model before slicing (default: off;\n"
                   "an open model the voxelizer cannot resolve is an error). Holes\n"

@@ -1,26 +1,26 @@
-// The `curvedslicer plan` command: the `layers` job followed by path planning (paths/planner.hpp)
-// — or, with --thin-wall, path planning on a wall surface without volume layers — writing the
-// layer files, plan.json, plan.csv and report.json into an output folder, all or nothing (see
-// pipeline/layer_output.hpp). Exit codes as `layers` (layers_command.hpp).
+// The `curvedslicer plan` command: a thin translator from the command line to the core's plan job
+// (pipeline/plan_job.hpp: the `layers` job followed by path planning, or with --thin-wall path
+// planning on a wall surface) and its output folder (pipeline/plan_output.hpp: layer files,
+// plan.json, plan.csv and report.json, all or nothing). Exit codes as `layers`
+// (layers_command.hpp).
 #pragma once
 
 #include <string>
 
+#include "curvedslicer/paths/planner.hpp"
 #include "layers_command.hpp"
+#include "option_binding.hpp"
 
 namespace curvedslicer::cli {
 
 /// The command's arguments as typed (parsed and checked by `runPlanCommand`).
 struct PlanArguments {
   LayersArguments layers;  ///< MODEL, --start, --layer-thickness, --voxel, … and -o, -q
-  std::string beadSpacing;
-  std::string pointSpacing = "2";
-  std::string fitTolerance = "0.05";
-  std::string cornerAngle = "30";
-  std::string initialCurve = "boundary";
-  std::string surfaceMethod = "accurate";
-  std::string narrowStrips = "centre_bead";
-  std::string thinWall;  ///< empty: volume layers; else the edge spec (lowest[:AXIS]|nearest:P)
+  /// --bead-spacing, --point-spacing, … : one binding per planner option (plan_options.cpp);
+  /// options not given keep PlannerOptions{}'s values.
+  OptionBindings<PlannerOptions> planner;
+  std::string initialCurve = InitialCurve{}.describe();  ///< spec (parseInitialCurveSpec)
+  std::string thinWall;  ///< empty: volume layers; else the edge spec (parseThinWallEdge)
 };
 
 /// Runs the command; prints progress and errors on stderr, a summary on stdout.

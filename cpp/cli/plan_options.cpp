@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "curvedslicer/field/geodesic_field.hpp"
 #include "plan_command.hpp"
 
 namespace curvedslicer::cli {
@@ -30,14 +31,62 @@ Output (all files appear together, or none on any error):
 Exit codes: 0 success, 2 invalid input (including usage errors), 3 file I/O error,
 4 resource limit (memory budget), 5 numerical failure, 130 interrupted (Ctrl-C), 1 other.)";
 
+void addLayerJobDetails(CLI::App& plan, LayersArguments& l);
+
+/// The planner's options: one line each (see docs/ADDING-AN-OPTION.md).
+void addPlannerOptions(CLI::App& plan, OptionBindings<PlannerOptions>& b) {
+  b.add(plan, "--bead-spacing",
+        "Bead spacing s in mm (> 0), required: distance between neighbouring\n"
+        "bead centre lines along the layer (with --thin-wall: between beads\n"
+        "along the wall, the bead height).",
+        "MM",
+        [](std::string_view text, PlannerOptions& o) {
+          o.beadSpacing = parseLength(text, "bead spacing");
+        })
+      ->required();
+  b.addLength(plan, "--point-spacing", &PlannerOptions::pointSpacing, "point spacing",
+              "Largest distance between robot points along a path, mm");
+  b.addLength(plan, "--fit-tolerance", &PlannerOptions::fitTolerance, "fit tolerance",
+              "Spline fit tolerance, mm");
+  b.addAngle(plan, "--corner-angle", &PlannerOptions::cornerAngle, "corner angle",
+             "Where a path turns by more than this within 0.2 mm, the spline fit\n"
+             "keeps the raw vertex as an exact corner, degrees in (0, 180];\n"
+             "180 keeps no corners, every path one smooth spline");
+  b.add(plan, "--surface-method",
+        "Surface geodesic distance: accurate (the curve inserted into the\n"
+        "layer mesh, fast marching) or paper (eq. 15); default " +
+            formatDefault(toString(PlannerOptions{}.geodesic.method)) + ".",
+        "NAME", [](std::string_view text, PlannerOptions& o) {
+          o.geodesic.method = parseSurfaceGeodesicMethod(text);
+        });
+  b.add(plan, "--narrow-strips",
+        "Where paths of one level come closer than 0.95*s (the innermost\n"
+        "ring of a thin region, a hole's front meeting the rim's):\n"
+        "  centre_bead  one bead on the strip's centre line instead,\n"
+        "               joined to the ring piece it continues; every\n"
+        "               change is reported per layer\n"
+        "  overlap      keep the paths; their beads overlap there\n"
+        "Default " +
+            narrowStripModeName(PlannerOptions{}.narrowStrips) + ".",
+        "MODE", [](std::string_view text, PlannerOptions& o) {
+          o.narrowStrips = parseNarrowStripMode(std::string(text));
+        });
+}
+
+/// The model, the layer job's options (as `layers`), the initial curve, the thin wall, output.
 void addPlanOptions(CLI::App& plan, PlanArguments& args) {
   LayersArguments& l = args.layers;
   plan.add_option("MODEL", l.model,
-                  "The part: a closed triangle mesh, STL (binary or ASCII) or OBJ, in mm;\n"
-                  "with --thin-wall the wall's (open) surface.")
+                  "The part, in mm: a closed triangle mesh (STL or OBJ) or a CAD solid\n"
+                  "(STEP, IGES, BREP; see `layers --help`); with --thin-wall the wall's\n"
+                  "(open) surface.")
       ->required()
       ->type_name("FILE");
-  plan.add_option("--start", l.start, "Start surface, as for `layers` (default plane:bottom).")
+  plan.add_option("--start", l.start,
+                  "Start surface, as for `layers` (default " + l.start +
+                      "); faces:IDS are\n"
+                      "0-based triangle positions for STL/OBJ, FreeCAD face numbers\n"
+                      "(1-based) for CAD.")
       ->type_name("SPEC");
   plan.add_option("--layer-thickness", l.layerThickness,
                   "Layer thickness h in mm (> 0); required unless --thin-wall.")
@@ -45,44 +94,19 @@ void addPlanOptions(CLI::App& plan, PlanArguments& args) {
   plan.add_option("--voxel", l.voxelSize,
                   "Voxel edge length L in mm (> 0); required unless --thin-wall.")
       ->type_name("MM");
-  plan.add_option("--bead-spacing", args.beadSpacing,
-                  "Bead spacing s in mm (> 0), required: distance between neighbouring\n"
-                  "bead centre lines along the layer (with --thin-wall: between beads\n"
-                  "along the wall, the bead height).")
-      ->required()
-      ->type_name("MM");
-  plan.add_option("--point-spacing", args.pointSpacing,
-                  "Largest distance between robot points along a path, mm (default 2).")
-      ->type_name("MM");
-  plan.add_option("--fit-tolerance", args.fitTolerance, "Spline fit tolerance, mm (default 0.05).")
-      ->type_name("MM");
-  plan.add_option("--corner-angle", args.cornerAngle,
-                  "Where a path turns by more than this within 0.2 mm, the spline fit\n"
-                  "keeps the raw vertex as an exact corner, degrees in (0, 180]\n"
-                  "(default 30; 180 keeps no corners, every path one smooth spline).")
-      ->type_name("DEG");
+  addPlannerOptions(plan, args.planner);
   plan.add_option("--initial-curve", args.initialCurve,
                   "Initial curve of every layer (paths are equidistant from it):\n"
                   "  boundary             the layer's edge; contour-parallel paths\n"
                   "                       inward, the outer bead's edge on the part\n"
-                  "                       edge (default)\n"
+                  "                       edge\n"
                   "  plane:X,Y,Z,NX,NY,NZ the section with the plane through X,Y,Z with\n"
                   "                       normal NX,NY,NZ (mm, model coordinates);\n"
                   "                       parallel paths on both sides\n"
-                  "  mesh:FILE            the section with a surface mesh (STL/OBJ)")
+                  "  mesh:FILE            the section with a surface mesh (STL/OBJ)\n"
+                  "Default " +
+                      args.initialCurve + ".")
       ->type_name("SPEC");
-  plan.add_option("--surface-method", args.surfaceMethod,
-                  "Surface geodesic distance: accurate (default; the curve inserted\n"
-                  "into the layer mesh, fast marching) or paper (eq. 15).")
-      ->type_name("NAME");
-  plan.add_option("--narrow-strips", args.narrowStrips,
-                  "Where paths of one level come closer than 0.95*s (the innermost\n"
-                  "ring of a thin region, a hole's front meeting the rim's):\n"
-                  "  centre_bead  one bead on the strip's centre line instead,\n"
-                  "               joined to the ring piece it continues; every\n"
-                  "               change is reported per layer (default)\n"
-                  "  overlap      keep the paths; their beads overlap there")
-      ->type_name("MODE");
   plan.add_option("--thin-wall", args.thinWall,
                   "Thin-wall mode (the paper's turbine base): MODEL is the wall's\n"
                   "surface; beads are curves along it at k*s from an edge:\n"
@@ -91,22 +115,35 @@ void addPlanOptions(CLI::App& plan, PlanArguments& args) {
                   "  nearest:X,Y,Z    the boundary loop nearest to X,Y,Z (mm)\n"
                   "No volume layers are computed (--voxel, --layer-thickness unused).")
       ->type_name("EDGE");
-  plan.add_option("--method", l.method, "Volume geodesic method: anyangle (default) or paper.")
+  addLayerJobDetails(plan, l);
+  plan.footer(kPlanFooter);
+}
+
+/// --method, --grid, --format, --memory-budget, --tessellation-tolerance, flags and output.
+void addLayerJobDetails(CLI::App& plan, LayersArguments& l) {
+  const LayerJobOptions defaults;
+  plan.add_option("--method", l.method,
+                  "Volume geodesic method: anyangle or paper (default " +
+                      formatDefault(toString(defaults.geodesic.method)) + ").")
       ->type_name("NAME");
-  plan.add_option("--grid", l.grid, "Voxel grid orientation: pca (default) or model.")
+  plan.add_option("--grid", l.grid,
+                  "Voxel grid orientation: pca or model (default " +
+                      formatDefault(toString(defaults.voxelize.alignment)) + ").")
       ->type_name("NAME");
-  plan.add_option("--format", l.format, "Layer file format: ply (default) or obj.")
+  plan.add_option("--format", l.format,
+                  "Layer file format: ply or obj (default " +
+                      formatDefault(toString(LayerJobArguments{}.format)) + ").")
       ->type_name("NAME");
   plan.add_option("--memory-budget", l.memoryBudgetMb,
                   "Memory the job may use, MB (default 0 = 80 % of physical memory).")
       ->type_name("MB");
+  addTessellationOption(plan, l);
   plan.add_flag("--cap-holes", l.capHoles, "Close the holes of an open model first (as `layers`).");
   plan.add_flag("-q,--quiet", l.quiet, "No progress and no summary; errors still go to stderr.");
   plan.add_option("-o,--output", l.output,
                   "Output folder (created if missing), required; see Output below.")
       ->required()
       ->type_name("DIR");
-  plan.footer(kPlanFooter);
 }
 
 }  // namespace

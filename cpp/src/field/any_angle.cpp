@@ -495,17 +495,52 @@ class AnyAnglePropagator {
   /// `blockedAt`: where the segment to the cell's parent was found to cross the surface, if known.
   void repair(std::uint32_t n, const Vec3& x, const Vec3* blockedAt) {
     const std::int32_t failed = parent_[n];
+    ViaCentres via;
+    collectNeighbourCandidates(n, x, failed, via);
+    edges_.clear();
+    if (boundary_) collectReflexEdges(x, failed, blockedAt);
+    if (edges_.empty()) {
+      std::erase_if(candidates_, [](const Candidate& c) { return c.edge == kExpandParent; });
+    }
+    if (searchCandidates(n, x, via)) return;
+    while (via.best == kInf && via.next < via.count) tryVia(n, x, via);
+    if (via.best == kInf) {
+      if (via.count == 0) {
+        // Cannot happen: a queued cell always has a finished neighbour or is a seed.
+        throw NumericalFailure("any-angle propagation lost the parent of a voxel; please report");
+      }
+      // No neighbour centre in sight (a surface fold thinner than a cell between them): the
+      // nearest one, as the voxel graph connects them.
+      via.best = via.items[0].first;
+      via.bestCell =
+          static_cast<std::uint32_t>(static_cast<std::ptrdiff_t>(n) + deltas_[via.items[0].second]);
+    }
+    dist_[n] = static_cast<float>(via.best);
+    parent_[n] = addPivot({cellCentre(g_.cell(via.bestCell)), dist_[via.bestCell], -1});
+  }
+
+  /// The finished neighbours of a cell under repair, by the distance via their centres (c).
+  struct ViaCentres {
+    std::pair<double, int> items[26];  // (distance via the finished neighbour's centre, offset)
+    int count = 0;
+    int next = 0;        // the next one to test
+    double best = kInf;  // the first one in sight
+    std::uint32_t bestCell = 0;
+  };
+
+  /// Repair candidates (a): the failed parent and the finished neighbours' parents, each also
+  /// to be expanded into pivots; and the neighbours' centres (c), sorted.
+  void collectNeighbourCandidates(std::uint32_t n, const Vec3& x, std::int32_t failed,
+                                  ViaCentres& via) {
     std::int32_t parents[27];
     int parentCount = 0;
     parents[parentCount++] = failed;
     candidates_.clear();
     candidates_.push_back({evaluate(failed, x, nullptr), failed, kExpandParent, Vec3::Zero()});
-    std::pair<double, int> via[26];  // (distance via the finished neighbour's centre, offset)
-    int viaCount = 0;
     for (int o = 0; o < 26; ++o) {
       const std::size_t m = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
       if (!(state_[m] & kDone)) continue;
-      via[viaCount++] = {dist_[m] + lengths_[o], o};
+      via.items[via.count++] = {dist_[m] + lengths_[o], o};
       const std::int32_t q = parent_[m];
       if (std::find(parents, parents + parentCount, q) != parents + parentCount) continue;
       parents[parentCount++] = q;
@@ -513,39 +548,54 @@ class AnyAnglePropagator {
       candidates_.push_back({direct, q, -1, Vec3::Zero()});  // (a) the neighbour's parent
       candidates_.push_back({direct, q, kExpandParent, Vec3::Zero()});
     }
-    std::sort(via, via + viaCount);
-    edges_.clear();
-    if (boundary_) {
-      boundary_->reflexEdgesNear(x, kEdgeReach, edges_);
-      Vec3 target, hit;
-      bool blocked = blockedAt != nullptr;
-      if (blocked) {
-        hit = *blockedAt;
-      } else {
-        evaluate(failed, x, &target);
-        blocked =
-            !boundary_->segmentClear(x, shortened(x, target, slackFor(failed)), mailbox_, &hit);
-      }
-      if (blocked) {
-        boundary_->reflexEdgesNear(hit, kEdgeReach, moreEdges_);
-        edges_.insert(edges_.end(), moreEdges_.begin(), moreEdges_.end());
-        std::sort(edges_.begin(), edges_.end());
-        edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
-      }
-      // The faces' normals are perpendicular to the edge, so whether x lies in the outside wedge
-      // (pivotAdmissible's test leavesSolidAt(e, x − pivot, 0)) does not depend on the pivot's
-      // place on the edge; the margin makes the skip never reject what that test accepts.
-      std::erase_if(edges_, [&](std::uint32_t e) {
-        const auto& edge = boundary_->reflexEdge(e);
-        const Vec3 d = x - edge[0];
-        const auto& normals = boundary_->reflexNormals(e);
-        const double tol = 1e-8 * (d.norm() + (edge[1] - edge[0]).norm());
-        return normals[0].dot(d) > tol && normals[1].dot(d) > tol;
-      });
+    std::sort(via.items, via.items + via.count);
+  }
+
+  /// Reflex edges (b) near the cell and near where its blocked segment meets the surface,
+  /// without those whose outside wedge holds the cell.
+  void collectReflexEdges(const Vec3& x, std::int32_t failed, const Vec3* blockedAt) {
+    boundary_->reflexEdgesNear(x, kEdgeReach, edges_);
+    Vec3 target, hit;
+    bool blocked = blockedAt != nullptr;
+    if (blocked) {
+      hit = *blockedAt;
+    } else {
+      evaluate(failed, x, &target);
+      blocked = !boundary_->segmentClear(x, shortened(x, target, slackFor(failed)), mailbox_, &hit);
     }
-    if (edges_.empty()) {
-      std::erase_if(candidates_, [](const Candidate& c) { return c.edge == kExpandParent; });
+    if (blocked) {
+      boundary_->reflexEdgesNear(hit, kEdgeReach, moreEdges_);
+      edges_.insert(edges_.end(), moreEdges_.begin(), moreEdges_.end());
+      std::sort(edges_.begin(), edges_.end());
+      edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
     }
+    // The faces' normals are perpendicular to the edge, so whether x lies in the outside wedge
+    // (pivotAdmissible's test leavesSolidAt(e, x − pivot, 0)) does not depend on the pivot's
+    // place on the edge; the margin makes the skip never reject what that test accepts.
+    std::erase_if(edges_, [&](std::uint32_t e) {
+      const auto& edge = boundary_->reflexEdge(e);
+      const Vec3 d = x - edge[0];
+      const auto& normals = boundary_->reflexNormals(e);
+      const double tol = 1e-8 * (d.norm() + (edge[1] - edge[0]).norm());
+      return normals[0].dot(d) > tol && normals[1].dot(d) > tol;
+    });
+  }
+
+  /// Tests the next neighbour centre; true (and `via.best` set) when the cell sees it.
+  bool tryVia(std::uint32_t n, const Vec3& x, ViaCentres& via) {
+    const int k = via.next++;
+    const int o = via.items[k].second;
+    // Two neighbouring cell centres need not see each other: their segment can cut the corner
+    // of a reflex edge that passes between them.
+    if (!visible(x, x + offsets_[o], 0.0, mailbox_, /*strict=*/true)) return false;
+    via.best = via.items[k].first;
+    via.bestCell = static_cast<std::uint32_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
+    return true;
+  }
+
+  /// Takes candidates shortest first until one is admissible (then the cell's distance and
+  /// parent are set: true) or a neighbour centre at most as far is in sight (false).
+  bool searchCandidates(std::uint32_t n, const Vec3& x, ViaCentres& via) {
     // Shortest first; equal lengths in a fixed order (a parent's expansion before the candidates,
     // then by edge and parent), as pivots at an edge's end tie across the edges meeting there.
     auto later = [](const Candidate& l, const Candidate& r) {
@@ -554,26 +604,14 @@ class AnyAnglePropagator {
       return l.parent > r.parent;
     };
     std::make_heap(candidates_.begin(), candidates_.end(), later);
-    double best = kInf;
-    std::uint32_t bestCell = 0;
-    int nextVia = 0;
-    auto tryVia = [&](int k) {
-      const int o = via[k].second;
-      // Two neighbouring cell centres need not see each other: their segment can cut the corner
-      // of a reflex edge that passes between them.
-      if (!visible(x, x + offsets_[o], 0.0, mailbox_, /*strict=*/true)) return false;
-      best = via[k].first;
-      bestCell = static_cast<std::uint32_t>(static_cast<std::ptrdiff_t>(n) + deltas_[o]);
-      return true;
-    };
     while (!candidates_.empty()) {
       std::pop_heap(candidates_.begin(), candidates_.end(), later);
       const Candidate c = candidates_.back();
       candidates_.pop_back();
       bool settled = false;
-      while (!settled && nextVia < viaCount && via[nextVia].first <= c.value + 1e-9)
-        settled = tryVia(nextVia++);
-      if (settled) break;
+      while (!settled && via.next < via.count && via.items[via.next].first <= c.value + 1e-9)
+        settled = tryVia(n, x, via);
+      if (settled) return false;
       if (c.edge == kExpandParent) {
         for (std::uint32_t e : edges_) {
           const auto& edge = boundary_->reflexEdge(e);
@@ -596,23 +634,10 @@ class AnyAnglePropagator {
           dist_[n] = static_cast<float>(c.value);
           parent_[n] = c.parent;
         }
-        return;
+        return true;
       }
     }
-    while (best == kInf && nextVia < viaCount) tryVia(nextVia++);
-    if (best == kInf) {
-      if (viaCount == 0) {
-        // Cannot happen: a queued cell always has a finished neighbour or is a seed.
-        throw NumericalFailure("any-angle propagation lost the parent of a voxel; please report");
-      }
-      // No neighbour centre in sight (a surface fold thinner than a cell between them): the
-      // nearest one, as the voxel graph connects them.
-      best = via[0].first;
-      bestCell =
-          static_cast<std::uint32_t>(static_cast<std::ptrdiff_t>(n) + deltas_[via[0].second]);
-    }
-    dist_[n] = static_cast<float>(best);
-    parent_[n] = addPivot({cellCentre(g_.cell(bestCell)), dist_[bestCell], -1});
+    return false;
   }
 
   /// Line of sight inherited from a neighbour, exactly. Let y be a finished neighbour with the

@@ -184,10 +184,7 @@ std::pair<int, TrianglePoint> closestInFan(const CuttableMesh& mesh, std::int32_
   return {best, bestPoint};
 }
 
-}  // namespace
-
-CurveInsertion insertCurves(const TriMesh& surface, const std::vector<Polyline>& curves,
-                            double curveTolerance) {
+void checkInsertionInputs(const TriMesh& surface, double curveTolerance) {
   if (surface.empty()) {
     throw InvalidInput("layer surface is empty: 0 triangles; pass a surface with triangles");
   }
@@ -201,13 +198,12 @@ CurveInsertion insertCurves(const TriMesh& surface, const std::vector<Polyline>&
                          "; repair the surface");
     }
   }
-  const TriangleBvh bvh(surface);
-  const double scale = std::max(surface.bounds().diagonal(), 1e-300);
-  CurveInsertion result;
-  CuttableMesh mesh(surface);
-  std::vector<std::int32_t> onCurve;
+}
 
-  // Surface distance of every curve point (tolerance check, and the reference for "Q is reached").
+/// Surface distance of every curve point (tolerance check); returns the largest.
+double measureCurveDeviation(const TriangleBvh& bvh, const std::vector<Polyline>& curves,
+                             double curveTolerance) {
+  double deviation = 0.0;
   for (const Polyline& curve : curves) {
     for (const Vec3& q : curve.points) {
       if (!q.allFinite()) {
@@ -215,7 +211,7 @@ CurveInsertion insertCurves(const TriMesh& surface, const std::vector<Polyline>&
                            "; pass finite coordinates");
       }
       const double d = bvh.closestPoint(q).distance;
-      result.maxCurveDeviation = std::max(result.maxCurveDeviation, d);
+      deviation = std::max(deviation, d);
       if (d > curveTolerance) {
         throw InvalidInput("initial curve is not on the layer surface: point " + formatPoint(q) +
                            " is " + std::to_string(d) + " mm away (tolerance " +
@@ -224,103 +220,157 @@ CurveInsertion insertCurves(const TriMesh& surface, const std::vector<Polyline>&
       }
     }
   }
+  return deviation;
+}
 
-  const std::size_t maxSteps = 8 * surface.triangleCount() + 1000;
-  std::size_t steps = 0;
-  for (const Polyline& curve : curves) {
-    if (curve.points.empty()) continue;
-    // First point: global location.
-    const Vec3& first = curve.points.front();
-    int bestTriangle = -1;
-    TrianglePoint bestPoint{Vec3::Zero(), Vec3::Zero()};
-    double bestDistance = kInf;
-    for (std::size_t t = 0; t < mesh.triangles().size(); ++t) {
-      const int ti = static_cast<int>(t);
-      const TrianglePoint tp =
-          closestOnTriangle(first, mesh.corner(ti, 0), mesh.corner(ti, 1), mesh.corner(ti, 2));
-      const double d = (tp.point - first).squaredNorm();
-      if (d < bestDistance) {
-        bestDistance = d;
-        bestTriangle = ti;
-        bestPoint = tp;
-      }
-    }
-    std::int32_t u = mesh.insertInTriangle(bestTriangle, bestPoint.bary, bestPoint.point);
-    onCurve.push_back(u);
-    const std::size_t segmentCount =
-        curve.closed && curve.points.size() >= 3 ? curve.points.size() : curve.points.size() - 1;
-    for (std::size_t i = 0; i < segmentCount; ++i) {
-      const Vec3& q = curve.points[(i + 1) % curve.points.size()];
-      const double qSurface = bvh.closestPoint(q).distance;
-      const double reach = qSurface + 1e-9 * scale;
-      for (;;) {
-        if (++steps > maxSteps) {
-          throw NumericalFailure("initial curve could not be traced on the surface: segment to " +
-                                 formatPoint(q) +
-                                 " did not arrive; check that the curve does not jump between "
-                                 "separate parts of the layer");
-        }
-        double fanDistance = kInf;
-        const auto [t, tp] = closestInFan(mesh, u, q, fanDistance);
-        if (t >= 0 && fanDistance <= reach) {
-          u = mesh.insertInTriangle(t, tp.bary, tp.point);
-          onCurve.push_back(u);
-          break;
-        }
-        // Next crossing of the segment plane with an edge opposite u.
-        const Vec3 p = mesh.vertices()[u];
-        const Vec3 dir = q - p;
-        double bestCos = -kInf;
-        std::int32_t ea = -1, eb = -1;
-        double es = 0.0;
-        Vec3 ex = Vec3::Zero();
-        for (const int ft : mesh.incident(u)) {
-          const Vec3i tri = mesh.triangles()[ft];
-          int k = 0;
-          while (tri[k] != u) ++k;
-          const std::int32_t a = tri[(k + 1) % 3], b = tri[(k + 2) % 3];
-          const Vec3& pa = mesh.vertices()[a];
-          const Vec3& pb = mesh.vertices()[b];
-          const Vec3 normal = (pa - p).cross(pb - p);
-          const Vec3 m = dir.cross(normal);
-          const double sa = m.dot(pa - p), sb = m.dot(pb - p);
-          if ((sa > 0 && sb > 0) || (sa < 0 && sb < 0) || sa == sb) continue;
-          const double s = sa / (sa - sb);
-          const Vec3 x = pa + s * (pb - pa);
-          const Vec3 step = x - p;
-          const double len = step.norm();
-          if (!(len > 0.0)) continue;
-          const double cosine = step.dot(dir) / (len * dir.norm());
-          if (cosine > bestCos) {
-            bestCos = cosine;
-            ea = a;
-            eb = b;
-            es = s;
-            ex = x;
-          }
-        }
-        if (ea < 0 || bestCos <= 0.0) {
-          throw NumericalFailure(
-              "initial curve could not be traced on the surface: no way forward towards " +
-              formatPoint(q) + " (" + std::to_string(dir.norm()) +
-              " mm away); check that the curve stays on the layer and does not cross its boundary");
-        }
-        const std::int32_t next = mesh.splitEdge(ea, eb, es, ex);
-        if (next == u) {
-          throw NumericalFailure("initial curve could not be traced on the surface: stalled at " +
-                                 formatPoint(p) + "; check the curve for degenerate segments");
-        }
-        u = next;
-        onCurve.push_back(u);
-      }
+/// Traces curves over a cuttable mesh, inserting their points and the crossings of their
+/// segments with the mesh edges as vertices.
+class CurveTracer {
+ public:
+  CurveTracer(const TriMesh& surface, const TriangleBvh& bvh)
+      : bvh_(bvh),
+        mesh_(surface),
+        scale_(std::max(surface.bounds().diagonal(), 1e-300)),
+        maxSteps_(8 * surface.triangleCount() + 1000) {}
+
+  void trace(const Polyline& curve);
+  CurveInsertion finish(double maxCurveDeviation) &&;
+
+ private:
+  std::int32_t insertFirstPoint(const Vec3& first);
+  std::int32_t traceSegment(std::int32_t u, const Vec3& q);
+  std::int32_t crossNextEdge(std::int32_t u, const Vec3& q);
+
+  const TriangleBvh& bvh_;  // the original surface: the reference for "Q is reached"
+  CuttableMesh mesh_;
+  const double scale_;
+  const std::size_t maxSteps_;
+  std::size_t steps_ = 0;
+  std::vector<std::int32_t> onCurve_;
+};
+
+void CurveTracer::trace(const Polyline& curve) {
+  if (curve.points.empty()) return;
+  std::int32_t u = insertFirstPoint(curve.points.front());
+  const std::size_t segmentCount =
+      curve.closed && curve.points.size() >= 3 ? curve.points.size() : curve.points.size() - 1;
+  for (std::size_t i = 0; i < segmentCount; ++i) {
+    u = traceSegment(u, curve.points[(i + 1) % curve.points.size()]);
+  }
+}
+
+/// First point: global location.
+std::int32_t CurveTracer::insertFirstPoint(const Vec3& first) {
+  int bestTriangle = -1;
+  TrianglePoint bestPoint{Vec3::Zero(), Vec3::Zero()};
+  double bestDistance = kInf;
+  for (std::size_t t = 0; t < mesh_.triangles().size(); ++t) {
+    const int ti = static_cast<int>(t);
+    const TrianglePoint tp =
+        closestOnTriangle(first, mesh_.corner(ti, 0), mesh_.corner(ti, 1), mesh_.corner(ti, 2));
+    const double d = (tp.point - first).squaredNorm();
+    if (d < bestDistance) {
+      bestDistance = d;
+      bestTriangle = ti;
+      bestPoint = tp;
     }
   }
-  result.insertedVertices = mesh.added();
-  result.mesh = std::move(mesh).toMesh();
-  std::sort(onCurve.begin(), onCurve.end());
-  onCurve.erase(std::unique(onCurve.begin(), onCurve.end()), onCurve.end());
-  result.curveVertices = std::move(onCurve);
+  const std::int32_t u = mesh_.insertInTriangle(bestTriangle, bestPoint.bary, bestPoint.point);
+  onCurve_.push_back(u);
+  return u;
+}
+
+/// From vertex u to the curve point q; returns q's vertex.
+std::int32_t CurveTracer::traceSegment(std::int32_t u, const Vec3& q) {
+  const double qSurface = bvh_.closestPoint(q).distance;
+  const double reach = qSurface + 1e-9 * scale_;
+  for (;;) {
+    if (++steps_ > maxSteps_) {
+      throw NumericalFailure("initial curve could not be traced on the surface: segment to " +
+                             formatPoint(q) +
+                             " did not arrive; check that the curve does not jump between "
+                             "separate parts of the layer");
+    }
+    double fanDistance = kInf;
+    const auto [t, tp] = closestInFan(mesh_, u, q, fanDistance);
+    if (t >= 0 && fanDistance <= reach) {
+      u = mesh_.insertInTriangle(t, tp.bary, tp.point);
+      onCurve_.push_back(u);
+      return u;
+    }
+    u = crossNextEdge(u, q);
+    onCurve_.push_back(u);
+  }
+}
+
+/// Next crossing of the segment plane with an edge opposite u, inserted as a vertex.
+std::int32_t CurveTracer::crossNextEdge(std::int32_t u, const Vec3& q) {
+  const Vec3 p = mesh_.vertices()[u];
+  const Vec3 dir = q - p;
+  double bestCos = -kInf;
+  std::int32_t ea = -1, eb = -1;
+  double es = 0.0;
+  Vec3 ex = Vec3::Zero();
+  for (const int ft : mesh_.incident(u)) {
+    const Vec3i tri = mesh_.triangles()[ft];
+    int k = 0;
+    while (tri[k] != u) ++k;
+    const std::int32_t a = tri[(k + 1) % 3], b = tri[(k + 2) % 3];
+    const Vec3& pa = mesh_.vertices()[a];
+    const Vec3& pb = mesh_.vertices()[b];
+    const Vec3 normal = (pa - p).cross(pb - p);
+    const Vec3 m = dir.cross(normal);
+    const double sa = m.dot(pa - p), sb = m.dot(pb - p);
+    if ((sa > 0 && sb > 0) || (sa < 0 && sb < 0) || sa == sb) continue;
+    const double s = sa / (sa - sb);
+    const Vec3 x = pa + s * (pb - pa);
+    const Vec3 step = x - p;
+    const double len = step.norm();
+    if (!(len > 0.0)) continue;
+    const double cosine = step.dot(dir) / (len * dir.norm());
+    if (cosine > bestCos) {
+      bestCos = cosine;
+      ea = a;
+      eb = b;
+      es = s;
+      ex = x;
+    }
+  }
+  if (ea < 0 || bestCos <= 0.0) {
+    throw NumericalFailure(
+        "initial curve could not be traced on the surface: no way forward towards " +
+        formatPoint(q) + " (" + std::to_string(dir.norm()) +
+        " mm away); check that the curve stays on the layer and does not cross its boundary");
+  }
+  const std::int32_t next = mesh_.splitEdge(ea, eb, es, ex);
+  if (next == u) {
+    throw NumericalFailure("initial curve could not be traced on the surface: stalled at " +
+                           formatPoint(p) + "; check the curve for degenerate segments");
+  }
+  return next;
+}
+
+CurveInsertion CurveTracer::finish(double maxCurveDeviation) && {
+  CurveInsertion result;
+  result.maxCurveDeviation = maxCurveDeviation;
+  result.insertedVertices = mesh_.added();
+  result.mesh = std::move(mesh_).toMesh();
+  std::sort(onCurve_.begin(), onCurve_.end());
+  onCurve_.erase(std::unique(onCurve_.begin(), onCurve_.end()), onCurve_.end());
+  result.curveVertices = std::move(onCurve_);
   return result;
+}
+
+}  // namespace
+
+CurveInsertion insertCurves(const TriMesh& surface, const std::vector<Polyline>& curves,
+                            double curveTolerance) {
+  checkInsertionInputs(surface, curveTolerance);
+  const TriangleBvh bvh(surface);
+  const double deviation = measureCurveDeviation(bvh, curves, curveTolerance);
+  CurveTracer tracer(surface, bvh);
+  for (const Polyline& curve : curves) tracer.trace(curve);
+  return std::move(tracer).finish(deviation);
 }
 
 }  // namespace curvedslicer

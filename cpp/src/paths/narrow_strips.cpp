@@ -10,10 +10,18 @@
 #include <unordered_map>
 
 #include "curvedslicer/core/error.hpp"
+#include "narrow_strips_internal.hpp"
 
 namespace curvedslicer {
 
 namespace {
+
+using paths_detail::cutLine;
+using paths_detail::linkOpenEnds;
+using paths_detail::makeTrack;
+using paths_detail::pointAt;
+using paths_detail::shortenCrowdedEnds;
+using paths_detail::Track;
 
 std::string formatMm(double value) {
   char buffer[64];
@@ -25,85 +33,6 @@ std::string formatPoint(const Vec3& p) {
   char buffer[128];
   std::snprintf(buffer, sizeof(buffer), "(%.1f, %.1f, %.1f)", p.x(), p.y(), p.z());
   return buffer;
-}
-
-/// A line with its arc lengths and evenly spaced samples (sample k at arc k·step).
-struct Track {
-  Polyline line;
-  std::vector<double> cum;  // computeCumulativeLengths
-  double length = 0.0;
-  std::vector<Vec3> samples;
-  double step = 0.0;
-  int level = 0;
-  bool centre = false;
-
-  double arcOf(std::size_t k) const { return std::min(length, static_cast<double>(k) * step); }
-  double arcDistance(double a, double b) const {
-    const double d = std::abs(a - b);
-    return line.closed ? std::min(d, length - d) : d;
-  }
-};
-
-/// The point at arc length t along the line (t unwrapped: for closed lines 0 ≤ t < 2·length).
-Vec3 pointAt(const Track& t, double arc) {
-  const std::size_t n = t.line.points.size();
-  if (n == 1 || !(t.length > 0.0)) return t.line.points.front();
-  const std::size_t segments = t.line.segmentCount();
-  if (t.line.closed) {
-    arc = std::fmod(arc, t.length);
-    if (arc < 0.0) arc += t.length;
-  } else {
-    arc = std::clamp(arc, 0.0, t.length);
-  }
-  // cum has segments + 1 entries; find the segment holding arc.
-  const auto it = std::upper_bound(t.cum.begin(), t.cum.begin() + segments + 1, arc);
-  std::size_t i = it == t.cum.begin() ? 0 : static_cast<std::size_t>(it - t.cum.begin()) - 1;
-  i = std::min(i, segments - 1);
-  const double a = t.cum[i], b = t.cum[i + 1];
-  const double u = b > a ? std::clamp((arc - a) / (b - a), 0.0, 1.0) : 0.0;
-  return (1.0 - u) * t.line.segmentStart(i) + u * t.line.segmentEnd(i);
-}
-
-Track makeTrack(Polyline line, int level, bool centre, double spacing) {
-  Track t;
-  t.line = std::move(line);
-  t.level = level;
-  t.centre = centre;
-  t.cum = computeCumulativeLengths(t.line);
-  t.length = t.line.length();
-  const std::size_t n =
-      std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(t.length / spacing)));
-  t.step = t.length / static_cast<double>(n);
-  const std::size_t count = t.line.closed && t.length > 0.0 ? n : n + 1;
-  t.samples.reserve(count);
-  for (std::size_t k = 0; k < count; ++k) {
-    t.samples.push_back(pointAt(t, static_cast<double>(k) * t.step));
-  }
-  return t;
-}
-
-/// The stretch [a, b] of arc length (closed lines: b < a wraps past the start), as an open line.
-Polyline cutLine(const Track& t, double a, double b) {
-  Polyline out;
-  if (t.line.closed && b < a) b += t.length;
-  out.points.push_back(pointAt(t, a));
-  const std::size_t n = t.line.points.size();
-  const std::size_t rounds = t.line.closed ? 2 : 1;
-  for (std::size_t r = 0; r < rounds; ++r) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const double arc = t.cum[i] + static_cast<double>(r) * t.length;
-      if (arc > a && arc < b) out.points.push_back(t.line.points[i]);
-    }
-  }
-  out.points.push_back(pointAt(t, b));
-  // Drop repeats (a cut next to a raw point).
-  std::size_t w = 0;
-  for (std::size_t i = 0; i < out.points.size(); ++i) {
-    if (w > 0 && (out.points[i] - out.points[w - 1]).norm() <= 1e-7) continue;
-    out.points[w++] = out.points[i];
-  }
-  out.points.resize(w);
-  return out;
 }
 
 /// Uniform hash grid of track samples.
@@ -193,112 +122,96 @@ struct Narrowing {
   }
 };
 
-/// `bridge`: a stretch of wide samples shorter than this (mm) between narrow ones of the same
-/// track, whose samples all face a point within 1.25 × threshold, counts as narrow (so one strip
-/// whose width wavers around the threshold gives one centre bead, not pieces and gaps).
-/// `keepWide` (optional): per track, per sample, non-zero = never narrow (set after bridging).
-Narrowing findNarrowing(const std::vector<Track>& tracks, double threshold, double exclusion,
-                        double bridge, const std::vector<std::vector<char>>* keepWide = nullptr) {
-  Narrowing g;
-  const double reach = 1.25 * threshold;
-  SampleGrid grid(reach);
-  for (std::size_t t = 0; t < tracks.size(); ++t) {
-    for (std::size_t k = 0; k < tracks[t].samples.size(); ++k) {
-      grid.add(static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(k), tracks[t].samples[k]);
+/// The nearest sample to sample k of track t on another part of the level (the same track
+/// further than `exclusion` along it) within `reach`, refined onto the partner's neighbouring
+/// segments; track −1 when there is none.
+Partner findPartner(const std::vector<Track>& tracks, const SampleGrid& grid, std::size_t t,
+                    std::size_t k, double reach, double exclusion) {
+  const Track& tr = tracks[t];
+  const Vec3& p = tr.samples[k];
+  Partner best;
+  grid.visit(p, reach, [&](std::uint32_t ot, std::uint32_t ok) {
+    if (ot == t && tr.arcDistance(tr.arcOf(k), tr.arcOf(ok)) <= exclusion) return;
+    const double d = (tracks[ot].samples[ok] - p).norm();
+    if (d < best.distance) best = {static_cast<int>(ot), ok, tracks[ot].samples[ok], d};
+  });
+  if (best.distance >= reach) return Partner{};
+  // Refine onto the partner's neighbouring segments.
+  const Track& o = tracks[best.track];
+  const std::size_t m = o.samples.size();
+  const std::size_t at = best.sample;
+  for (const int side : {-1, 1}) {
+    if (!o.line.closed && ((side < 0 && at == 0) || (side > 0 && at + 1 >= m))) continue;
+    const std::size_t j = side < 0 ? (at + m - 1) % m : (at + 1) % m;
+    const Vec3 q = closestOnSegment(p, o.samples[at], o.samples[j]);
+    if ((q - p).norm() < best.distance) {
+      best.point = q;
+      best.distance = (q - p).norm();
     }
   }
-  std::vector<std::vector<Partner>> nearest(tracks.size());
-  g.partners.resize(tracks.size());
-  for (std::size_t t = 0; t < tracks.size(); ++t) {
-    const Track& tr = tracks[t];
-    g.partners[t].resize(tr.samples.size());
-    nearest[t].resize(tr.samples.size());
-    for (std::size_t k = 0; k < tr.samples.size(); ++k) {
-      const Vec3& p = tr.samples[k];
-      Partner best;
-      grid.visit(p, reach, [&](std::uint32_t ot, std::uint32_t ok) {
-        if (ot == t && tr.arcDistance(tr.arcOf(k), tr.arcOf(ok)) <= exclusion) return;
-        const double d = (tracks[ot].samples[ok] - p).norm();
-        if (d < best.distance) best = {static_cast<int>(ot), ok, tracks[ot].samples[ok], d};
-      });
-      if (best.distance >= reach) continue;
-      // Refine onto the partner's neighbouring segments.
-      const Track& o = tracks[best.track];
-      const std::size_t m = o.samples.size();
-      const std::size_t at = best.sample;
-      for (const int side : {-1, 1}) {
-        if (!o.line.closed && ((side < 0 && at == 0) || (side > 0 && at + 1 >= m))) continue;
-        const std::size_t j = side < 0 ? (at + m - 1) % m : (at + 1) % m;
-        const Vec3 q = closestOnSegment(p, o.samples[at], o.samples[j]);
-        if ((q - p).norm() < best.distance) {
-          best.point = q;
-          best.distance = (q - p).norm();
-        }
-      }
-      nearest[t][k] = best;
-      if (best.distance < threshold) {
-        g.closest = std::min(g.closest, best.distance);
-        g.partners[t][k] = best;
-      }
-    }
-    // Bridge short wide stretches between narrow samples.
-    const std::size_t n = tr.samples.size();
-    const auto narrow = [&](std::size_t k) { return g.partners[t][k % n].track >= 0; };
-    const std::size_t maxGap =
-        tr.step > 0.0 ? static_cast<std::size_t>(std::min(bridge / tr.step, double(n))) : 0;
-    for (std::size_t k = 0; k < n; ++k) {
-      if (!narrow(k) || narrow(k + 1)) continue;
-      if (!tr.line.closed && k + 1 >= n) break;
-      std::size_t gap = 1;  // wide samples after k
-      while (gap <= maxGap && gap < n && !narrow(k + 1 + gap)) ++gap;
-      if (gap > maxGap || gap >= n) continue;
-      if (!tr.line.closed && k + 1 + gap >= n) continue;
-      bool near = true;
-      for (std::size_t i = 1; i <= gap; ++i) near = near && nearest[t][(k + i) % n].track >= 0;
-      if (!near) continue;
-      for (std::size_t i = 1; i <= gap; ++i) g.partners[t][(k + i) % n] = nearest[t][(k + i) % n];
-    }
-    if (keepWide != nullptr) {
-      for (std::size_t k = 0; k < n; ++k) {
-        if ((*keepWide)[t][k]) g.partners[t][k] = Partner{};
-      }
-    }
+  return best;
+}
+
+/// Bridges short wide stretches between narrow samples of a track: `partners` (the narrow
+/// ones) takes the `nearest` partners of a stretch shorter than `bridge` whose samples all have
+/// one.
+void bridgeWideStretches(const Track& tr, const std::vector<Partner>& nearest, double bridge,
+                         std::vector<Partner>& partners) {
+  const std::size_t n = tr.samples.size();
+  const auto narrow = [&](std::size_t k) { return partners[k % n].track >= 0; };
+  const std::size_t maxGap =
+      tr.step > 0.0 ? static_cast<std::size_t>(std::min(bridge / tr.step, double(n))) : 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!narrow(k) || narrow(k + 1)) continue;
+    if (!tr.line.closed && k + 1 >= n) break;
+    std::size_t gap = 1;  // wide samples after k
+    while (gap <= maxGap && gap < n && !narrow(k + 1 + gap)) ++gap;
+    if (gap > maxGap || gap >= n) continue;
+    if (!tr.line.closed && k + 1 + gap >= n) continue;
+    bool near = true;
+    for (std::size_t i = 1; i <= gap; ++i) near = near && nearest[(k + i) % n].track >= 0;
+    if (!near) continue;
+    for (std::size_t i = 1; i <= gap; ++i) partners[(k + i) % n] = nearest[(k + i) % n];
   }
-  g.runOf.resize(tracks.size());
-  g.trackRuns.resize(tracks.size());
-  for (std::size_t t = 0; t < tracks.size(); ++t) {
-    const std::size_t n = tracks[t].samples.size();
-    g.runOf[t].assign(n, -1);
-    const auto narrow = [&](std::size_t k) { return g.partners[t][k % n].track >= 0; };
-    std::size_t start = 0;
-    if (tracks[t].line.closed) {
-      std::size_t wide = n;
-      for (std::size_t k = 0; k < n && wide == n; ++k) {
-        if (!narrow(k)) wide = k;
-      }
-      if (wide == n) {
-        g.runs.push_back({static_cast<int>(t), 0, n, true, -1});
-        std::fill(g.runOf[t].begin(), g.runOf[t].end(), static_cast<int>(g.runs.size()) - 1);
-        g.trackRuns[t].push_back(static_cast<int>(g.runs.size()) - 1);
-        continue;
-      }
-      start = wide;
+}
+
+/// The runs of narrow samples of track t (a closed track narrow all round: one whole run).
+void collectRuns(const std::vector<Track>& tracks, std::size_t t, Narrowing& g) {
+  const std::size_t n = tracks[t].samples.size();
+  g.runOf[t].assign(n, -1);
+  const auto narrow = [&](std::size_t k) { return g.partners[t][k % n].track >= 0; };
+  std::size_t start = 0;
+  if (tracks[t].line.closed) {
+    std::size_t wide = n;
+    for (std::size_t k = 0; k < n && wide == n; ++k) {
+      if (!narrow(k)) wide = k;
     }
-    for (std::size_t i = 0; i < n;) {
-      if (!narrow(start + i)) {
-        ++i;
-        continue;
-      }
-      Run run{static_cast<int>(t), (start + i) % n, 0, false, -1};
-      while (i < n && narrow(start + i)) {
-        g.runOf[t][(start + i) % n] = static_cast<int>(g.runs.size());
-        ++run.count;
-        ++i;
-      }
-      g.trackRuns[t].push_back(static_cast<int>(g.runs.size()));
-      g.runs.push_back(run);
+    if (wide == n) {
+      g.runs.push_back({static_cast<int>(t), 0, n, true, -1});
+      std::fill(g.runOf[t].begin(), g.runOf[t].end(), static_cast<int>(g.runs.size()) - 1);
+      g.trackRuns[t].push_back(static_cast<int>(g.runs.size()) - 1);
+      return;
     }
+    start = wide;
   }
+  for (std::size_t i = 0; i < n;) {
+    if (!narrow(start + i)) {
+      ++i;
+      continue;
+    }
+    Run run{static_cast<int>(t), (start + i) % n, 0, false, -1};
+    while (i < n && narrow(start + i)) {
+      g.runOf[t][(start + i) % n] = static_cast<int>(g.runs.size());
+      ++run.count;
+      ++i;
+    }
+    g.trackRuns[t].push_back(static_cast<int>(g.runs.size()));
+    g.runs.push_back(run);
+  }
+}
+
+/// Each run's partner: the run holding most of its samples' partners.
+void votePartnerRuns(const std::vector<Track>& tracks, Narrowing& g) {
   for (Run& run : g.runs) {
     std::map<int, std::size_t> votes;
     const std::size_t n = tracks[run.track].samples.size();
@@ -315,6 +228,45 @@ Narrowing findNarrowing(const std::vector<Track>& tracks, double threshold, doub
       }
     }
   }
+}
+
+/// `bridge`: a stretch of wide samples shorter than this (mm) between narrow ones of the same
+/// track, whose samples all face a point within 1.25 × threshold, counts as narrow (so one strip
+/// whose width wavers around the threshold gives one centre bead, not pieces and gaps).
+/// `keepWide` (optional): per track, per sample, non-zero = never narrow (set after bridging).
+Narrowing findNarrowing(const std::vector<Track>& tracks, double threshold, double exclusion,
+                        double bridge, const std::vector<std::vector<char>>* keepWide = nullptr) {
+  Narrowing g;
+  const double reach = 1.25 * threshold;
+  SampleGrid grid(reach);
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    for (std::size_t k = 0; k < tracks[t].samples.size(); ++k) {
+      grid.add(static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(k), tracks[t].samples[k]);
+    }
+  }
+  g.partners.resize(tracks.size());
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    const std::size_t n = tracks[t].samples.size();
+    g.partners[t].resize(n);
+    std::vector<Partner> nearest(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      nearest[k] = findPartner(tracks, grid, t, k, reach, exclusion);
+      if (nearest[k].track >= 0 && nearest[k].distance < threshold) {
+        g.closest = std::min(g.closest, nearest[k].distance);
+        g.partners[t][k] = nearest[k];
+      }
+    }
+    bridgeWideStretches(tracks[t], nearest, bridge, g.partners[t]);
+    if (keepWide != nullptr) {
+      for (std::size_t k = 0; k < n; ++k) {
+        if ((*keepWide)[t][k]) g.partners[t][k] = Partner{};
+      }
+    }
+  }
+  g.runOf.resize(tracks.size());
+  g.trackRuns.resize(tracks.size());
+  for (std::size_t t = 0; t < tracks.size(); ++t) collectRuns(tracks, t, g);
+  votePartnerRuns(tracks, g);
   return g;
 }
 
@@ -430,179 +382,10 @@ struct OutPath {
   std::string what;  // for warnings: "GDTC x mm near (…)"
 };
 
-/// Removes the lines with fewer than 2 points, and their `centre` flags, keeping the order.
-void dropShortLines(std::vector<Polyline>& lines, std::vector<bool>& centre) {
-  std::size_t w = 0;
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (lines[i].points.size() < 2) continue;
-    if (w != i) {
-      lines[w] = std::move(lines[i]);
-      centre[w] = centre[i];
-    }
-    ++w;
-  }
-  lines.resize(w);
-  centre.resize(w);
-}
-
-/// Smallest distance from the segment a–b, sampled every `step`, to the lines other than
-/// `skipA` and `skipB`.
-double connectorClearance(const std::vector<Polyline>& lines, std::size_t skipA, std::size_t skipB,
-                          const Vec3& a, const Vec3& b, double step) {
-  const double length = (b - a).norm();
-  const std::size_t n =
-      std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(length / step)));
-  double nearest = kInf;
-  for (std::size_t k = 0; k <= n; ++k) {
-    const Vec3 p = a + (static_cast<double>(k) / static_cast<double>(n)) * (b - a);
-    for (std::size_t i = 0; i < lines.size(); ++i) {
-      if (i == skipA || i == skipB) continue;
-      nearest = std::min(nearest, closestPointOnPolyline(lines[i], p).distance);
-    }
-  }
-  return nearest;
-}
-
-/// Joins open lines end to end by straight connectors: a pair of ends at most `reach` apart, one
-/// of them a centre bead's, is joined nearest first, when the connector keeps `clearance` from
-/// every other line of the level and the join does not close a chain on itself. Joined lines
-/// replace the first of the two; `centre` says whether a line holds a centre bead.
-/// Returns the number of connectors.
-std::size_t linkOpenEnds(std::vector<Polyline>& lines, std::vector<bool>& centre, double reach,
-                         double clearance, double step) {
-  struct End {
-    std::size_t line;
-    bool atEnd;  // the line's last point (else its first)
-  };
-  struct Pair {
-    double distance;
-    End a, b;
-  };
-  const auto endPoint = [&](const End& e) -> const Vec3& {
-    return e.atEnd ? lines[e.line].points.back() : lines[e.line].points.front();
-  };
-  std::vector<Pair> pairs;
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (lines[i].closed || lines[i].points.size() < 2) continue;
-    for (std::size_t j = i + 1; j < lines.size(); ++j) {
-      if (lines[j].closed || lines[j].points.size() < 2 || !(centre[i] || centre[j])) continue;
-      for (const bool ei : {false, true}) {
-        for (const bool ej : {false, true}) {
-          const End a{i, ei}, b{j, ej};
-          const double d = (endPoint(a) - endPoint(b)).norm();
-          if (d <= reach) pairs.push_back({d, a, b});
-        }
-      }
-    }
-  }
-  if (pairs.empty()) return 0;
-  std::sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) {
-    if (x.distance != y.distance) return x.distance < y.distance;
-    if (x.a.line != y.a.line) return x.a.line < y.a.line;
-    if (x.b.line != y.b.line) return x.b.line < y.b.line;
-    return x.a.atEnd < y.a.atEnd || (x.a.atEnd == y.a.atEnd && x.b.atEnd < y.b.atEnd);
-  });
-  // Chains: every original line belongs to one chain (its current owner line index); an end can
-  // take one connector.
-  std::vector<std::size_t> owner(lines.size());
-  for (std::size_t i = 0; i < lines.size(); ++i) owner[i] = i;
-  const auto root = [&](std::size_t i) {
-    while (owner[i] != i) i = owner[i];
-    return i;
-  };
-  std::vector<std::array<bool, 2>> used(lines.size(), {false, false});
-  // Where each original end now sits: its chain's line and whether at that line's end.
-  std::vector<std::array<End, 2>> at(lines.size());
-  for (std::size_t i = 0; i < lines.size(); ++i) at[i] = {End{i, false}, End{i, true}};
-  std::size_t links = 0;
-  for (const Pair& pair : pairs) {
-    if (used[pair.a.line][pair.a.atEnd] || used[pair.b.line][pair.b.atEnd]) continue;
-    const std::size_t ra = root(pair.a.line), rb = root(pair.b.line);
-    if (ra == rb) continue;
-    const End ea = at[pair.a.line][pair.a.atEnd], eb = at[pair.b.line][pair.b.atEnd];
-    if (connectorClearance(lines, ra, rb, endPoint(ea), endPoint(eb), step) < clearance) continue;
-    // New chain line = (ra oriented to end at ea) + (rb oriented to start at eb).
-    Polyline& la = lines[ra];
-    Polyline& lb = lines[rb];
-    const bool flipA = !ea.atEnd, flipB = eb.atEnd;
-    if (flipA) std::reverse(la.points.begin(), la.points.end());
-    if (flipB) std::reverse(lb.points.begin(), lb.points.end());
-    // Ends of the original lines that sat in ra or rb move.
-    for (std::size_t i = 0; i < lines.size(); ++i) {
-      for (End& e : at[i]) {
-        if (e.line == ra && flipA) e.atEnd = !e.atEnd;
-        if (e.line == rb && flipB) e.atEnd = !e.atEnd;
-      }
-    }
-    for (std::size_t i = 0; i < lines.size(); ++i) {
-      for (End& e : at[i]) {
-        if (e.line == rb) e = End{ra, e.atEnd};  // rb's end stays an end; its start is joined
-      }
-    }
-    la.points.insert(la.points.end(), lb.points.begin(), lb.points.end());
-    lb.points.clear();
-    centre[ra] = centre[ra] || centre[rb];
-    owner[rb] = ra;
-    used[pair.a.line][pair.a.atEnd] = true;
-    used[pair.b.line][pair.b.atEnd] = true;
-    ++links;
-  }
-  dropShortLines(lines, centre);
-  return links;
-}
-
-/// Shortens the open lines' ends that come closer than `delta` to another line of the level, or
-/// to their own line further than `exclusion` along it (a connector passing the other end of the
-/// ring piece it joined). Lines left shorter than `minLength` are removed. Returns the number of
-/// ends shortened and the longest cut (mm).
-std::size_t shortenCrowdedEnds(std::vector<Polyline>& lines, std::vector<bool>& centre,
-                               double delta, double exclusion, double minLength, double step,
-                               double& longestCut) {
-  std::size_t cut = 0;
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (lines[i].closed || lines[i].points.size() < 2) continue;
-    const Track tr = makeTrack(lines[i], 0, false, step);
-    const std::size_t n = tr.samples.size();
-    const auto clear = [&](std::size_t k) {
-      const Vec3& p = tr.samples[k];
-      for (std::size_t j = 0; j < lines.size(); ++j) {
-        if (j == i || lines[j].points.size() < 2) continue;
-        if (closestPointOnPolyline(lines[j], p).distance < delta) return false;
-      }
-      for (std::size_t m = 0; m < n; ++m) {
-        if (tr.arcDistance(tr.arcOf(k), tr.arcOf(m)) > exclusion &&
-            (tr.samples[m] - p).norm() < delta) {
-          return false;
-        }
-      }
-      return true;
-    };
-    std::size_t a = 0;
-    while (a < n && !clear(a)) ++a;
-    if (a == n) {
-      lines[i].points.clear();
-      ++cut;
-      longestCut = std::max(longestCut, tr.length);
-      continue;
-    }
-    std::size_t b = n - 1;
-    while (b > a && !clear(b)) --b;
-    if (a == 0 && b == n - 1) continue;
-    const double from = tr.arcOf(a), to = b + 1 == n ? tr.length : tr.arcOf(b);
-    cut += (a > 0 ? 1 : 0) + (b + 1 < n ? 1 : 0);
-    longestCut = std::max({longestCut, from, tr.length - to});
-    lines[i] = to - from >= minLength ? cutLine(tr, from, to) : Polyline{};
-  }
-  dropShortLines(lines, centre);
-  return cut;
-}
-
-}  // namespace
-
-NarrowStripResult resolveNarrowStrips(const std::vector<std::vector<Polyline>>& levels,
-                                      const std::vector<double>& levelValues, double spacing,
-                                      const NarrowStripOptions& options,
-                                      const std::vector<std::vector<Polyline>>& innerEdges) {
+void checkNarrowStripInputs(const std::vector<std::vector<Polyline>>& levels,
+                            const std::vector<double>& levelValues, double spacing,
+                            const NarrowStripOptions& options,
+                            const std::vector<std::vector<Polyline>>& innerEdges) {
   if (!std::isfinite(spacing) || spacing <= 0.0) {
     throw InvalidInput("bead spacing must be a positive number of mm: " + formatMm(spacing) +
                        "; pass a value such as 3.7");
@@ -623,353 +406,502 @@ NarrowStripResult resolveNarrowStrips(const std::vector<std::vector<Polyline>>& 
         formatMm(options.minSeparation) + ", " + formatMm(options.innerEdgeOffset) + ", " +
         formatMm(options.margin) + "; pass e.g. 0.95, 0.1 and 0.1");
   }
-  const double s = spacing;
-  const double delta = options.minSeparation * s + options.margin;
-  const double exclusion =
-      options.arcExclusion < 0.0 ? 0.5 * std::numbers::pi * s : options.arcExclusion;
-  const double h = options.sampleSpacing > 0.0 ? options.sampleSpacing : s / 16.0;
-  const double minLength = options.minLength < 0.0 ? s : options.minLength;
-  const double capLimit = 1.5 * exclusion;
-  const double u = options.innerEdgeOffset;
+}
 
-  NarrowStripResult result;
-  std::vector<OutPath> out;
-  const auto addOut = [&](Polyline line, int level, bool centre, std::string what) {
+/// The lengths (mm) every phase of resolveNarrowStrips works with.
+struct StripLengths {
+  double s = 0.0;          // bead spacing
+  double delta = 0.0;      // δ: paths closer than this are narrow
+  double exclusion = 0.0;  // arc length along a line not compared with itself
+  double h = 0.0;          // sample spacing
+  double minLength = 0.0;  // shorter centre beads and pieces are dropped
+  double capLimit = 0.0;   // longest turn of a thin loop replaced by a centre bead's end
+  double u = 0.0;          // inner-edge offset
+};
+
+StripLengths deriveStripLengths(double spacing, const NarrowStripOptions& options) {
+  StripLengths len;
+  len.s = spacing;
+  len.delta = options.minSeparation * len.s + options.margin;
+  len.exclusion =
+      options.arcExclusion < 0.0 ? 0.5 * std::numbers::pi * len.s : options.arcExclusion;
+  len.h = options.sampleSpacing > 0.0 ? options.sampleSpacing : len.s / 16.0;
+  len.minLength = options.minLength < 0.0 ? len.s : options.minLength;
+  len.capLimit = 1.5 * len.exclusion;
+  len.u = options.innerEdgeOffset;
+  return len;
+}
+
+/// "GDTC x mm" of a level, for warnings.
+std::string levelName(const std::vector<double>& levelValues, std::size_t level) {
+  return "GDTC " + formatMm(levelValues[level]) + " mm";
+}
+
+/// Phases 1 and 2 of resolveNarrowStrips, level by level: thin rings and leftover strips become
+/// output paths (pieces and centre beads, whole).
+class StripCollector {
+ public:
+  StripCollector(const std::vector<double>& levelValues, const StripLengths& len,
+                 NarrowStripResult& result)
+      : levelValues_(levelValues), len_(len), result_(result) {}
+
+  void resolveThinRings(std::size_t level, const std::vector<Polyline>& lines);
+  void resolveLeftoverStrips(std::size_t level, const std::vector<Polyline>& innerEdges,
+                             const std::vector<Polyline>* nextLevel);
+  std::vector<OutPath>& paths() { return out_; }
+
+ private:
+  void addOut(Polyline line, int level, bool centre, std::string what) {
     OutPath o;
-    o.track = makeTrack(std::move(line), level, centre, h);
+    o.track = makeTrack(std::move(line), level, centre, len_.h);
     o.centre = centre;
     o.keep = {{0.0, o.track.length}};
     o.what = std::move(what);
-    out.push_back(std::move(o));
-  };
-  const auto where = [&](std::size_t level, const Polyline& line) {
-    return "GDTC " + formatMm(levelValues[level]) + " mm near " +
+    out_.push_back(std::move(o));
+  }
+  std::string where(std::size_t level, const Polyline& line) const {
+    return levelName(levelValues_, level) + " near " +
            formatPoint(line.points[line.points.size() / 2]);
-  };
+  }
+  void keepShortStretchesAsIs(std::size_t level, const std::vector<Track>& tracks, Narrowing& g,
+                              std::vector<bool>& capAfter, std::size_t& caps);
+  void addPiecesBetweenStrips(std::size_t level, const std::vector<Track>& tracks,
+                              const Narrowing& g, const std::vector<bool>& capAfter);
+  void addCentreBeads(std::size_t level, const std::vector<Track>& tracks, const Narrowing& g,
+                      const std::vector<bool>& capAfter);
+  std::vector<Track> collectFreeInnerEdges(std::size_t level,
+                                           const std::vector<Polyline>& innerEdges,
+                                           const std::vector<Polyline>* nextLevel) const;
+  void addLeftoverBeads(std::size_t level, const std::vector<Track>& edges);
 
-  for (std::size_t level = 0; level < levels.size(); ++level) {
-    const int lv = static_cast<int>(level);
-    // ---- thin rings: lines of the level closer than δ to themselves or each other ----
-    std::vector<Track> tracks;
-    for (const Polyline& line : levels[level]) {
-      if (line.points.size() >= 2) tracks.push_back(makeTrack(line, lv, false, h));
-    }
-    Narrowing g = findNarrowing(tracks, delta, exclusion, minLength);
-    result.closestBefore = std::min(result.closestBefore, g.closest);
-    std::size_t caps = 0;
-    std::vector<bool> capAfter = findCaps(tracks, g, capLimit, caps);
-    // Short narrow stretches (an acute corner of a ring, a brief pinch): the centre bead would
-    // lose about δ at every end that meets a kept piece (clearance, step 5) and be dropped for
-    // its length, leaving a hole where the ring was. There the ring is kept as it is.
-    std::vector<std::vector<char>> keepAsIs(tracks.size());
-    for (std::size_t t = 0; t < tracks.size(); ++t) keepAsIs[t].assign(tracks[t].samples.size(), 0);
-    std::size_t shortStretches = 0;
-    double shortest = kInf;
-    for (std::size_t r = 0; r < g.runs.size(); ++r) {
-      const Run& run = g.runs[r];
-      if (run.whole || !drawsBead(g, static_cast<int>(r))) continue;
-      double dMin = 0.0, dMax = 0.0;
-      const Polyline centre = drawMidline(tracks, g, static_cast<int>(r), capAfter, dMin, dMax);
-      int openEnds = 2;
-      if (capAfter[r]) --openEnds;
-      if (run.partner >= 0 && capAfter[run.partner] && g.runs[run.partner].track == run.track &&
-          g.previousRun(static_cast<int>(r)) == run.partner) {
-        --openEnds;
-      }
-      if (centre.length() - openEnds * delta >= minLength) continue;
-      ++shortStretches;
-      shortest = std::min(shortest, dMin);
-      for (const int k : {static_cast<int>(r), run.partner}) {
-        if (k < 0) continue;
-        const Run& q = g.runs[k];
-        const std::size_t n = tracks[q.track].samples.size();
-        for (std::size_t i = 0; i < q.count; ++i) keepAsIs[q.track][(q.first + i) % n] = 1;
-      }
-    }
-    if (shortStretches > 0) {
-      g = findNarrowing(tracks, delta, exclusion, minLength, &keepAsIs);
-      caps = 0;
-      capAfter = findCaps(tracks, g, capLimit, caps);
-      result.keptShortStretches += shortStretches;
-      result.warnings.push_back("GDTC " + formatMm(levelValues[level]) +
-                                " mm: " + std::to_string(shortStretches) +
-                                " short stretch(es) where paths come " + formatMm(shortest) +
-                                " mm close (under " + formatMm(delta) +
-                                " mm; e.g. an acute corner) kept as they are: a centre bead there "
-                                "would be shorter than " +
-                                formatMm(minLength) + " mm; the beads overlap locally");
-    }
-    result.droppedCaps += caps;
-    std::vector<Polyline> pieces;
-    for (std::size_t t = 0; t < tracks.size(); ++t) collectPieces(tracks, g, t, capAfter, pieces);
-    std::size_t shortPieces = 0;
-    for (Polyline& piece : pieces) {
-      // Dropped now, not after the centre beads have kept clear of them.
-      if (piece.length() < minLength) {
-        ++shortPieces;
-        continue;
-      }
-      addOut(std::move(piece), lv, false, "");
-    }
-    if (shortPieces > 0) {
-      result.warnings.push_back("GDTC " + formatMm(levelValues[level]) +
-                                " mm: " + std::to_string(shortPieces) +
-                                " piece(s) of paths between narrow stretches shorter than " +
-                                formatMm(minLength) + " mm not deposited");
-    }
-    for (std::size_t r = 0; r < g.runs.size(); ++r) {
-      if (!drawsBead(g, static_cast<int>(r))) continue;
-      double dMin = 0.0, dMax = 0.0;
-      Polyline centre = drawMidline(tracks, g, static_cast<int>(r), capAfter, dMin, dMax);
-      if (centre.points.size() < 2) continue;
-      const std::string what = where(level, centre) + ": paths " + formatMm(dMin) + "–" +
-                               formatMm(dMax) + " mm apart (under " + formatMm(delta) +
-                               " mm = 0.95·s + margin)";
-      if (centre.length() < minLength) {
-        ++result.droppedCentreBeads;
-        result.warnings.push_back(what + " replaced by nothing: a centre bead would be " +
-                                  formatMm(centre.length()) + " mm long, under " +
-                                  formatMm(minLength) + " mm; under-filled there");
-        continue;
-      }
-      result.widestUnderfill = std::max(result.widestUnderfill, 0.5 * dMax);
-      result.warnings.push_back(what + " replaced by one centre bead of " +
-                                formatMm(centre.length()) +
-                                " mm; the strip beside it is under-filled by up to " +
-                                formatMm(0.5 * dMax) + " mm on each side");
-      addOut(std::move(centre), lv, true, what);
-    }
+  const std::vector<double>& levelValues_;
+  const StripLengths& len_;
+  NarrowStripResult& result_;
+  std::vector<OutPath> out_;
+};
 
-    // ---- leftover strips: beyond the inner edge of the beads at this level ----
-    if (innerEdges.empty() || innerEdges[level].empty()) continue;
-    // Where the next level has a ring, the inner edge runs s/2 − u outside it: not a leftover.
-    std::vector<Track> next;
-    if (level + 1 < levels.size()) {
-      for (const Polyline& line : levels[level + 1]) {
-        if (line.points.size() >= 2) next.push_back(makeTrack(line, lv + 1, false, h));
-      }
+// ---- thin rings: lines of the level closer than δ to themselves or each other ----
+
+void StripCollector::resolveThinRings(std::size_t level, const std::vector<Polyline>& lines) {
+  const int lv = static_cast<int>(level);
+  std::vector<Track> tracks;
+  for (const Polyline& line : lines) {
+    if (line.points.size() >= 2) tracks.push_back(makeTrack(line, lv, false, len_.h));
+  }
+  Narrowing g = findNarrowing(tracks, len_.delta, len_.exclusion, len_.minLength);
+  result_.closestBefore = std::min(result_.closestBefore, g.closest);
+  std::size_t caps = 0;
+  std::vector<bool> capAfter = findCaps(tracks, g, len_.capLimit, caps);
+  keepShortStretchesAsIs(level, tracks, g, capAfter, caps);
+  result_.droppedCaps += caps;
+  addPiecesBetweenStrips(level, tracks, g, capAfter);
+  addCentreBeads(level, tracks, g, capAfter);
+}
+
+/// Short narrow stretches (an acute corner of a ring, a brief pinch): the centre bead would
+/// lose about δ at every end that meets a kept piece (clearance, step 5) and be dropped for
+/// its length, leaving a hole where the ring was. There the ring is kept as it is: the
+/// narrowing `g` and its caps are found again without those stretches.
+void StripCollector::keepShortStretchesAsIs(std::size_t level, const std::vector<Track>& tracks,
+                                            Narrowing& g, std::vector<bool>& capAfter,
+                                            std::size_t& caps) {
+  std::vector<std::vector<char>> keepAsIs(tracks.size());
+  for (std::size_t t = 0; t < tracks.size(); ++t) keepAsIs[t].assign(tracks[t].samples.size(), 0);
+  std::size_t shortStretches = 0;
+  double shortest = kInf;
+  for (std::size_t r = 0; r < g.runs.size(); ++r) {
+    const Run& run = g.runs[r];
+    if (run.whole || !drawsBead(g, static_cast<int>(r))) continue;
+    double dMin = 0.0, dMax = 0.0;
+    const Polyline centre = drawMidline(tracks, g, static_cast<int>(r), capAfter, dMin, dMax);
+    int openEnds = 2;
+    if (capAfter[r]) --openEnds;
+    if (run.partner >= 0 && capAfter[run.partner] && g.runs[run.partner].track == run.track &&
+        g.previousRun(static_cast<int>(r)) == run.partner) {
+      --openEnds;
     }
-    const double reach = 0.5 * s - u + 0.25 * s;
-    SampleGrid nextGrid(reach);
-    for (std::size_t t = 0; t < next.size(); ++t) {
-      for (std::size_t k = 0; k < next[t].samples.size(); ++k) {
-        nextGrid.add(static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(k),
-                     next[t].samples[k]);
-      }
+    if (centre.length() - openEnds * len_.delta >= len_.minLength) continue;
+    ++shortStretches;
+    shortest = std::min(shortest, dMin);
+    for (const int k : {static_cast<int>(r), run.partner}) {
+      if (k < 0) continue;
+      const Run& q = g.runs[k];
+      const std::size_t n = tracks[q.track].samples.size();
+      for (std::size_t i = 0; i < q.count; ++i) keepAsIs[q.track][(q.first + i) % n] = 1;
     }
-    std::vector<Track> edges;
-    for (const Polyline& line : innerEdges[level]) {
-      if (line.points.size() < 2) continue;
-      const Track tr = makeTrack(line, lv, false, h);
-      const std::size_t n = tr.samples.size();
-      std::vector<bool> free(n, true);
-      for (std::size_t k = 0; k < n; ++k) {
-        nextGrid.visit(tr.samples[k], reach, [&](std::uint32_t ot, std::uint32_t ok) {
-          if ((next[ot].samples[ok] - tr.samples[k]).norm() < reach) free[k] = false;
-        });
-      }
-      if (std::all_of(free.begin(), free.end(), [](bool f) { return f; })) {
-        edges.push_back(tr);
-        continue;
-      }
-      // Free stretches as open lines.
-      std::size_t start = 0;
-      if (tr.line.closed) {
-        while (free[start]) ++start;  // a taken sample exists
-      }
-      for (std::size_t i = 0; i < n;) {
-        if (!free[(start + i) % n]) {
-          ++i;
-          continue;
-        }
-        const std::size_t a = start + i;
-        while (i < n && free[(start + i) % n]) ++i;
-        const std::size_t b = start + i - 1;
-        if (b > a) {
-          Polyline piece = cutLine(tr, tr.arcOf(a % n), tr.arcOf(b % n));
-          if (piece.points.size() >= 2) edges.push_back(makeTrack(std::move(piece), lv, false, h));
-        }
-      }
+  }
+  if (shortStretches == 0) return;
+  g = findNarrowing(tracks, len_.delta, len_.exclusion, len_.minLength, &keepAsIs);
+  caps = 0;
+  capAfter = findCaps(tracks, g, len_.capLimit, caps);
+  result_.keptShortStretches += shortStretches;
+  result_.warnings.push_back(levelName(levelValues_, level) + ": " +
+                             std::to_string(shortStretches) +
+                             " short stretch(es) where paths come " + formatMm(shortest) +
+                             " mm close (under " + formatMm(len_.delta) +
+                             " mm; e.g. an acute corner) kept as they are: a centre bead there "
+                             "would be shorter than " +
+                             formatMm(len_.minLength) + " mm; the beads overlap locally");
+}
+
+void StripCollector::addPiecesBetweenStrips(std::size_t level, const std::vector<Track>& tracks,
+                                            const Narrowing& g, const std::vector<bool>& capAfter) {
+  std::vector<Polyline> pieces;
+  for (std::size_t t = 0; t < tracks.size(); ++t) collectPieces(tracks, g, t, capAfter, pieces);
+  std::size_t shortPieces = 0;
+  for (Polyline& piece : pieces) {
+    // Dropped now, not after the centre beads have kept clear of them.
+    if (piece.length() < len_.minLength) {
+      ++shortPieces;
+      continue;
     }
-    if (edges.empty()) continue;
-    // The two sides of a leftover strip are less than s − 2u apart; its width is that + 2u.
-    const Narrowing e = findNarrowing(edges, s, exclusion, minLength);
-    const std::vector<bool> edgeCaps = findCaps(edges, e, capLimit, result.droppedCaps);
-    std::size_t shortLeftovers = 0;
-    for (std::size_t r = 0; r < e.runs.size(); ++r) {
-      if (!drawsBead(e, static_cast<int>(r))) continue;
-      double dMin = 0.0, dMax = 0.0;
-      Polyline centre = drawMidline(edges, e, static_cast<int>(r), edgeCaps, dMin, dMax);
-      if (centre.points.size() < 2) continue;
-      if (centre.length() < minLength) {  // a spot, like an iso-line fragment: counted only
-        ++shortLeftovers;
-        continue;
-      }
-      const std::string what = where(level, centre) + ": a leftover strip " +
-                               formatMm(dMin + 2 * u) + "–" + formatMm(dMax + 2 * u) +
-                               " mm wide and about " + formatMm(centre.length()) + " mm long";
-      result.warnings.push_back(what +
-                                " lies beyond the inner edge of these beads; a centre bead "
-                                "fills it where it is at least " +
-                                formatMm(2 * delta - s) + " mm wide (" + formatMm(delta) +
-                                " mm from the beads beside it), the rest is left empty");
-      addOut(std::move(centre), lv, true, what);
+    addOut(std::move(piece), static_cast<int>(level), false, "");
+  }
+  if (shortPieces > 0) {
+    result_.warnings.push_back(levelName(levelValues_, level) + ": " + std::to_string(shortPieces) +
+                               " piece(s) of paths between narrow stretches shorter than " +
+                               formatMm(len_.minLength) + " mm not deposited");
+  }
+}
+
+void StripCollector::addCentreBeads(std::size_t level, const std::vector<Track>& tracks,
+                                    const Narrowing& g, const std::vector<bool>& capAfter) {
+  for (std::size_t r = 0; r < g.runs.size(); ++r) {
+    if (!drawsBead(g, static_cast<int>(r))) continue;
+    double dMin = 0.0, dMax = 0.0;
+    Polyline centre = drawMidline(tracks, g, static_cast<int>(r), capAfter, dMin, dMax);
+    if (centre.points.size() < 2) continue;
+    const std::string what = where(level, centre) + ": paths " + formatMm(dMin) + "–" +
+                             formatMm(dMax) + " mm apart (under " + formatMm(len_.delta) +
+                             " mm = 0.95·s + margin)";
+    if (centre.length() < len_.minLength) {
+      ++result_.droppedCentreBeads;
+      result_.warnings.push_back(what + " replaced by nothing: a centre bead would be " +
+                                 formatMm(centre.length()) + " mm long, under " +
+                                 formatMm(len_.minLength) + " mm; under-filled there");
+      continue;
     }
-    if (shortLeftovers > 0) {
-      result.warnings.push_back("GDTC " + formatMm(levelValues[level]) +
-                                " mm: " + std::to_string(shortLeftovers) +
-                                " leftover strip(s) shorter than " + formatMm(minLength) +
-                                " mm beyond the inner edge of these beads left empty");
+    result_.widestUnderfill = std::max(result_.widestUnderfill, 0.5 * dMax);
+    result_.warnings.push_back(what + " replaced by one centre bead of " +
+                               formatMm(centre.length()) +
+                               " mm; the strip beside it is under-filled by up to " +
+                               formatMm(0.5 * dMax) + " mm on each side");
+    addOut(std::move(centre), static_cast<int>(level), true, what);
+  }
+}
+
+// ---- leftover strips: beyond the inner edge of the beads at this level ----
+
+void StripCollector::resolveLeftoverStrips(std::size_t level,
+                                           const std::vector<Polyline>& innerEdges,
+                                           const std::vector<Polyline>* nextLevel) {
+  if (innerEdges.empty()) return;
+  const std::vector<Track> edges = collectFreeInnerEdges(level, innerEdges, nextLevel);
+  if (edges.empty()) return;
+  addLeftoverBeads(level, edges);
+}
+
+/// Appends the stretches of `tr` whose samples are `free` to `edges`, as open lines.
+void appendFreeStretches(const Track& tr, const std::vector<bool>& free, int lv, double h,
+                         std::vector<Track>& edges) {
+  const std::size_t n = tr.samples.size();
+  std::size_t start = 0;
+  if (tr.line.closed) {
+    while (free[start]) ++start;  // a taken sample exists
+  }
+  for (std::size_t i = 0; i < n;) {
+    if (!free[(start + i) % n]) {
+      ++i;
+      continue;
+    }
+    const std::size_t a = start + i;
+    while (i < n && free[(start + i) % n]) ++i;
+    const std::size_t b = start + i - 1;
+    if (b > a) {
+      Polyline piece = cutLine(tr, tr.arcOf(a % n), tr.arcOf(b % n));
+      if (piece.points.size() >= 2) edges.push_back(makeTrack(std::move(piece), lv, false, h));
+    }
+  }
+}
+
+/// The level's inner edges, without the stretches next to a ring of the next level: where the
+/// next level has a ring, the inner edge runs s/2 − u outside it: not a leftover.
+std::vector<Track> StripCollector::collectFreeInnerEdges(
+    std::size_t level, const std::vector<Polyline>& innerEdges,
+    const std::vector<Polyline>* nextLevel) const {
+  const int lv = static_cast<int>(level);
+  std::vector<Track> next;
+  if (nextLevel != nullptr) {
+    for (const Polyline& line : *nextLevel) {
+      if (line.points.size() >= 2) next.push_back(makeTrack(line, lv + 1, false, len_.h));
+    }
+  }
+  const double reach = 0.5 * len_.s - len_.u + 0.25 * len_.s;
+  SampleGrid nextGrid(reach);
+  for (std::size_t t = 0; t < next.size(); ++t) {
+    for (std::size_t k = 0; k < next[t].samples.size(); ++k) {
+      nextGrid.add(static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(k),
+                   next[t].samples[k]);
+    }
+  }
+  std::vector<Track> edges;
+  for (const Polyline& line : innerEdges) {
+    if (line.points.size() < 2) continue;
+    const Track tr = makeTrack(line, lv, false, len_.h);
+    const std::size_t n = tr.samples.size();
+    std::vector<bool> free(n, true);
+    for (std::size_t k = 0; k < n; ++k) {
+      nextGrid.visit(tr.samples[k], reach, [&](std::uint32_t ot, std::uint32_t ok) {
+        if ((next[ot].samples[ok] - tr.samples[k]).norm() < reach) free[k] = false;
+      });
+    }
+    if (std::all_of(free.begin(), free.end(), [](bool f) { return f; })) {
+      edges.push_back(tr);
+      continue;
+    }
+    appendFreeStretches(tr, free, lv, len_.h, edges);
+  }
+  return edges;
+}
+
+/// The two sides of a leftover strip are less than s − 2u apart; its width is that + 2u.
+void StripCollector::addLeftoverBeads(std::size_t level, const std::vector<Track>& edges) {
+  const double s = len_.s, u = len_.u, delta = len_.delta;
+  const Narrowing e = findNarrowing(edges, s, len_.exclusion, len_.minLength);
+  const std::vector<bool> edgeCaps = findCaps(edges, e, len_.capLimit, result_.droppedCaps);
+  std::size_t shortLeftovers = 0;
+  for (std::size_t r = 0; r < e.runs.size(); ++r) {
+    if (!drawsBead(e, static_cast<int>(r))) continue;
+    double dMin = 0.0, dMax = 0.0;
+    Polyline centre = drawMidline(edges, e, static_cast<int>(r), edgeCaps, dMin, dMax);
+    if (centre.points.size() < 2) continue;
+    if (centre.length() < len_.minLength) {  // a spot, like an iso-line fragment: counted only
+      ++shortLeftovers;
+      continue;
+    }
+    const std::string what = where(level, centre) + ": a leftover strip " + formatMm(dMin + 2 * u) +
+                             "–" + formatMm(dMax + 2 * u) + " mm wide and about " +
+                             formatMm(centre.length()) + " mm long";
+    result_.warnings.push_back(what +
+                               " lies beyond the inner edge of these beads; a centre bead "
+                               "fills it where it is at least " +
+                               formatMm(2 * delta - s) + " mm wide (" + formatMm(delta) +
+                               " mm from the beads beside it), the rest is left empty");
+    addOut(std::move(centre), static_cast<int>(level), true, what);
+  }
+  if (shortLeftovers > 0) {
+    result_.warnings.push_back(levelName(levelValues_, level) + ": " +
+                               std::to_string(shortLeftovers) + " leftover strip(s) shorter than " +
+                               formatMm(len_.minLength) +
+                               " mm beyond the inner edge of these beads left empty");
+  }
+}
+
+// ---- clearance: centre beads split (longest first), then piece ends shortened ----
+
+/// Phase 3 of resolveNarrowStrips: every output path keeps the arc ranges that are δ from the
+/// paths settled before it. A centre bead yields to the pieces and to the centre beads settled
+/// before it (longer ones), so two beads drawn on one ridge keep the longer one whole.
+class ClearancePass {
+ public:
+  ClearancePass(std::vector<OutPath>& out, std::size_t levelCount, const StripLengths& len,
+                NarrowStripResult& result)
+      : out_(out),
+        len_(len),
+        result_(result),
+        grid_(len.delta),
+        settled_(out.size(), false),
+        longestCut_(levelCount, 0.0),
+        cutEnds_(levelCount, 0) {
+    for (std::size_t t = 0; t < out_.size(); ++t) {
+      for (std::size_t k = 0; k < out_[t].track.samples.size(); ++k) {
+        grid_.add(static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(k),
+                  out_[t].track.samples[k]);
+      }
     }
   }
 
-  // ---- clearance: centre beads split (longest first), then piece ends shortened ----
-  SampleGrid grid(delta);
-  for (std::size_t t = 0; t < out.size(); ++t) {
-    for (std::size_t k = 0; k < out[t].track.samples.size(); ++k) {
-      grid.add(static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(k),
-               out[t].track.samples[k]);
-    }
-  }
-  // A centre bead yields to the pieces and to the centre beads settled before it (longer ones),
-  // so two beads drawn on one ridge keep the longer one whole.
-  std::vector<bool> settled(out.size(), false);
-  const auto active = [&](std::size_t t, std::size_t k) {
-    const double arc = out[t].track.arcOf(k);
-    for (const auto& [a, b] : out[t].keep) {
+  void run(const std::vector<double>& levelValues);
+
+ private:
+  bool active(std::size_t t, std::size_t k) const {
+    const double arc = out_[t].track.arcOf(k);
+    for (const auto& [a, b] : out_[t].keep) {
       if (arc >= a - 1e-9 && arc <= b + 1e-9) return true;
     }
     return false;
-  };
-  const auto clear = [&](std::size_t t, std::size_t k) {
-    const Track& tr = out[t].track;
-    const Vec3& p = tr.samples[k];
-    bool ok = true;
-    grid.visit(p, delta, [&](std::uint32_t ot, std::uint32_t ok2) {
-      if (!ok) return;
-      const Track& o = out[ot].track;
-      const int dl = std::abs(o.level - tr.level);
-      if (dl > 1 || (dl == 1 && !out[t].centre)) return;
-      if (ot == t && tr.arcDistance(tr.arcOf(k), tr.arcOf(ok2)) <= exclusion) return;
-      if (ot != t && out[ot].centre && !settled[ot]) return;
-      if (!active(ot, ok2)) return;
-      if ((o.samples[ok2] - p).norm() < delta) ok = false;
-    });
-    return ok;
-  };
-  std::vector<std::size_t> order(out.size());
-  for (std::size_t t = 0; t < out.size(); ++t) order[t] = t;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    if (out[a].centre != out[b].centre) return out[a].centre;
-    return out[a].centre && out[a].track.length > out[b].track.length;
+  }
+  bool clear(std::size_t t, std::size_t k) const;
+  std::vector<std::pair<double, double>> clearStretches(std::size_t t) const;
+  std::vector<std::pair<double, double>> trimEnds(std::size_t t);
+  std::vector<std::pair<double, double>> keepLongEnough(
+      std::size_t t, const std::vector<std::pair<double, double>>& keep, double& keptLength) const;
+  void warnAboutCentreBead(const OutPath& o, double keptLength);
+
+  std::vector<OutPath>& out_;
+  const StripLengths& len_;
+  NarrowStripResult& result_;
+  SampleGrid grid_;
+  std::vector<bool> settled_;
+  std::vector<double> longestCut_;
+  std::vector<std::size_t> cutEnds_;
+};
+
+bool ClearancePass::clear(std::size_t t, std::size_t k) const {
+  const Track& tr = out_[t].track;
+  const Vec3& p = tr.samples[k];
+  bool ok = true;
+  grid_.visit(p, len_.delta, [&](std::uint32_t ot, std::uint32_t ok2) {
+    if (!ok) return;
+    const Track& o = out_[ot].track;
+    const int dl = std::abs(o.level - tr.level);
+    if (dl > 1 || (dl == 1 && !out_[t].centre)) return;
+    if (ot == t && tr.arcDistance(tr.arcOf(k), tr.arcOf(ok2)) <= len_.exclusion) return;
+    if (ot != t && out_[ot].centre && !settled_[ot]) return;
+    if (!active(ot, ok2)) return;
+    if ((o.samples[ok2] - p).norm() < len_.delta) ok = false;
   });
-  std::vector<double> longestCut(levels.size(), 0.0);
-  std::vector<std::size_t> cutEnds(levels.size(), 0);
+  return ok;
+}
+
+void ClearancePass::run(const std::vector<double>& levelValues) {
+  std::vector<std::size_t> order(out_.size());
+  for (std::size_t t = 0; t < out_.size(); ++t) order[t] = t;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (out_[a].centre != out_[b].centre) return out_[a].centre;
+    return out_[a].centre && out_[a].track.length > out_[b].track.length;
+  });
   for (const std::size_t t : order) {
-    OutPath& o = out[t];
-    const Track& tr = o.track;
-    if (tr.line.closed && !o.centre) {
-      settled[t] = true;
+    OutPath& o = out_[t];
+    if (o.track.line.closed && !o.centre) {
+      settled_[t] = true;
       continue;
     }
-    const std::size_t n = tr.samples.size();
-    std::vector<std::pair<double, double>> keep;
-    if (o.centre) {
-      // Every clear stretch.
-      for (std::size_t k = 0; k < n;) {
-        if (!clear(t, k)) {
-          ++k;
-          continue;
-        }
-        const std::size_t a = k;
-        while (k < n && clear(t, k)) ++k;
-        // A closed centre ring clear all round stays closed; otherwise its stretches are open.
-        keep.emplace_back(tr.arcOf(a),
-                          a == 0 && k == n && tr.line.closed ? tr.length : tr.arcOf(k - 1));
-      }
-    } else {
-      std::size_t a = 0;
-      while (a < n && !clear(t, a)) ++a;
-      if (a < n) {
-        std::size_t b = n - 1;
-        while (b > a && !clear(t, b)) --b;
-        keep.emplace_back(tr.arcOf(a), tr.arcOf(b));
-        for (const double cut : {tr.arcOf(a), tr.length - tr.arcOf(b)}) {
-          if (cut > 0.0) {
-            ++cutEnds[tr.level];
-            longestCut[tr.level] = std::max(longestCut[tr.level], cut);
-          }
-        }
-      }
-    }
+    const std::vector<std::pair<double, double>> keep = o.centre ? clearStretches(t) : trimEnds(t);
     double keptLength = 0.0;
-    std::vector<std::pair<double, double>> longEnough;
-    const auto take = [&](double a, double b) {
-      if (b - a >= minLength) {
-        longEnough.emplace_back(a, b);
-        keptLength += b - a;
-      }
-    };
-    if (!o.centre || keep.size() <= 1) {
-      for (const auto& [a, b] : keep) take(a, b);
-    } else {
-      // The stretches of one bead become separate paths: each keeps δ from those kept before
-      // it (where the midline folds back, the arc exclusion no longer applies between them).
-      const auto nearKept = [&](std::size_t k) {
-        for (const auto& [a, b] : longEnough) {
-          for (std::size_t j = 0; j < n; ++j) {
-            const double arc = tr.arcOf(j);
-            if (arc >= a - 1e-9 && arc <= b + 1e-9 &&
-                (tr.samples[j] - tr.samples[k]).norm() < delta) {
-              return true;
-            }
-          }
-        }
-        return false;
-      };
-      for (const auto& [a, b] : keep) {
-        std::size_t k = static_cast<std::size_t>(std::llround(a / tr.step));
-        const std::size_t last =
-            std::min(n - 1, static_cast<std::size_t>(std::llround(b / tr.step)));
-        while (k <= last) {
-          if (nearKept(k)) {
-            ++k;
-            continue;
-          }
-          const std::size_t first = k;
-          while (k <= last && !nearKept(k)) ++k;
-          take(tr.arcOf(first), k > last && b >= tr.length ? b : tr.arcOf(k - 1));
-        }
-      }
-    }
-    o.keep = std::move(longEnough);
-    settled[t] = true;
-    if (o.centre && o.keep.empty()) {
-      ++result.droppedCentreBeads;
-      result.warnings.push_back(o.what + ": the centre bead (" + formatMm(tr.length) +
-                                " mm) has no stretch of at least " + formatMm(minLength) +
-                                " mm that is " + formatMm(delta) +
-                                " mm from the other paths; dropped, the strip is left empty");
-    } else if (o.centre && keptLength < tr.length - 1e-9) {
-      result.warnings.push_back(o.what + ": the centre bead keeps " + formatMm(keptLength) +
-                                " of " + formatMm(tr.length) + " mm in " +
-                                std::to_string(o.keep.size()) + " piece(s) (" + formatMm(delta) +
-                                " mm from the other paths)");
+    o.keep = keepLongEnough(t, keep, keptLength);
+    settled_[t] = true;
+    warnAboutCentreBead(o, keptLength);
+  }
+  for (std::size_t level = 0; level < cutEnds_.size(); ++level) {
+    result_.shortenedEnds += cutEnds_[level];
+    if (cutEnds_[level] > 0) {
+      result_.warnings.push_back(
+          levelName(levelValues, level) + ": " + std::to_string(cutEnds_[level]) +
+          " path end(s) shortened by up to " + formatMm(longestCut_[level]) + " mm to keep " +
+          formatMm(len_.delta) + " mm from the neighbouring paths; under-filled there");
     }
   }
-  for (std::size_t level = 0; level < levels.size(); ++level) {
-    result.shortenedEnds += cutEnds[level];
-    if (cutEnds[level] > 0) {
-      result.warnings.push_back(
-          "GDTC " + formatMm(levelValues[level]) + " mm: " + std::to_string(cutEnds[level]) +
-          " path end(s) shortened by up to " + formatMm(longestCut[level]) + " mm to keep " +
-          formatMm(delta) + " mm from the neighbouring paths; under-filled there");
-    }
-  }
+}
 
-  // ---- output ----
-  result.levels.assign(levels.size(), {});
-  result.centreBead.assign(levels.size(), {});
+/// A centre bead: every clear stretch.
+std::vector<std::pair<double, double>> ClearancePass::clearStretches(std::size_t t) const {
+  const Track& tr = out_[t].track;
+  const std::size_t n = tr.samples.size();
+  std::vector<std::pair<double, double>> keep;
+  for (std::size_t k = 0; k < n;) {
+    if (!clear(t, k)) {
+      ++k;
+      continue;
+    }
+    const std::size_t a = k;
+    while (k < n && clear(t, k)) ++k;
+    // A closed centre ring clear all round stays closed; otherwise its stretches are open.
+    keep.emplace_back(tr.arcOf(a),
+                      a == 0 && k == n && tr.line.closed ? tr.length : tr.arcOf(k - 1));
+  }
+  return keep;
+}
+
+/// An open piece: its ends shortened up to the first clear sample.
+std::vector<std::pair<double, double>> ClearancePass::trimEnds(std::size_t t) {
+  const Track& tr = out_[t].track;
+  const std::size_t n = tr.samples.size();
+  std::vector<std::pair<double, double>> keep;
+  std::size_t a = 0;
+  while (a < n && !clear(t, a)) ++a;
+  if (a < n) {
+    std::size_t b = n - 1;
+    while (b > a && !clear(t, b)) --b;
+    keep.emplace_back(tr.arcOf(a), tr.arcOf(b));
+    for (const double cut : {tr.arcOf(a), tr.length - tr.arcOf(b)}) {
+      if (cut > 0.0) {
+        ++cutEnds_[tr.level];
+        longestCut_[tr.level] = std::max(longestCut_[tr.level], cut);
+      }
+    }
+  }
+  return keep;
+}
+
+/// The stretches at least minLength long; those of one centre bead become separate paths, each
+/// δ from those kept before it (where the midline folds back, the arc exclusion no longer
+/// applies between them). `keptLength` returns their total length.
+std::vector<std::pair<double, double>> ClearancePass::keepLongEnough(
+    std::size_t t, const std::vector<std::pair<double, double>>& keep, double& keptLength) const {
+  const OutPath& o = out_[t];
+  const Track& tr = o.track;
+  const std::size_t n = tr.samples.size();
+  std::vector<std::pair<double, double>> longEnough;
+  const auto take = [&](double a, double b) {
+    if (b - a >= len_.minLength) {
+      longEnough.emplace_back(a, b);
+      keptLength += b - a;
+    }
+  };
+  if (!o.centre || keep.size() <= 1) {
+    for (const auto& [a, b] : keep) take(a, b);
+    return longEnough;
+  }
+  const auto nearKept = [&](std::size_t k) {
+    for (const auto& [a, b] : longEnough) {
+      for (std::size_t j = 0; j < n; ++j) {
+        const double arc = tr.arcOf(j);
+        if (arc >= a - 1e-9 && arc <= b + 1e-9 &&
+            (tr.samples[j] - tr.samples[k]).norm() < len_.delta) {
+          return true;
+        }
+      }
+    }
+    return false;
+  };
+  for (const auto& [a, b] : keep) {
+    std::size_t k = static_cast<std::size_t>(std::llround(a / tr.step));
+    const std::size_t last = std::min(n - 1, static_cast<std::size_t>(std::llround(b / tr.step)));
+    while (k <= last) {
+      if (nearKept(k)) {
+        ++k;
+        continue;
+      }
+      const std::size_t first = k;
+      while (k <= last && !nearKept(k)) ++k;
+      take(tr.arcOf(first), k > last && b >= tr.length ? b : tr.arcOf(k - 1));
+    }
+  }
+  return longEnough;
+}
+
+void ClearancePass::warnAboutCentreBead(const OutPath& o, double keptLength) {
+  const Track& tr = o.track;
+  if (o.centre && o.keep.empty()) {
+    ++result_.droppedCentreBeads;
+    result_.warnings.push_back(o.what + ": the centre bead (" + formatMm(tr.length) +
+                               " mm) has no stretch of at least " + formatMm(len_.minLength) +
+                               " mm that is " + formatMm(len_.delta) +
+                               " mm from the other paths; dropped, the strip is left empty");
+  } else if (o.centre && keptLength < tr.length - 1e-9) {
+    result_.warnings.push_back(o.what + ": the centre bead keeps " + formatMm(keptLength) + " of " +
+                               formatMm(tr.length) + " mm in " + std::to_string(o.keep.size()) +
+                               " piece(s) (" + formatMm(len_.delta) + " mm from the other paths)");
+  }
+}
+
+// ---- output ----
+
+void emitKeptPaths(const std::vector<OutPath>& out, std::size_t levelCount,
+                   NarrowStripResult& result) {
+  result.levels.assign(levelCount, {});
+  result.centreBead.assign(levelCount, {});
   for (const OutPath& o : out) {
     const Track& tr = o.track;
     for (const auto& [a, b] : o.keep) {
@@ -981,27 +913,53 @@ NarrowStripResult resolveNarrowStrips(const std::vector<std::vector<Polyline>>& 
       result.centreBead[tr.level].push_back(o.centre);
     }
   }
-  // ---- linking: a centre bead continues the open path whose end is next to its own ----
-  const double linkDistance = options.linkDistance < 0.0 ? 1.25 * delta : options.linkDistance;
-  if (linkDistance > 0.0) {
-    for (std::size_t level = 0; level < levels.size(); ++level) {
-      const std::size_t links =
-          linkOpenEnds(result.levels[level], result.centreBead[level], linkDistance, 0.5 * s, h);
-      if (links == 0) continue;
-      result.links += links;
-      // A connector passes the other end of the piece it joined at about 0.87·δ.
-      double longest = 0.0;
-      const std::size_t cut = shortenCrowdedEnds(result.levels[level], result.centreBead[level],
-                                                 delta, exclusion, minLength, h, longest);
-      if (cut > 0) {
-        result.shortenedEnds += cut;
-        result.warnings.push_back("GDTC " + formatMm(levelValues[level]) + " mm: " +
-                                  std::to_string(cut) + " path end(s) beside a joined centre " +
-                                  "bead shortened by up to " + formatMm(longest) + " mm to keep " +
-                                  formatMm(delta) + " mm from it; under-filled there");
-      }
+}
+
+// ---- linking: a centre bead continues the open path whose end is next to its own ----
+
+void linkCentreBeads(const std::vector<double>& levelValues, const StripLengths& len,
+                     double linkDistance, NarrowStripResult& result) {
+  for (std::size_t level = 0; level < result.levels.size(); ++level) {
+    const std::size_t links = linkOpenEnds(result.levels[level], result.centreBead[level],
+                                           linkDistance, 0.5 * len.s, len.h);
+    if (links == 0) continue;
+    result.links += links;
+    // A connector passes the other end of the piece it joined at about 0.87·δ.
+    double longest = 0.0;
+    const std::size_t cut =
+        shortenCrowdedEnds(result.levels[level], result.centreBead[level], len.delta, len.exclusion,
+                           len.minLength, len.h, longest);
+    if (cut > 0) {
+      result.shortenedEnds += cut;
+      result.warnings.push_back(levelName(levelValues, level) + ": " + std::to_string(cut) +
+                                " path end(s) beside a joined centre " +
+                                "bead shortened by up to " + formatMm(longest) + " mm to keep " +
+                                formatMm(len.delta) + " mm from it; under-filled there");
     }
   }
+}
+
+}  // namespace
+
+NarrowStripResult resolveNarrowStrips(const std::vector<std::vector<Polyline>>& levels,
+                                      const std::vector<double>& levelValues, double spacing,
+                                      const NarrowStripOptions& options,
+                                      const std::vector<std::vector<Polyline>>& innerEdges) {
+  checkNarrowStripInputs(levels, levelValues, spacing, options, innerEdges);
+  const StripLengths len = deriveStripLengths(spacing, options);
+  NarrowStripResult result;
+  StripCollector collector(levelValues, len, result);
+  for (std::size_t level = 0; level < levels.size(); ++level) {
+    collector.resolveThinRings(level, levels[level]);
+    if (innerEdges.empty()) continue;
+    collector.resolveLeftoverStrips(level, innerEdges[level],
+                                    level + 1 < levels.size() ? &levels[level + 1] : nullptr);
+  }
+  std::vector<OutPath>& out = collector.paths();
+  ClearancePass(out, levels.size(), len, result).run(levelValues);
+  emitKeptPaths(out, levels.size(), result);
+  const double linkDistance = options.linkDistance < 0.0 ? 1.25 * len.delta : options.linkDistance;
+  if (linkDistance > 0.0) linkCentreBeads(levelValues, len, linkDistance, result);
   return result;
 }
 

@@ -738,9 +738,7 @@ BSplineCurve joinPieces(const std::vector<BSplineCurve>& pieces,
   return c;
 }
 
-}  // namespace
-
-PathFitResult fitPath(const Polyline& raw, const PathFitOptions& options) {
+void checkFitOptions(const PathFitOptions& options) {
   if (!(options.tolerance > 0.0) || !std::isfinite(options.tolerance)) {
     throw InvalidInput("fit tolerance must be positive: " + num(options.tolerance) +
                        " mm; pass a value such as 0.05");
@@ -757,9 +755,11 @@ PathFitResult fitPath(const Polyline& raw, const PathFitOptions& options) {
     throw InvalidInput("corner angle must be positive: " + num(options.cornerAngle) +
                        " degrees; pass a value such as 30, or 180 for no corners");
   }
-  const double chordTolerance =
-      options.chordTolerance > 0.0 ? options.chordTolerance : options.tolerance;
-  // Drop repeated consecutive points.
+}
+
+/// The raw path's points without repeated consecutive ones (closed: nor the first repeated at
+/// the end); throws when they are not finite or too few.
+std::vector<Vec3> collectDistinctPoints(const Polyline& raw) {
   std::vector<Vec3> pts;
   for (const Vec3& p : raw.points) {
     if (!p.allFinite()) {
@@ -775,84 +775,100 @@ PathFitResult fitPath(const Polyline& raw, const PathFitOptions& options) {
         std::string("raw path has too few distinct points: ") + std::to_string(pts.size()) +
         (closed ? " (closed needs 3)" : " (open needs 2)") + "; drop the path or pass more points");
   }
+  return pts;
+}
+
+/// A ring without corners as one periodic spline over the whole ring; false (result.fitRounds
+/// set) when even the densified interpolation does not follow it within the tolerance.
+bool fitRing(const std::vector<Vec3>& pts, const std::vector<double>& cum,
+             const std::vector<char>& keep, const PathFitOptions& options, double chordTolerance,
+             PathFitResult& result) {
   const std::size_t n = pts.size();
-  const std::vector<double> cum = computeCumulativeLengths(Polyline{pts, closed});
   const double length = cum.back();
-  const std::vector<char> keep = markKeptVertices(pts, closed, kMergeFraction * options.tolerance);
-  std::vector<std::size_t> corners =
-      findCorners(pts, cum, keep, closed, kCornerReachFactor * options.tolerance,
-                  options.cornerAngle * std::numbers::pi / 180.0);
-
-  PathFitResult result;
-  if (closed && corners.empty()) {
-    // One periodic spline over the whole ring.
-    std::vector<double> rawU(n);
-    for (std::size_t i = 0; i < n; ++i) rawU[i] = cum[i] / length;
-    std::vector<Vec3> fitPts;
-    std::vector<double> fitU;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!keep[i]) continue;
-      fitPts.push_back(pts[i]);
-      fitU.push_back(rawU[i]);
-    }
-    PieceFit fit =
-        fitUniformRounds(std::move(fitPts), std::move(fitU), pts, rawU, true, length, options);
-    result.fitRounds = fit.rounds;
-    if (fit.deviation <= options.tolerance) {
-      result.fitDeviation = fit.deviation;
-      result.spline = std::move(fit.spline);
-      resampleSpline(result.spline, options.pointSpacing, chordTolerance, result.points.points,
-                     result.chordError);
-      result.points.closed = true;
-      return result;
-    }
-    // Not even the densified interpolation follows it: one open piece from vertex 0 around, kept
-    // as a polyline below if it fails again.
-    corners.push_back(0);
+  std::vector<double> rawU(n);
+  for (std::size_t i = 0; i < n; ++i) rawU[i] = cum[i] / length;
+  std::vector<Vec3> fitPts;
+  std::vector<double> fitU;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!keep[i]) continue;
+    fitPts.push_back(pts[i]);
+    fitU.push_back(rawU[i]);
   }
+  PieceFit fit =
+      fitUniformRounds(std::move(fitPts), std::move(fitU), pts, rawU, true, length, options);
+  result.fitRounds = fit.rounds;
+  if (!(fit.deviation <= options.tolerance)) return false;
+  result.fitDeviation = fit.deviation;
+  result.spline = std::move(fit.spline);
+  resampleSpline(result.spline, options.pointSpacing, chordTolerance, result.points.points,
+                 result.chordError);
+  result.points.closed = true;
+  return true;
+}
 
-  // Pieces between corners (open lines: also from and to the end points), each an open clamped
-  // spline through its two end vertices.
+/// Piece ends: the corners (open lines: also the end points; closed: around to the first
+/// corner again, index + n).
+std::vector<std::size_t> findPieceBreaks(const std::vector<std::size_t>& corners, bool closed,
+                                         std::size_t n) {
   std::vector<std::size_t> breaks;
   if (!closed) breaks.push_back(0);
   breaks.insert(breaks.end(), corners.begin(), corners.end());
   if (!closed) {
     breaks.push_back(n - 1);
   } else {
-    breaks.push_back(corners.front() + n);  // around to the first corner again
+    breaks.push_back(corners.front() + n);
   }
+  return breaks;
+}
+
+/// One piece between two breaks: its raw points (`rawLine`, arc parameters `rawU` in [0, 1],
+/// raw length `pieceLength`) fitted by an open clamped spline through its two end vertices, or
+/// kept as the (merged) raw vertices when no spline is within the tolerance.
+PieceFit fitPiece(const std::vector<Vec3>& pts, const std::vector<char>& keep, std::size_t from,
+                  std::size_t to, const PathFitOptions& options, std::vector<Vec3>& rawLine,
+                  double& pieceLength) {
+  const std::size_t n = pts.size();
+  std::vector<double> rawU{0.0};
+  std::vector<Vec3> fitPts;
+  std::vector<double> fitU;
+  for (std::size_t q = from; q <= to; ++q) {
+    const Vec3& p = pts[q % n];
+    if (!rawLine.empty()) rawU.push_back(rawU.back() + (p - rawLine.back()).norm());
+    rawLine.push_back(p);
+  }
+  pieceLength = rawU.back();
+  for (double& x : rawU) x /= pieceLength;
+  for (std::size_t q = from; q <= to; ++q) {
+    if (!keep[q % n]) continue;
+    fitPts.push_back(pts[q % n]);
+    fitU.push_back(rawU[q - from]);
+  }
+  PieceFit fit;
+  if (fitPts.size() >= 4) {
+    fit = fitUniformRounds(fitPts, fitU, rawLine, rawU, false, pieceLength, options);
+  }
+  if (fit.spline.empty() || fit.deviation > options.tolerance) {
+    // Too few points for a cubic, or no spline within the tolerance: keep the (merged) raw
+    // vertices; the deviation of that polyline is measured like a spline's.
+    fit.spline = makePolylineSpline(fitPts);
+    fit.deviation =
+        measureDeviation(fit.spline, rawLine, rawU, rawLine, rawU, false, 0.5 * options.tolerance);
+    fit.polyline = std::move(fitPts);
+  }
+  return fit;
+}
+
+/// Pieces between corners, each an open clamped spline, their points joined into the result.
+void fitPieces(const std::vector<Vec3>& pts, const std::vector<char>& keep,
+               const std::vector<std::size_t>& breaks, bool closed, const PathFitOptions& options,
+               double chordTolerance, PathFitResult& result) {
   std::vector<BSplineCurve> splines;
   std::vector<double> pieceLengths;
   std::vector<Vec3>& out = result.points.points;
   for (std::size_t b = 0; b + 1 < breaks.size(); ++b) {
     std::vector<Vec3> rawLine;
-    std::vector<double> rawU{0.0};
-    std::vector<Vec3> fitPts;
-    std::vector<double> fitU;
-    for (std::size_t q = breaks[b]; q <= breaks[b + 1]; ++q) {
-      const Vec3& p = pts[q % n];
-      if (!rawLine.empty()) rawU.push_back(rawU.back() + (p - rawLine.back()).norm());
-      rawLine.push_back(p);
-    }
-    const double pieceLength = rawU.back();
-    for (double& x : rawU) x /= pieceLength;
-    for (std::size_t q = breaks[b]; q <= breaks[b + 1]; ++q) {
-      if (!keep[q % n]) continue;
-      fitPts.push_back(pts[q % n]);
-      fitU.push_back(rawU[q - breaks[b]]);
-    }
-    PieceFit fit;
-    if (fitPts.size() >= 4) {
-      fit = fitUniformRounds(fitPts, fitU, rawLine, rawU, false, pieceLength, options);
-    }
-    if (fit.spline.empty() || fit.deviation > options.tolerance) {
-      // Too few points for a cubic, or no spline within the tolerance: keep the (merged) raw
-      // vertices; the deviation of that polyline is measured like a spline's.
-      fit.spline = makePolylineSpline(fitPts);
-      fit.deviation = measureDeviation(fit.spline, rawLine, rawU, rawLine, rawU, false,
-                                       0.5 * options.tolerance);
-      fit.polyline = std::move(fitPts);
-    }
+    double pieceLength = 0.0;
+    PieceFit fit = fitPiece(pts, keep, breaks[b], breaks[b + 1], options, rawLine, pieceLength);
     result.fitRounds += fit.rounds;
     result.fitDeviation = std::max(result.fitDeviation, fit.deviation);
     // Points of this piece, its first point shared with the previous piece's last.
@@ -877,6 +893,30 @@ PathFitResult fitPath(const Polyline& raw, const PathFitOptions& options) {
   if (closed) out.pop_back();  // the first corner again
   result.points.closed = closed;
   result.spline = joinPieces(splines, pieceLengths);
+}
+
+}  // namespace
+
+PathFitResult fitPath(const Polyline& raw, const PathFitOptions& options) {
+  checkFitOptions(options);
+  const double chordTolerance =
+      options.chordTolerance > 0.0 ? options.chordTolerance : options.tolerance;
+  const std::vector<Vec3> pts = collectDistinctPoints(raw);
+  const bool closed = raw.closed;
+  const std::vector<double> cum = computeCumulativeLengths(Polyline{pts, closed});
+  const std::vector<char> keep = markKeptVertices(pts, closed, kMergeFraction * options.tolerance);
+  std::vector<std::size_t> corners =
+      findCorners(pts, cum, keep, closed, kCornerReachFactor * options.tolerance,
+                  options.cornerAngle * std::numbers::pi / 180.0);
+  PathFitResult result;
+  if (closed && corners.empty()) {
+    if (fitRing(pts, cum, keep, options, chordTolerance, result)) return result;
+    // Not even the densified interpolation follows it: one open piece from vertex 0 around, kept
+    // as a polyline below if it fails again.
+    corners.push_back(0);
+  }
+  fitPieces(pts, keep, findPieceBreaks(corners, closed, pts.size()), closed, options,
+            chordTolerance, result);
   return result;
 }
 

@@ -367,246 +367,329 @@ void validateThinWallOptions(const ThinWallOptions& o) {
   }
 }
 
+namespace {
+
+/// The stages both planners run on every layer (thin wall: every bead) after the iso-lines —
+/// fit, order, deposition — with what they carry from one layer to the next (the torch position,
+/// the seams) and the statistics they add to.
+class LayerTail {
+ public:
+  /// `seamNeighbour`: "layer" or "bead", what the previous seams belong to (warnings).
+  LayerTail(const PathStages& stages, PlanStats& stats, StageTimer& timer,
+            const char* seamNeighbour)
+      : stages_(stages), stats_(stats), timer_(timer), seamNeighbour_(seamNeighbour) {}
+
+  // ---- fit ----
+  /// Fits `lines` and projects them onto `projectOnto` as beads (appended to `beads`); pieces too
+  /// short or too few points to deposit are counted in `dropped`.
+  template <typename NormalFn>
+  void fit(const std::vector<Polyline>& lines, const TriangleBvh& projectOnto, NormalFn&& normalOf,
+           std::vector<RawBead>& beads, std::size_t& dropped) {
+    timer_.run(kFit, [&] {
+      fitBeads(lines, stages_.minLength, stages_.fit, projectOnto, normalOf, beads, stats_,
+               dropped);
+      return 0;
+    });
+  }
+  /// Adds a layer's dropped pieces to the statistics.
+  void countDropped(std::size_t dropped) { stats_.droppedFragments += dropped; }
+  double minLength() const { return stages_.minLength; }
+  /// The note for `dropped` (> 0) pieces shorter than the shortest deposited one.
+  std::string droppedNote(std::size_t dropped) const {
+    return std::to_string(dropped) + " path piece(s) shorter than " + formatMm(stages_.minLength) +
+           " mm not deposited";
+  }
+
+  // ---- order ----
+  void order(const std::vector<RawBead>& beads, PlanLayer& layer) {
+    const LayerOrder ordered = timer_.run(kOrder, [&] {
+      return orderBeads(beads, layer.index, torch_, previousSeams_, stages_.ordering, layer);
+    });
+    if (layer.paths.empty()) return;
+    torch_ = ordered.end;
+    previousSeams_ = ordered.seams;
+    stats_.travel += ordered.travel;
+    stats_.seamsTooClose += ordered.seamsTooClose;
+    if (ordered.seamsTooClose > 0) {
+      layer.warnings.push_back(std::to_string(ordered.seamsTooClose) +
+                               " ring(s) too short to keep the seam " +
+                               formatMm(stages_.ordering.seamSeparation) +
+                               " mm from the previous " + seamNeighbour_ + "'s seams");
+    }
+  }
+
+  // ---- deposition ----
+  void deposit(const DepositionSupport& support, const DepositionOptions& options,
+               PlanLayer& layer) {
+    const DepositionStats ds = timer_.run(
+        kDeposition, [&] { return assignDepositionDirections(layer.paths, support, options); });
+    stats_.deposition.add(ds);
+  }
+
+ private:
+  const PathStages& stages_;
+  PlanStats& stats_;
+  StageTimer& timer_;
+  const char* seamNeighbour_;
+  std::optional<Vec3> torch_;
+  std::vector<Vec3> previousSeams_;
+};
+
+double largestFiniteDistance(const SurfaceGeodesicResult& gdtc) {
+  double maxDistance = 0.0;
+  for (const double d : gdtc.distance) {
+    if (std::isfinite(d)) maxDistance = std::max(maxDistance, d);
+  }
+  return maxDistance;
+}
+
 // ---- volume layers ----
 
-PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& startSurface,
-                      const PlannerOptions& options, Progress progress) {
-  validatePlannerOptions(options);
-  if (layers.empty()) {
-    throw InvalidInput("no layer surfaces to plan: 0 layers; run the layer job first");
+/// planLayers, layer by layer: the options turned into stage options once, and what one layer
+/// passes to the next (the support under it, the torch, the seams).
+class LayerPlanner {
+ public:
+  LayerPlanner(const TriMesh& startSurface, const PlannerOptions& options, PlanResult& result)
+      : options_(options),
+        s_(options.beadSpacing),
+        stages_(options),
+        fromBoundary_(options.initialCurve.kind == InitialCurveKind::Boundary),
+        result_(result),
+        timer_(result.stats),
+        tail_(stages_, result.stats, timer_, "layer") {
+    narrowStrips_.margin = 2.0 * options.fitTolerance;
+    narrowStrips_.minLength = stages_.minLength;
+    stages_.record(options, result.plan.parameters);
+    result.plan.parameters.initialCurve = options.initialCurve.describe();
+    result.plan.parameters.narrowStrips = narrowStripModeName(options.narrowStrips);
+    if (!startSurface.empty()) support_.emplace(startSurface);
   }
-  const double s = options.beadSpacing;
-  const PathStages stages(options);
-  const double minLength = stages.minLength;
-  const OrderingOptions& ordering = stages.ordering;
-  const PathFitOptions& fit = stages.fit;
-  NarrowStripOptions narrowStrips;
-  narrowStrips.margin = 2.0 * options.fitTolerance;
-  narrowStrips.minLength = minLength;
-  const bool fromBoundary = options.initialCurve.kind == InitialCurveKind::Boundary;
-  const IsoValueStart isoStart =
-      fromBoundary ? IsoValueStart::Boundary : IsoValueStart::InteriorCurve;
 
-  PlanResult result;
-  Plan& plan = result.plan;
-  stages.record(options, plan.parameters);
-  plan.parameters.initialCurve = options.initialCurve.describe();
-  plan.parameters.narrowStrips = narrowStripModeName(options.narrowStrips);
-  StageTimer timer(result.stats);
+  PlanLayer planLayer(std::size_t li, const LayerSurface& surface, const Progress& progress);
+  void finish();
 
-  std::optional<TriangleBvh> support;  // material under the current layer
-  if (!startSurface.empty()) support.emplace(startSurface);
-  std::optional<Vec3> torch;
-  std::vector<Vec3> previousSeams;
-  double widest = 0.0;  // largest GDTC over all layers (for the "spacing too wide" message)
-  std::string firstReason;
-
-  for (std::size_t li = 0; li < layers.size(); ++li) {
-    const Progress layerProgress = progress.sub(static_cast<double>(li) / layers.size(),
-                                                static_cast<double>(li + 1) / layers.size());
-    const LayerSurface& surface = layers[li];
-    PlanLayer layer;
-    layer.index = static_cast<int>(li);
-    layer.height = surface.level;
-    auto warn = [&](const std::string& text) {
-      layer.warnings.push_back(text);
-      if (firstReason.empty()) firstReason = "layer " + std::to_string(li) + ": " + text;
-    };
-
-    std::optional<SurfaceQuery> query;
-    std::vector<Polyline> curves;
-    std::vector<std::int32_t> boundaryVertices;  // Boundary: the GDTC sources
-    std::optional<SurfaceGeodesicResult> field;
-    if (surface.mesh.empty()) {
-      warn("the layer surface is empty; no paths");
-    } else {
-      // ---- closest points and normals on the layer (fit projection, deposition) ----
-      layerProgress.report(0.0, kStages[kIndex]);
-      timer.run(kIndex, [&] {
-        query.emplace(surface.mesh);
-        return 0;
-      });
-      // ---- initial curves ----
-      layerProgress.report(0.0, kStages[kCurves]);
-      curves = timer.run(kCurves, [&] {
-        switch (options.initialCurve.kind) {
-          case InitialCurveKind::Plane:
-            return computePlaneSection(surface.mesh, options.initialCurve.planePoint,
-                                       options.initialCurve.planeNormal);
-          case InitialCurveKind::Surface:
-            return computeSurfaceSection(surface.mesh, options.initialCurve.surface);
-          case InitialCurveKind::Boundary:
-            break;
-        }
-        SurfaceBoundary boundary = findBoundary(surface.mesh);
-        boundaryVertices = std::move(boundary.vertices);
-        return std::move(boundary.loops);
-      });
-      if (curves.empty()) {
-        warn(fromBoundary ? "the layer is a closed surface without a boundary; no paths (choose an "
-                            "initial plane or surface that crosses it)"
-                          : "the initial " + describeKind(options.initialCurve.kind) +
-                                " misses this layer; no paths (choose one that crosses every "
-                                "layer)");
-      }
+ private:
+  void warn(PlanLayer& layer, const std::string& text) {
+    layer.warnings.push_back(text);
+    if (firstReason_.empty()) {
+      firstReason_ = "layer " + std::to_string(layer.index) + ": " + text;
     }
-    if (!curves.empty()) {
-      // ---- surface geodesic ----
-      // Boundary loops consist of mesh vertices and edges: those vertices are the sources as they
-      // are (nothing to insert). Sections are inserted into the mesh.
-      try {
-        field = timer.run(kGeodesic, [&] {
-          return fromBoundary ? computeSurfaceGeodesicFromVertices(surface.mesh, boundaryVertices,
-                                                                   {}, options.geodesic,
-                                                                   layerProgress.sub(0.0, 0.7))
-                              : computeSurfaceGeodesic(surface.mesh, curves, options.geodesic,
-                                                       layerProgress.sub(0.0, 0.7));
-        });
-      } catch (const NumericalFailure& e) {
-        warn(std::string("the surface distance from the initial curve failed (") + e.what() +
-             "); no paths");
-      }
-    }
-    if (field) {
-      const SurfaceGeodesicResult& gdtc = *field;
-      double maxDistance = 0.0;
-      for (const double d : gdtc.distance) {
-        if (std::isfinite(d)) maxDistance = std::max(maxDistance, d);
-      }
-      widest = std::max(widest, maxDistance);
-      if (gdtc.unreachedVertices > 0) {
-        layer.warnings.push_back(std::to_string(gdtc.unreachedVertices) +
-                                 " vertices of the layer are not reached from the initial curve "
-                                 "(a separate piece of the layer); they get no paths");
-      }
-      // ---- iso-lines and fit ----
-      layerProgress.report(0.7, kStages[kIso]);
-      const std::vector<double> values = computeIsoValues(s, maxDistance, isoStart);
-      std::vector<RawBead> beads;
-      std::size_t dropped = 0;
-      const auto normalOf = [&](const ClosestPoint& c) { return query->normalAt(c); };
-      // All levels in one pass over the layer; k = 0 (value 0) is the initial curve itself,
-      // the first bead.
-      std::vector<std::vector<Polyline>> levelLines = timer.run(kIso, [&] {
-        std::vector<double> positive;
-        for (const double value : values) {
-          if (value > 0.0) positive.push_back(value);
-        }
-        std::vector<std::vector<Polyline>> lines =
-            extractIsoLines(gdtc.mesh, gdtc.distance, positive);
-        if (positive.size() < values.size()) lines.insert(lines.begin(), curves);
-        return lines;
-      });
-      layerProgress.check();
-      if (options.narrowStrips == NarrowStripMode::CentreBead && !values.empty()) {
-        // Where the fronts meet (paths/narrow_strips.hpp): paths of one level closer than 0.95·s
-        // become one centre bead; the margin keeps the fitted paths at 0.95·s. The inner edges
-        // outline the strips beyond the beads where the next level has no ring.
-        std::vector<double> edgeValues;
-        for (const double value : values) {
-          edgeValues.push_back(value + 0.5 * s + narrowStrips.innerEdgeOffset);
-        }
-        const std::vector<std::vector<Polyline>> innerEdges =
-            timer.run(kIso, [&] { return extractIsoLines(gdtc.mesh, gdtc.distance, edgeValues); });
-        NarrowStripResult strips = timer.run(kIso, [&] {
-          return resolveNarrowStrips(levelLines, values, s, narrowStrips, innerEdges);
-        });
-        reportNarrowStrips(strips, layer.warnings);
-        levelLines = std::move(strips.levels);
-      }
-      for (const std::vector<Polyline>& lines : levelLines) {
-        timer.run(kFit, [&] {
-          fitBeads(lines, minLength, fit, query->bvh, normalOf, beads, result.stats, dropped);
-          return 0;
-        });
-        layerProgress.check();
-      }
-      result.stats.droppedFragments += dropped;
-      if (values.empty()) {
-        warn("no room for a bead: the layer reaches at most " + formatMm(maxDistance) +
-             " mm from its initial curve, less than " +
-             (fromBoundary ? "s/2 = " + formatMm(0.5 * s) : "s = " + formatMm(s)) +
-             " mm; no paths");
-      } else if (beads.empty()) {
-        warn("no room for a bead: every iso-line is shorter than " + formatMm(minLength) +
-             " mm; no paths");
-      } else if (dropped > 0) {
-        layer.warnings.push_back(std::to_string(dropped) + " path piece(s) shorter than " +
-                                 formatMm(minLength) + " mm not deposited");
-      }
-      // ---- order ----
-      layerProgress.report(0.9, kStages[kOrder]);
-      const LayerOrder order = timer.run(kOrder, [&] {
-        return orderBeads(beads, layer.index, torch, previousSeams, ordering, layer);
-      });
-      if (!layer.paths.empty()) {
-        torch = order.end;
-        previousSeams = order.seams;
-        result.stats.travel += order.travel;
-        result.stats.seamsTooClose += order.seamsTooClose;
-        if (order.seamsTooClose > 0) {
-          layer.warnings.push_back(
-              std::to_string(order.seamsTooClose) + " ring(s) too short to keep the seam " +
-              formatMm(ordering.seamSeparation) + " mm from the previous layer's seams");
-        }
-      }
-      // ---- deposition ----
-      layerProgress.report(0.95, kStages[kDeposition]);
-      DepositionSupport dep;
-      dep.surface = support ? &*support : nullptr;
-      dep.earlierBeads = li == 0;
-      const DepositionStats ds = timer.run(kDeposition, [&] {
-        return assignDepositionDirections(layer.paths, dep, options.deposition);
-      });
-      result.stats.deposition.add(ds);
-    }
-    // The material under the next layer is this layer's surface (if it has one).
-    if (query) support.emplace(std::move(query->bvh));
-    plan.layers.push_back(std::move(layer));
-    layerProgress.report(1.0, kStages[kDeposition]);
   }
-  finishStats(result, timer);
-  if (plan.pathCount() == 0) {
-    if (widest > 0.0 && widest < (fromBoundary ? 0.5 * s : s)) {
-      throw InvalidInput("bead spacing is wider than every layer: " + formatMm(s) +
-                         " mm, the layers reach at most " + formatMm(widest) +
-                         " mm from their initial curves; choose a bead spacing below " +
-                         formatMm(fromBoundary ? 2.0 * widest : widest) + " mm");
+  std::vector<Polyline> findInitialCurves(const TriMesh& mesh,
+                                          std::vector<std::int32_t>& boundaryVertices);
+  std::optional<SurfaceGeodesicResult> computeLayerGeodesic(
+      const TriMesh& mesh, const std::vector<Polyline>& curves,
+      const std::vector<std::int32_t>& boundaryVertices, const Progress& progress,
+      PlanLayer& layer);
+  void planOnField(const SurfaceGeodesicResult& gdtc, const std::vector<Polyline>& curves,
+                   const SurfaceQuery& query, bool firstLayer, const Progress& progress,
+                   PlanLayer& layer);
+  std::vector<std::vector<Polyline>> extractLevelLines(const SurfaceGeodesicResult& gdtc,
+                                                       const std::vector<Polyline>& curves,
+                                                       const std::vector<double>& values);
+  void resolveNarrowStripsOf(const SurfaceGeodesicResult& gdtc, const std::vector<double>& values,
+                             std::vector<std::vector<Polyline>>& levelLines, PlanLayer& layer);
+  void noteMissingBeads(const std::vector<double>& values, double maxDistance,
+                        const std::vector<RawBead>& beads, std::size_t dropped, PlanLayer& layer);
+
+  const PlannerOptions& options_;
+  const double s_;
+  const PathStages stages_;
+  const bool fromBoundary_;
+  NarrowStripOptions narrowStrips_;
+  PlanResult& result_;
+  StageTimer timer_;
+  LayerTail tail_;
+  std::optional<TriangleBvh> support_;  // material under the current layer
+  double widest_ = 0.0;  // largest GDTC over all layers (for the "spacing too wide" message)
+  std::string firstReason_;
+};
+
+PlanLayer LayerPlanner::planLayer(std::size_t li, const LayerSurface& surface,
+                                  const Progress& progress) {
+  PlanLayer layer;
+  layer.index = static_cast<int>(li);
+  layer.height = surface.level;
+  std::optional<SurfaceQuery> query;
+  std::vector<Polyline> curves;
+  std::vector<std::int32_t> boundaryVertices;  // Boundary: the GDTC sources
+  std::optional<SurfaceGeodesicResult> field;
+  if (surface.mesh.empty()) {
+    warn(layer, "the layer surface is empty; no paths");
+  } else {
+    // ---- surface index: closest points and normals on the layer (fit projection, deposition)
+    progress.report(0.0, kStages[kIndex]);
+    timer_.run(kIndex, [&] {
+      query.emplace(surface.mesh);
+      return 0;
+    });
+    progress.report(0.0, kStages[kCurves]);
+    curves = findInitialCurves(surface.mesh, boundaryVertices);
+    if (curves.empty()) {
+      warn(layer, fromBoundary_
+                      ? "the layer is a closed surface without a boundary; no paths (choose an "
+                        "initial plane or surface that crosses it)"
+                      : "the initial " + describeKind(options_.initialCurve.kind) +
+                            " misses this layer; no paths (choose one that crosses every layer)");
     }
-    throw InvalidInput("no layer got a path: " + firstReason +
-                       "; change the initial curve or the bead spacing");
   }
-  return result;
+  if (!curves.empty()) {
+    field = computeLayerGeodesic(surface.mesh, curves, boundaryVertices, progress, layer);
+  }
+  if (field) planOnField(*field, curves, *query, li == 0, progress, layer);
+  // The material under the next layer is this layer's surface (if it has one).
+  if (query) support_.emplace(std::move(query->bvh));
+  return layer;
+}
+
+// ---- initial curves ----
+
+std::vector<Polyline> LayerPlanner::findInitialCurves(const TriMesh& mesh,
+                                                      std::vector<std::int32_t>& boundaryVertices) {
+  return timer_.run(kCurves, [&] {
+    switch (options_.initialCurve.kind) {
+      case InitialCurveKind::Plane:
+        return computePlaneSection(mesh, options_.initialCurve.planePoint,
+                                   options_.initialCurve.planeNormal);
+      case InitialCurveKind::Surface:
+        return computeSurfaceSection(mesh, options_.initialCurve.surface);
+      case InitialCurveKind::Boundary:
+        break;
+    }
+    SurfaceBoundary boundary = findBoundary(mesh);
+    boundaryVertices = std::move(boundary.vertices);
+    return std::move(boundary.loops);
+  });
+}
+
+// ---- surface geodesic ----
+
+/// Boundary loops consist of mesh vertices and edges: those vertices are the sources as they are
+/// (nothing to insert). Sections are inserted into the mesh. A failure is the layer's warning.
+std::optional<SurfaceGeodesicResult> LayerPlanner::computeLayerGeodesic(
+    const TriMesh& mesh, const std::vector<Polyline>& curves,
+    const std::vector<std::int32_t>& boundaryVertices, const Progress& progress, PlanLayer& layer) {
+  try {
+    return timer_.run(kGeodesic, [&] {
+      return fromBoundary_
+                 ? computeSurfaceGeodesicFromVertices(mesh, boundaryVertices, {}, options_.geodesic,
+                                                      progress.sub(0.0, 0.7))
+                 : computeSurfaceGeodesic(mesh, curves, options_.geodesic, progress.sub(0.0, 0.7));
+    });
+  } catch (const NumericalFailure& e) {
+    warn(layer, std::string("the surface distance from the initial curve failed (") + e.what() +
+                    "); no paths");
+  }
+  return std::nullopt;
+}
+
+/// Iso-lines, fit, order and deposition on a layer whose GDTC is known.
+void LayerPlanner::planOnField(const SurfaceGeodesicResult& gdtc,
+                               const std::vector<Polyline>& curves, const SurfaceQuery& query,
+                               bool firstLayer, const Progress& progress, PlanLayer& layer) {
+  const double maxDistance = largestFiniteDistance(gdtc);
+  widest_ = std::max(widest_, maxDistance);
+  if (gdtc.unreachedVertices > 0) {
+    layer.warnings.push_back(std::to_string(gdtc.unreachedVertices) +
+                             " vertices of the layer are not reached from the initial curve "
+                             "(a separate piece of the layer); they get no paths");
+  }
+  progress.report(0.7, kStages[kIso]);
+  const std::vector<double> values = computeIsoValues(
+      s_, maxDistance, fromBoundary_ ? IsoValueStart::Boundary : IsoValueStart::InteriorCurve);
+  std::vector<std::vector<Polyline>> levelLines = extractLevelLines(gdtc, curves, values);
+  progress.check();
+  if (options_.narrowStrips == NarrowStripMode::CentreBead && !values.empty()) {
+    resolveNarrowStripsOf(gdtc, values, levelLines, layer);
+  }
+  std::vector<RawBead> beads;
+  std::size_t dropped = 0;
+  const auto normalOf = [&](const ClosestPoint& c) { return query.normalAt(c); };
+  for (const std::vector<Polyline>& lines : levelLines) {
+    tail_.fit(lines, query.bvh, normalOf, beads, dropped);
+    progress.check();
+  }
+  tail_.countDropped(dropped);
+  noteMissingBeads(values, maxDistance, beads, dropped, layer);
+  progress.report(0.9, kStages[kOrder]);
+  tail_.order(beads, layer);
+  progress.report(0.95, kStages[kDeposition]);
+  DepositionSupport dep;
+  dep.surface = support_ ? &*support_ : nullptr;
+  dep.earlierBeads = firstLayer;
+  tail_.deposit(dep, options_.deposition, layer);
+}
+
+// ---- iso-lines ----
+
+/// All levels in one pass over the layer; k = 0 (value 0) is the initial curve itself, the first
+/// bead.
+std::vector<std::vector<Polyline>> LayerPlanner::extractLevelLines(
+    const SurfaceGeodesicResult& gdtc, const std::vector<Polyline>& curves,
+    const std::vector<double>& values) {
+  return timer_.run(kIso, [&] {
+    std::vector<double> positive;
+    for (const double value : values) {
+      if (value > 0.0) positive.push_back(value);
+    }
+    std::vector<std::vector<Polyline>> lines = extractIsoLines(gdtc.mesh, gdtc.distance, positive);
+    if (positive.size() < values.size()) lines.insert(lines.begin(), curves);
+    return lines;
+  });
+}
+
+/// Where the fronts meet (paths/narrow_strips.hpp): paths of one level closer than 0.95·s
+/// become one centre bead; the margin keeps the fitted paths at 0.95·s. The inner edges
+/// outline the strips beyond the beads where the next level has no ring.
+void LayerPlanner::resolveNarrowStripsOf(const SurfaceGeodesicResult& gdtc,
+                                         const std::vector<double>& values,
+                                         std::vector<std::vector<Polyline>>& levelLines,
+                                         PlanLayer& layer) {
+  std::vector<double> edgeValues;
+  for (const double value : values) {
+    edgeValues.push_back(value + 0.5 * s_ + narrowStrips_.innerEdgeOffset);
+  }
+  const std::vector<std::vector<Polyline>> innerEdges =
+      timer_.run(kIso, [&] { return extractIsoLines(gdtc.mesh, gdtc.distance, edgeValues); });
+  NarrowStripResult strips = timer_.run(
+      kIso, [&] { return resolveNarrowStrips(levelLines, values, s_, narrowStrips_, innerEdges); });
+  reportNarrowStrips(strips, layer.warnings);
+  levelLines = std::move(strips.levels);
+}
+
+void LayerPlanner::noteMissingBeads(const std::vector<double>& values, double maxDistance,
+                                    const std::vector<RawBead>& beads, std::size_t dropped,
+                                    PlanLayer& layer) {
+  if (values.empty()) {
+    warn(layer, "no room for a bead: the layer reaches at most " + formatMm(maxDistance) +
+                    " mm from its initial curve, less than " +
+                    (fromBoundary_ ? "s/2 = " + formatMm(0.5 * s_) : "s = " + formatMm(s_)) +
+                    " mm; no paths");
+  } else if (beads.empty()) {
+    warn(layer, "no room for a bead: every iso-line is shorter than " +
+                    formatMm(stages_.minLength) + " mm; no paths");
+  } else if (dropped > 0) {
+    layer.warnings.push_back(tail_.droppedNote(dropped));
+  }
+}
+
+void LayerPlanner::finish() {
+  finishStats(result_, timer_);
+  if (result_.plan.pathCount() > 0) return;
+  if (widest_ > 0.0 && widest_ < (fromBoundary_ ? 0.5 * s_ : s_)) {
+    throw InvalidInput("bead spacing is wider than every layer: " + formatMm(s_) +
+                       " mm, the layers reach at most " + formatMm(widest_) +
+                       " mm from their initial curves; choose a bead spacing below " +
+                       formatMm(fromBoundary_ ? 2.0 * widest_ : widest_) + " mm");
+  }
+  throw InvalidInput("no layer got a path: " + firstReason_ +
+                     "; change the initial curve or the bead spacing");
 }
 
 // ---- thin wall ----
 
-PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options, Progress progress) {
-  validateThinWallOptions(options);
-  if (surface.empty()) {
-    throw InvalidInput("thin-wall surface has no triangles: 0; pass the wall's surface mesh");
-  }
-  const double s = options.beadSpacing;
-  const PathStages stages(options);
-  const double minLength = stages.minLength;
-  const OrderingOptions& ordering = stages.ordering;
-  const PathFitOptions& fit = stages.fit;
-
-  PlanResult result;
-  Plan& plan = result.plan;
-  stages.record(options, plan.parameters);
-  plan.parameters.layerThickness = s;
-  StageTimer timer(result.stats);
-
-  // ---- initial curves: the edge ----
-  progress.report(0.0, kStages[kCurves]);
-  const std::vector<Polyline> loops =
-      timer.run(kCurves, [&] { return extractBoundaryLoops(surface); });
-  if (loops.empty()) {
-    throw InvalidInput(
-        "thin-wall surface has no boundary edge: 0 loops; pass an open surface "
-        "whose edge lies on the substrate");
-  }
+/// The boundary loop the wall grows from: the lowest along the axis, or the nearest to the point.
+std::size_t chooseWallEdge(const std::vector<Polyline>& loops, const ThinWallOptions& options) {
   std::size_t edge = 0;
   double bestKey = kInf;
   const Vec3 axis = options.axis.normalized();
@@ -622,33 +705,34 @@ PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options, 
       edge = i;
     }
   }
-  plan.parameters.initialCurve = options.edge == WallEdgeKind::LowestAlongAxis
-                                     ? "thin-wall:lowest:" + formatVec(options.axis)
-                                     : "thin-wall:nearest:" + formatVec(options.point);
+  return edge;
+}
 
-  // ---- surface geodesic ----
-  // The loop's points are mesh vertices: they are the sources as they are (nothing to insert).
+/// The loop's points are mesh vertices: they are the sources as they are (nothing to insert).
+SurfaceGeodesicResult computeWallGeodesic(const TriMesh& surface, const Polyline& edge,
+                                          const ThinWallOptions& options, StageTimer& timer,
+                                          const Progress& progress) {
   std::map<std::array<double, 3>, std::int32_t> vertexAt;
   for (std::size_t v = 0; v < surface.vertexCount(); ++v) {
     const Vec3& p = surface.vertices[v];
     vertexAt.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, static_cast<std::int32_t>(v));
   }
   std::vector<std::int32_t> sources;
-  for (const Vec3& p : loops[edge].points) {
+  for (const Vec3& p : edge.points) {
     const auto it = vertexAt.find({p.x(), p.y(), p.z()});
     if (it != vertexAt.end()) sources.push_back(it->second);
   }
-  const SurfaceGeodesicResult gdtc = timer.run(kGeodesic, [&] {
-    return sources.size() == loops[edge].points.size()
+  return timer.run(kGeodesic, [&] {
+    return sources.size() == edge.points.size()
                ? computeSurfaceGeodesicFromVertices(surface, sources, {}, options.geodesic,
                                                     progress.sub(0.0, 0.5))
-               : computeSurfaceGeodesic(surface, {loops[edge]}, options.geodesic,
-                                        progress.sub(0.0, 0.5));
+               : computeSurfaceGeodesic(surface, {edge}, options.geodesic, progress.sub(0.0, 0.5));
   });
-  double maxDistance = 0.0;
-  for (const double d : gdtc.distance) {
-    if (std::isfinite(d)) maxDistance = std::max(maxDistance, d);
-  }
+}
+
+/// The wall's bead values (GDTC from the edge), s apart; throws when there is none.
+std::vector<double> computeWallIsoValues(const SurfaceGeodesicResult& gdtc, double s) {
+  const double maxDistance = largestFiniteDistance(gdtc);
   std::vector<double> values = computeIsoValues(s, maxDistance, IsoValueStart::InteriorCurve);
   values.erase(std::remove_if(values.begin(), values.end(), [](double v) { return v <= 0.0; }),
                values.end());
@@ -657,10 +741,14 @@ PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options, 
                        " mm from its edge, the bead spacing is " + formatMm(s) +
                        " mm; choose a smaller bead spacing");
   }
+  return values;
+}
 
-  // Growth direction: the GDTC gradient on the triangle under the point.
-  const TriangleBvh bvh = timer.run(kIndex, [&] { return TriangleBvh(gdtc.mesh); });
-  const auto growthDirection = [&](const ClosestPoint& c) -> Vec3 {
+/// Growth direction of a wall bead: the GDTC gradient on the triangle under the point.
+struct WallGrowth {
+  const SurfaceGeodesicResult& gdtc;
+
+  Vec3 operator()(const ClosestPoint& c) const {
     const Vec3i& t = gdtc.mesh.triangles[c.triangle];
     const Vec3 a = gdtc.mesh.vertices[t[0]], b = gdtc.mesh.vertices[t[1]],
                d = gdtc.mesh.vertices[t[2]];
@@ -673,74 +761,115 @@ PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options, 
     // Gradient of the linear interpolant: Σ f_i (n × e_i) / |n|², e_i the edge opposite i.
     const Vec3 g = (fa * n.cross(d - b) + fb * n.cross(a - d) + fd * n.cross(b - a)) / area2;
     return g.norm() > 0.0 ? Vec3(g.normalized()) : Vec3(n.normalized());
-  };
+  }
+};
 
-  std::optional<Vec3> torch;
-  std::vector<Vec3> previousSeams;
-  std::vector<Polyline> previousBeads = {loops[edge]};
+/// The polylines of a layer's paths (the deposited beads the next wall bead rests on).
+std::vector<Polyline> pathLines(const PlanLayer& layer) {
+  std::vector<Polyline> lines;
+  for (const PlanPath& p : layer.paths) {
+    Polyline line;
+    line.closed = p.closed;
+    for (const PathPoint& q : p.points) line.points.push_back(q.position);
+    lines.push_back(std::move(line));
+  }
+  return lines;
+}
+
+/// One bead of the wall (a plan layer) from its iso-lines: fit, order, deposition on the beads
+/// before it.
+PlanLayer planWallBead(std::size_t k, double value, const std::vector<Polyline>& lines,
+                       const TriangleBvh& bvh, const WallGrowth& growthDirection,
+                       const ThinWallOptions& options, LayerTail& tail,
+                       std::vector<Polyline>& previousBeads) {
+  PlanLayer layer;
+  layer.index = static_cast<int>(k);
+  layer.height = value;
+  std::vector<RawBead> beads;
+  std::size_t dropped = 0;
+  tail.fit(lines, bvh, growthDirection, beads, dropped);
+  tail.countDropped(dropped);
+  if (beads.empty()) {
+    layer.warnings.push_back("no room for a bead at " + formatMm(value) +
+                             " mm from the edge: every curve is shorter than " +
+                             formatMm(tail.minLength()) + " mm; no paths");
+  } else if (dropped > 0) {
+    layer.warnings.push_back(tail.droppedNote(dropped));
+  }
+  tail.order(beads, layer);
+  DepositionSupport dep;
+  dep.curves = previousBeads;
+  dep.earlierBeads = true;
+  tail.deposit(dep, options.deposition, layer);
+  if (!layer.paths.empty()) previousBeads = pathLines(layer);
+  return layer;
+}
+
+}  // namespace
+
+PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& startSurface,
+                      const PlannerOptions& options, Progress progress) {
+  validatePlannerOptions(options);
+  if (layers.empty()) {
+    throw InvalidInput("no layer surfaces to plan: 0 layers; run the layer job first");
+  }
+  PlanResult result;
+  LayerPlanner planner(startSurface, options, result);
+  for (std::size_t li = 0; li < layers.size(); ++li) {
+    const Progress layerProgress = progress.sub(static_cast<double>(li) / layers.size(),
+                                                static_cast<double>(li + 1) / layers.size());
+    result.plan.layers.push_back(planner.planLayer(li, layers[li], layerProgress));
+    layerProgress.report(1.0, kStages[kDeposition]);
+  }
+  planner.finish();
+  return result;
+}
+
+PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options, Progress progress) {
+  validateThinWallOptions(options);
+  if (surface.empty()) {
+    throw InvalidInput("thin-wall surface has no triangles: 0; pass the wall's surface mesh");
+  }
+  const PathStages stages(options);
+  PlanResult result;
+  Plan& plan = result.plan;
+  stages.record(options, plan.parameters);
+  plan.parameters.layerThickness = options.beadSpacing;
+  StageTimer timer(result.stats);
+  // ---- initial curves: the edge ----
+  progress.report(0.0, kStages[kCurves]);
+  const std::vector<Polyline> loops =
+      timer.run(kCurves, [&] { return extractBoundaryLoops(surface); });
+  if (loops.empty()) {
+    throw InvalidInput(
+        "thin-wall surface has no boundary edge: 0 loops; pass an open surface "
+        "whose edge lies on the substrate");
+  }
+  const Polyline& edge = loops[chooseWallEdge(loops, options)];
+  plan.parameters.initialCurve = options.edge == WallEdgeKind::LowestAlongAxis
+                                     ? "thin-wall:lowest:" + formatVec(options.axis)
+                                     : "thin-wall:nearest:" + formatVec(options.point);
+  const SurfaceGeodesicResult gdtc = computeWallGeodesic(surface, edge, options, timer, progress);
+  const std::vector<double> values = computeWallIsoValues(gdtc, options.beadSpacing);
+  const TriangleBvh bvh = timer.run(kIndex, [&] { return TriangleBvh(gdtc.mesh); });
   // Every bead's iso-line in one pass over the surface.
   const std::vector<std::vector<Polyline>> levelLines =
       timer.run(kIso, [&] { return extractIsoLines(gdtc.mesh, gdtc.distance, values); });
+  LayerTail tail(stages, result.stats, timer, "bead");
+  std::vector<Polyline> previousBeads = {edge};
   for (std::size_t k = 0; k < values.size(); ++k) {
-    const Progress layerProgress =
+    const Progress beadProgress =
         progress.sub(0.5 + 0.5 * k / values.size(), 0.5 + 0.5 * (k + 1) / values.size());
-    layerProgress.report(0.0, kStages[kIso]);
-    PlanLayer layer;
-    layer.index = static_cast<int>(k);
-    layer.height = values[k];
-    const std::vector<Polyline>& lines = levelLines[k];
-    std::vector<RawBead> beads;
-    std::size_t dropped = 0;
-    timer.run(kFit, [&] {
-      fitBeads(lines, minLength, fit, bvh, growthDirection, beads, result.stats, dropped);
-      return 0;
-    });
-    result.stats.droppedFragments += dropped;
-    if (beads.empty()) {
-      layer.warnings.push_back("no room for a bead at " + formatMm(values[k]) +
-                               " mm from the edge: every curve is shorter than " +
-                               formatMm(minLength) + " mm; no paths");
-    } else if (dropped > 0) {
-      layer.warnings.push_back(std::to_string(dropped) + " path piece(s) shorter than " +
-                               formatMm(minLength) + " mm not deposited");
-    }
-    const LayerOrder order = timer.run(kOrder, [&] {
-      return orderBeads(beads, layer.index, torch, previousSeams, ordering, layer);
-    });
-    if (!layer.paths.empty()) {
-      torch = order.end;
-      previousSeams = order.seams;
-      result.stats.travel += order.travel;
-      result.stats.seamsTooClose += order.seamsTooClose;
-      if (order.seamsTooClose > 0) {
-        layer.warnings.push_back(
-            std::to_string(order.seamsTooClose) + " ring(s) too short to keep the seam " +
-            formatMm(ordering.seamSeparation) + " mm from the previous bead's seams");
-      }
-    }
-    DepositionSupport dep;
-    dep.curves = previousBeads;
-    dep.earlierBeads = true;
-    const DepositionStats ds = timer.run(kDeposition, [&] {
-      return assignDepositionDirections(layer.paths, dep, options.deposition);
-    });
-    result.stats.deposition.add(ds);
-    if (!layer.paths.empty()) {
-      previousBeads.clear();
-      for (const PlanPath& p : layer.paths) {
-        Polyline line;
-        line.closed = p.closed;
-        for (const PathPoint& q : p.points) line.points.push_back(q.position);
-        previousBeads.push_back(std::move(line));
-      }
-    }
-    plan.layers.push_back(std::move(layer));
-    layerProgress.report(1.0, kStages[kDeposition]);
+    beadProgress.report(0.0, kStages[kIso]);
+    plan.layers.push_back(planWallBead(k, values[k], levelLines[k], bvh, WallGrowth{gdtc}, options,
+                                       tail, previousBeads));
+    beadProgress.report(1.0, kStages[kDeposition]);
   }
   finishStats(result, timer);
   if (plan.pathCount() == 0) {
     throw InvalidInput("no bead of the thin wall is long enough: every curve is shorter than " +
-                       formatMm(minLength) + " mm; choose a smaller bead spacing or path length");
+                       formatMm(stages.minLength) +
+                       " mm; choose a smaller bead spacing or path length");
   }
   return result;
 }

@@ -176,6 +176,130 @@ struct Unfolder {
 
 namespace {
 
+/// The update of vertex w from triangle t whose other corners are v (just accepted) and x:
+/// first order (planar), refined to second order by a circular front through a third accepted
+/// vertex, and for a triangle obtuse at w from the triangles unfolded across the far edge.
+class TriangleUpdate {
+ public:
+  TriangleUpdate(const TriMesh& mesh, const Unfolder& unfolder, const std::vector<double>& d,
+                 const std::vector<char>& accepted, const SurfaceGeodesicOptions& options,
+                 SurfaceGeodesicResult& result)
+      : mesh_(mesh),
+        V(mesh.vertices),
+        unfolder_(unfolder),
+        d_(d),
+        accepted_(accepted),
+        options_(options),
+        result_(result) {}
+
+  double operator()(int t, std::int32_t w, std::int32_t v, std::int32_t x) {
+    const Vec3 C = V[w];
+    double best = kInf;
+    const Vec3 a = V[v] - C, b = V[x] - C;
+    if (!accepted_[x]) return best;
+    const double cosC = a.dot(b);
+    const double planar = planarUpdate(a, b, d_[v], d_[x]);
+    double refined = std::numeric_limits<double>::quiet_NaN();
+    if (std::isfinite(planar) && options_.secondOrder) refined = refine(t, v, x, a, b, planar);
+    best = std::min(best, std::isnan(refined) ? planar : refined);
+    if (cosC < 0.0) updateAcrossObtuse(t, v, x, a, b, best);
+    return best;
+  }
+
+ private:
+  /// Second order: the vertex across edge AB, unfolded into the plane of (C, A, B), as the third
+  /// point of circleUpdate; NaN when there is none.
+  double refine(int t, std::int32_t v, std::int32_t x, const Vec3& a, const Vec3& b,
+                double planar) const {
+    const int nb = unfolder_.across(t, v, x);
+    const std::int32_t id = nb >= 0 ? Unfolder::third(mesh_.triangles[nb], v, x) : -1;
+    if (id < 0 || !accepted_[id]) return std::numeric_limits<double>::quiet_NaN();
+    const Vec3 nrm = a.cross(b);
+    const double nn = nrm.norm();
+    if (!(nn > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+    const Vec3 ex = a.normalized();
+    const Vec3 ey = (nrm / nn).cross(ex);
+    const Eigen::Vector2d pa(a.dot(ex), a.dot(ey)), pb(b.dot(ex), b.dot(ey));
+    const double la = (V[id] - V[v]).norm(), lb = (V[id] - V[x]).norm();
+    const Eigen::Vector2d e = pb - pa;
+    const double l = e.norm();
+    const double along = (la * la - lb * lb + l * l) / (2 * l);
+    const double h2 = la * la - along * along;
+    const Eigen::Vector2d eu = e / l;
+    Eigen::Vector2d perp(-eu.y(), eu.x());
+    if (perp.dot(-pa) > 0.0) perp = -perp;
+    const Eigen::Vector2d pd = pa + along * eu + (h2 > 0.0 ? std::sqrt(h2) : 0.0) * perp;
+    return circleUpdate(pa, pb, pd, d_[v], d_[x], d_[id], planar, 0.5 * l);
+  }
+
+  /// Obtuse at C: unfolds triangles across the far edge into the plane of (C, A, B) until a
+  /// virtual vertex D lies inside the angle at C, then updates `best` from (A, D) and (D, B).
+  void updateAcrossObtuse(int t, std::int32_t v, std::int32_t x, const Vec3& a, const Vec3& b,
+                          double& best) {
+    const Vec3 nrm = a.cross(b);
+    const double nn = nrm.norm();
+    if (!(nn > 0.0)) return;
+    const Vec3 ez = nrm / nn;
+    // 2D frame in the plane of C, A, B with C at the origin.
+    const Vec3 ex = a.normalized();
+    const Vec3 ey = ez.cross(ex);
+    auto to2 = [&](const Vec3& p) { return Eigen::Vector2d(p.dot(ex), p.dot(ey)); };
+    Eigen::Vector2d pa = to2(a), pb = to2(b);
+    std::int32_t ia = v, ib = x;
+    int tri = t;
+    for (int step = 0; step < 8; ++step) {
+      const int nb = unfolder_.across(tri, ia, ib);
+      if (nb < 0) break;
+      const std::int32_t id = Unfolder::third(mesh_.triangles[nb], ia, ib);
+      if (id < 0) break;
+      // Place D: its distances to A and B are preserved; on the far side of AB from C.
+      const double la = (V[id] - V[ia]).norm(), lb = (V[id] - V[ib]).norm();
+      const Eigen::Vector2d e = pb - pa;
+      const double l = e.norm();
+      if (!(l > 0.0)) break;
+      const double along = (la * la - lb * lb + l * l) / (2 * l);
+      const double h2 = la * la - along * along;
+      const double h = h2 > 0.0 ? std::sqrt(h2) : 0.0;
+      const Eigen::Vector2d eu = e / l;
+      Eigen::Vector2d perp(-eu.y(), eu.x());
+      // C (origin) must be on the other side.
+      if (perp.dot(-pa) > 0.0) perp = -perp;
+      const Eigen::Vector2d pd = pa + along * eu + h * perp;
+      const double crossA = pa.x() * pd.y() - pa.y() * pd.x();  // A × D
+      const double crossD = pd.x() * pb.y() - pd.y() * pb.x();  // D × B
+      const double orient = pa.x() * pb.y() - pa.y() * pb.x();  // A × B
+      const bool inside = crossA * orient > 0.0 && crossD * orient > 0.0;
+      if (inside) {
+        ++result_.unfoldings;
+        if (accepted_[id]) {
+          const Vec3 dv = pd.x() * ex + pd.y() * ey;
+          const Vec3 av = pa.x() * ex + pa.y() * ey, bv = pb.x() * ex + pb.y() * ey;
+          best = std::min(best, planarUpdate(av, dv, d_[ia], d_[id]));
+          best = std::min(best, planarUpdate(dv, bv, d_[id], d_[ib]));
+        }
+        break;
+      }
+      // Continue across the edge that the wedge still sees: (A, D) if D is past B's side.
+      if (crossA * orient <= 0.0) {
+        ib = id;
+        pb = pd;
+      } else {
+        ia = id;
+        pa = pd;
+      }
+      tri = nb;
+    }
+  }
+
+  const TriMesh& mesh_;
+  const std::vector<Vec3>& V;  // mesh vertices, mm
+  const Unfolder& unfolder_;
+  const std::vector<double>& d_;
+  const std::vector<char>& accepted_;
+  const SurfaceGeodesicOptions& options_;
+  SurfaceGeodesicResult& result_;
+};
+
 /// Fast marching on the triangles from seeded values.
 void runFastMarching(const TriMesh& mesh, std::vector<double>& d,
                      const std::vector<std::int32_t>& sources,
@@ -189,103 +313,7 @@ void runFastMarching(const TriMesh& mesh, std::vector<double>& d,
   MinQueue queue;
   for (const std::int32_t s : sources) queue.push({d[s], s});
   const auto& V = mesh.vertices;
-
-  // Update of w from triangle t whose other corners are v (just accepted) and x.
-  auto triangleUpdate = [&](int t, std::int32_t w, std::int32_t v, std::int32_t x) -> double {
-    const Vec3 C = V[w];
-    double best = kInf;
-    const Vec3 a = V[v] - C, b = V[x] - C;
-    if (accepted[x]) {
-      const double cosC = a.dot(b);
-      const double planar = planarUpdate(a, b, d[v], d[x]);
-      double refined = std::numeric_limits<double>::quiet_NaN();
-      if (std::isfinite(planar) && options.secondOrder) {
-        // Third point: the vertex across edge AB, unfolded into the plane of (C, A, B).
-        const int nb = unfolder.across(t, v, x);
-        const std::int32_t id = nb >= 0 ? Unfolder::third(mesh.triangles[nb], v, x) : -1;
-        if (id >= 0 && accepted[id]) {
-          const Vec3 nrm = a.cross(b);
-          const double nn = nrm.norm();
-          if (nn > 0.0) {
-            const Vec3 ex = a.normalized();
-            const Vec3 ey = (nrm / nn).cross(ex);
-            const Eigen::Vector2d pa(a.dot(ex), a.dot(ey)), pb(b.dot(ex), b.dot(ey));
-            const double la = (V[id] - V[v]).norm(), lb = (V[id] - V[x]).norm();
-            const Eigen::Vector2d e = pb - pa;
-            const double l = e.norm();
-            const double along = (la * la - lb * lb + l * l) / (2 * l);
-            const double h2 = la * la - along * along;
-            const Eigen::Vector2d eu = e / l;
-            Eigen::Vector2d perp(-eu.y(), eu.x());
-            if (perp.dot(-pa) > 0.0) perp = -perp;
-            const Eigen::Vector2d pd = pa + along * eu + (h2 > 0.0 ? std::sqrt(h2) : 0.0) * perp;
-            refined = circleUpdate(pa, pb, pd, d[v], d[x], d[id], planar, 0.5 * l);
-          }
-        }
-      }
-      best = std::min(best, std::isnan(refined) ? planar : refined);
-      if (cosC < 0.0) {
-        // Obtuse at C: unfold triangles across the far edge into the plane of (C, A, B) until a
-        // virtual vertex D lies inside the angle at C, then update from (A, D) and (D, B).
-        const Vec3 nrm = a.cross(b);
-        const double nn = nrm.norm();
-        if (nn > 0.0) {
-          const Vec3 ez = nrm / nn;
-          // 2D frame in the plane of C, A, B with C at the origin.
-          const Vec3 ex = a.normalized();
-          const Vec3 ey = ez.cross(ex);
-          auto to2 = [&](const Vec3& p) { return Eigen::Vector2d(p.dot(ex), p.dot(ey)); };
-          Eigen::Vector2d pa = to2(a), pb = to2(b);
-          std::int32_t ia = v, ib = x;
-          int tri = t;
-          for (int step = 0; step < 8; ++step) {
-            const int nb = unfolder.across(tri, ia, ib);
-            if (nb < 0) break;
-            const std::int32_t id = Unfolder::third(mesh.triangles[nb], ia, ib);
-            if (id < 0) break;
-            // Place D: its distances to A and B are preserved; on the far side of AB from C.
-            const double la = (V[id] - V[ia]).norm(), lb = (V[id] - V[ib]).norm();
-            const Eigen::Vector2d e = pb - pa;
-            const double l = e.norm();
-            if (!(l > 0.0)) break;
-            const double along = (la * la - lb * lb + l * l) / (2 * l);
-            const double h2 = la * la - along * along;
-            const double h = h2 > 0.0 ? std::sqrt(h2) : 0.0;
-            const Eigen::Vector2d eu = e / l;
-            Eigen::Vector2d perp(-eu.y(), eu.x());
-            // C (origin) must be on the other side.
-            if (perp.dot(-pa) > 0.0) perp = -perp;
-            const Eigen::Vector2d pd = pa + along * eu + h * perp;
-            const double crossA = pa.x() * pd.y() - pa.y() * pd.x();  // A × D
-            const double crossD = pd.x() * pb.y() - pd.y() * pb.x();  // D × B
-            const double orient = pa.x() * pb.y() - pa.y() * pb.x();  // A × B
-            const bool inside = crossA * orient > 0.0 && crossD * orient > 0.0;
-            if (inside) {
-              ++result.unfoldings;
-              if (accepted[id]) {
-                const Vec3 dv = pd.x() * ex + pd.y() * ey;
-                const Vec3 av = pa.x() * ex + pa.y() * ey, bv = pb.x() * ex + pb.y() * ey;
-                best = std::min(best, planarUpdate(av, dv, d[ia], d[id]));
-                best = std::min(best, planarUpdate(dv, bv, d[id], d[ib]));
-              }
-              break;
-            }
-            // Continue across the edge that the wedge still sees: (A, D) if D is past B's side.
-            if (crossA * orient <= 0.0) {
-              ib = id;
-              pb = pd;
-            } else {
-              ia = id;
-              pa = pd;
-            }
-            tri = nb;
-          }
-        }
-      }
-    }
-    return best;
-  };
-
+  TriangleUpdate triangleUpdate(mesh, unfolder, d, accepted, options, result);
   std::size_t done = 0;
   const std::size_t reportEvery = std::max<std::size_t>(n / 50, 1000);
   while (!queue.empty()) {

@@ -4,12 +4,14 @@
 #include <charconv>
 #include <climits>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <unordered_set>
 
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
+#include "curvedslicer/mesh/mesh_repair.hpp"
 
 namespace curvedslicer {
 
@@ -167,16 +169,97 @@ double parseAngle(std::string_view text, std::string_view what) {
   return parseNumber(text, what, "an angle in degrees such as 30");
 }
 
-GridAlignment parseGridAlignment(std::string_view name) {
-  const std::string n = lower(trim(name));
-  if (n == "pca") return GridAlignment::Pca;
-  if (n == "model") return GridAlignment::Model;
-  throw InvalidInput("unknown grid alignment: '" + std::string(name) +
-                     "'; use pca (principal axes, paper §2.1) or model (the model's axes)");
+namespace {
+
+/// "a,b,c[,…]" with exactly `count` finite numbers.
+std::vector<double> parseNumberList(std::string_view text, std::size_t count, std::string_view what,
+                                    std::string_view example) {
+  std::vector<double> values;
+  std::size_t begin = 0;
+  while (begin <= text.size()) {
+    const std::size_t comma = text.find(',', begin);
+    const std::string_view item = text.substr(
+        begin, comma == std::string_view::npos ? std::string_view::npos : comma - begin);
+    const double v = parseLength(item, what);
+    if (!std::isfinite(v)) {
+      throw InvalidInput(std::string(what) + " needs finite numbers: '" + std::string(text) +
+                         "'; pass e.g. " + std::string(example));
+    }
+    values.push_back(v);
+    if (comma == std::string_view::npos) break;
+    begin = comma + 1;
+  }
+  if (values.size() != count) {
+    throw InvalidInput(std::string(what) + " needs " + std::to_string(count) +
+                       " comma-separated numbers: '" + std::string(text) + "'; pass e.g. " +
+                       std::string(example));
+  }
+  return values;
 }
 
-std::string_view toString(GridAlignment alignment) {
-  return alignment == GridAlignment::Pca ? "pca" : "model";
+std::string formatNumbers(const Vec3& v) {
+  char buffer[96];
+  std::snprintf(buffer, sizeof(buffer), "%.9g,%.9g,%.9g", v.x(), v.y(), v.z());
+  return buffer;
+}
+
+}  // namespace
+
+InitialCurveSpec parseInitialCurveSpec(std::string_view text) {
+  InitialCurveSpec spec;
+  spec.text = std::string(text);
+  if (text == "boundary") return spec;
+  if (text.rfind("plane:", 0) == 0) {
+    const auto v = parseNumberList(text.substr(6), 6, "initial plane", "plane:0,0,0,1,0,0");
+    spec.curve.kind = InitialCurveKind::Plane;
+    spec.curve.planePoint = Vec3(v[0], v[1], v[2]);
+    spec.curve.planeNormal = Vec3(v[3], v[4], v[5]);
+    return spec;
+  }
+  if (text.rfind("mesh:", 0) == 0 && text.size() > 5) {
+    spec.curve.kind = InitialCurveKind::Surface;
+    spec.meshFile = std::filesystem::path(std::string(text.substr(5)));
+    return spec;
+  }
+  throw InvalidInput("unknown initial curve: '" + spec.text +
+                     "'; choose boundary, plane:X,Y,Z,NX,NY,NZ or mesh:FILE");
+}
+
+InitialCurve loadInitialCurve(const InitialCurveSpec& spec) {
+  if (spec.curve.kind != InitialCurveKind::Surface) return spec.curve;
+  InitialCurve curve = spec.curve;
+  try {
+    curve.surface = cleanMesh(readMesh(spec.meshFile)).mesh;
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(std::string("initial surface mesh: ") + e.what());
+  }
+  return curve;
+}
+
+void parseThinWallEdge(std::string_view text, ThinWallOptions& options) {
+  if (text == "lowest") {
+    options.edge = WallEdgeKind::LowestAlongAxis;
+    options.axis = Vec3::UnitZ();
+  } else if (text.rfind("lowest:", 0) == 0) {
+    const auto v = parseNumberList(text.substr(7), 3, "thin-wall axis", "lowest:0,0,1");
+    options.edge = WallEdgeKind::LowestAlongAxis;
+    options.axis = Vec3(v[0], v[1], v[2]);
+  } else if (text.rfind("nearest:", 0) == 0) {
+    const auto v = parseNumberList(text.substr(8), 3, "thin-wall edge point", "nearest:0,0,0");
+    options.edge = WallEdgeKind::NearestToPoint;
+    options.point = Vec3(v[0], v[1], v[2]);
+  } else {
+    throw InvalidInput("unknown thin-wall edge: '" + std::string(text) +
+                       "'; choose lowest, lowest:AX,AY,AZ or nearest:X,Y,Z");
+  }
+}
+
+std::string formatThinWallEdge(const ThinWallOptions& options) {
+  const std::string kind(toString(options.edge));
+  if (options.edge == WallEdgeKind::NearestToPoint)
+    return kind + ":" + formatNumbers(options.point);
+  if (options.axis == Vec3::UnitZ()) return kind;
+  return kind + ":" + formatNumbers(options.axis);
 }
 
 LayerFileFormat parseLayerFileFormat(std::string_view name) {

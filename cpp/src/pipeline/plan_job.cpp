@@ -30,6 +30,20 @@ void recordProvenance(Plan& plan, const PlanJobOptions& options) {
 
 }  // namespace
 
+ThinWallOptions thinWallOptionsFrom(const PlannerOptions& planner) {
+  ThinWallOptions wall;
+  wall.beadSpacing = planner.beadSpacing;
+  wall.pointSpacing = planner.pointSpacing;
+  wall.fitTolerance = planner.fitTolerance;
+  wall.cornerAngle = planner.cornerAngle;
+  wall.geodesic = planner.geodesic;
+  wall.minPathLength = planner.minPathLength;
+  wall.seamSeparation = planner.seamSeparation;
+  wall.improvementPasses = planner.improvementPasses;
+  wall.deposition = planner.deposition;
+  return wall;
+}
+
 void validatePlanJobOptions(const PlanJobOptions& options) {
   if (options.thinWall) {
     validateThinWallOptions(*options.thinWall);
@@ -51,9 +65,9 @@ PlanResult planOnLayers(const std::vector<LayerSurface>& layers, const TriMesh& 
   PlanResult planned;
   if (options.thinWall) {
     if (!layers.empty()) {
-      throw InvalidInput("a thin wall is planned on its surface, not on layers: " +
-                         std::to_string(layers.size()) +
-                         " layers given; pass the wall as the surface and no layers");
+      throw InvalidInput(
+          "a thin wall is planned on its surface, not on layers: " + std::to_string(layers.size()) +
+          " layers given; pass the wall as the surface and no layers");
     }
     planned = planThinWall(startSurface, *options.thinWall, std::move(progress));
   } else {

@@ -30,6 +30,9 @@ Json inputsJson(const LayerReportInputs& inputs, const LayerJobOptions& options,
                 const LayerJobResult& result) {
   Json j;
   j["model"] = inputs.modelPath;
+  if (inputs.tessellationTolerance > 0.0) {
+    j["tessellation_tolerance_mm"] = number(inputs.tessellationTolerance);
+  }
   j["start_surface"] = Json{{"spec", inputs.startSpec}, {"description", result.startDescription}};
   j["layer_thickness_mm"] = number(options.layers.layerThickness);
   j["voxel_size_mm"] = number(options.voxelize.voxelSize);

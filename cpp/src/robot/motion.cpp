@@ -464,263 +464,342 @@ std::array<long long, 6> robotPulses(const RobotDescription& robot, const JointV
   return pulses;
 }
 
-MotionPlan planMotion(const Plan& plan, const Cell& cell, const MotionOptions& options,
-                      const Progress& progress) {
-  validateCell(cell);
-  validateInputs(plan, options);
-  const PositionerDescription& pos = cell.positioner;
-  const Vec3 gravity = cell.gravity.normalized();
-  MotionPlan result;
-  result.points.reserve(plan.pointCount() + plan.pathCount());
-  WarningLog warnings;
+namespace {
 
-  // ---- positioner angles ----------------------------------------------------------------
-  const Progress angleProgress = progress.sub(0.0, 0.4);
-  angleProgress.report(0.0, "positioner angles");
+// ---- positioner angles --------------------------------------------------------------------
+
+/// The path's points as welded (a closed path ends on point 0 again) with their deposition
+/// directions after smoothing, aligned with gravity.
+std::vector<AngleSample> sampleDepositions(const PlanPath& path, const PositionerDescription& pos,
+                                           const Vec3& gravity, const MotionOptions& options,
+                                           std::vector<const PathPoint*>& pts) {
+  for (const PathPoint& pt : path.points) pts.push_back(&pt);
+  std::vector<Vec3> used = smoothDepositions(pts, path.closed, options);
+  if (path.closed) {  // the closing weld move ends on point 0 again
+    pts.push_back(&path.points.front());
+    used.push_back(used.front());
+  }
+  std::vector<AngleSample> samples(pts.size());
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    AngleSample& s = samples[k];
+    s.v = used[k];
+    s.align = alignWithGravity(pos, s.v, gravity);
+    s.singular = s.align.axisAngle < options.singularZone;
+    if (s.singular) s.flags |= kMotionSingular;
+    if (angleBetween(s.v, pts[k]->deposition.normalized()) > 1e-12) s.flags |= kMotionSmoothed;
+  }
+  return samples;
+}
+
+/// Appends one path's motion points (part frame, positioner angles, residuals) to `result`.
+void appendPathPoints(int l, int p, const std::vector<const PathPoint*>& pts,
+                      const std::vector<AngleSample>& samples, const Cell& cell,
+                      const Vec3& gravity, const MotionOptions& options, MotionPlan& result,
+                      WarningLog& warnings) {
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    MotionPoint m;
+    m.layer = l;
+    m.path = p;
+    m.index = static_cast<int>(k);
+    m.position = pts[k]->position;
+    m.normal = pts[k]->normal;
+    m.deposition = pts[k]->deposition.normalized();
+    m.usedDeposition = samples[k].v;
+    m.a1 = samples[k].a1;
+    m.a2 = samples[k].a2;
+    m.flags = samples[k].flags;
+    m.residual = computeGravityResidual(cell.positioner, m.deposition, gravity, m.a1, m.a2);
+    m.pathStart = k == 0;
+    m.pathEnd = k + 1 == pts.size();
+    m.arcOn = k > 0;
+    m.speed = k > 0 ? cell.process.weldSpeed : cell.process.travelSpeed;
+    if (m.flags & kMotionSingular) {
+      ++result.singularPoints;
+    } else {
+      result.maxResidual = std::max(result.maxResidual, m.residual);
+    }
+    if (m.flags & (kMotionTiltLimited | kMotionRotationLimited)) {
+      ++result.limitedPoints;
+      warnings.add("positioner limit: deposition direction cannot be turned onto gravity",
+                   pointName(m) + " residual " + fmt(m.residual / kDeg, 2) + " deg");
+    } else if ((m.flags & kMotionA2RateLimited) && m.residual > options.residualWarning) {
+      warnings.add("a2 rate limit near the singular zone leaves a residual above " +
+                       fmt(options.residualWarning / kDeg, 2) + " deg",
+                   pointName(m) + " residual " + fmt(m.residual / kDeg, 2) + " deg");
+    }
+    result.points.push_back(m);
+  }
+}
+
+/// Positioner angles (eq. 16) along every path, continuous from one path to the next.
+void planPositionerAngles(const Plan& plan, const Cell& cell, const Vec3& gravity,
+                          const MotionOptions& options, const Progress& progress,
+                          MotionPlan& result, WarningLog& warnings) {
+  progress.report(0.0, "positioner angles");
   const std::size_t pathTotal = std::max<std::size_t>(1, plan.pathCount());
   std::size_t pathsDone = 0;
   double refA1 = 0.0, refA2 = options.initialA2;
   bool haveRef = false;
   for (std::size_t l = 0; l < plan.layers.size(); ++l) {
     for (std::size_t p = 0; p < plan.layers[l].paths.size(); ++p) {
-      const PlanPath& path = plan.layers[l].paths[p];
       std::vector<const PathPoint*> pts;
-      for (const PathPoint& pt : path.points) pts.push_back(&pt);
-      std::vector<Vec3> used = smoothDepositions(pts, path.closed, options);
-      if (path.closed) {  // the closing weld move ends on point 0 again
-        pts.push_back(&path.points.front());
-        used.push_back(used.front());
-      }
-      std::vector<AngleSample> samples(pts.size());
-      for (std::size_t k = 0; k < pts.size(); ++k) {
-        AngleSample& s = samples[k];
-        s.v = used[k];
-        s.align = alignWithGravity(pos, s.v, gravity);
-        s.singular = s.align.axisAngle < options.singularZone;
-        if (s.singular) s.flags |= kMotionSingular;
-        if (angleBetween(s.v, pts[k]->deposition.normalized()) > 1e-12) s.flags |= kMotionSmoothed;
-      }
-      planPathAngles(pos, gravity, samples, refA1, refA2, haveRef, options);
+      std::vector<AngleSample> samples =
+          sampleDepositions(plan.layers[l].paths[p], cell.positioner, gravity, options, pts);
+      planPathAngles(cell.positioner, gravity, samples, refA1, refA2, haveRef, options);
       MotionPathSpan span{static_cast<int>(l), static_cast<int>(p), result.points.size(), 0};
-      for (std::size_t k = 0; k < pts.size(); ++k) {
-        MotionPoint m;
-        m.layer = static_cast<int>(l);
-        m.path = static_cast<int>(p);
-        m.index = static_cast<int>(k);
-        m.position = pts[k]->position;
-        m.normal = pts[k]->normal;
-        m.deposition = pts[k]->deposition.normalized();
-        m.usedDeposition = samples[k].v;
-        m.a1 = samples[k].a1;
-        m.a2 = samples[k].a2;
-        m.flags = samples[k].flags;
-        m.residual = computeGravityResidual(pos, m.deposition, gravity, m.a1, m.a2);
-        m.pathStart = k == 0;
-        m.pathEnd = k + 1 == pts.size();
-        m.arcOn = k > 0;
-        m.speed = k > 0 ? cell.process.weldSpeed : cell.process.travelSpeed;
-        if (m.flags & kMotionSingular) {
-          ++result.singularPoints;
-        } else {
-          result.maxResidual = std::max(result.maxResidual, m.residual);
-        }
-        if (m.flags & (kMotionTiltLimited | kMotionRotationLimited)) {
-          ++result.limitedPoints;
-          warnings.add("positioner limit: deposition direction cannot be turned onto gravity",
-                       pointName(m) + " residual " + fmt(m.residual / kDeg, 2) + " deg");
-        } else if ((m.flags & kMotionA2RateLimited) && m.residual > options.residualWarning) {
-          warnings.add("a2 rate limit near the singular zone leaves a residual above " +
-                           fmt(options.residualWarning / kDeg, 2) + " deg",
-                       pointName(m) + " residual " + fmt(m.residual / kDeg, 2) + " deg");
-        }
-        result.points.push_back(m);
-      }
+      appendPathPoints(static_cast<int>(l), static_cast<int>(p), pts, samples, cell, gravity,
+                       options, result, warnings);
       span.end = result.points.size();
       result.paths.push_back(span);
-      angleProgress.report(static_cast<double>(++pathsDone) / static_cast<double>(pathTotal),
-                           "positioner angles");
+      progress.report(static_cast<double>(++pathsDone) / static_cast<double>(pathTotal),
+                      "positioner angles");
     }
   }
+}
 
-  // ---- robot kinematics -----------------------------------------------------------------
-  const Progress robotProgress = progress.sub(0.4, 0.95);
-  robotProgress.report(0.0, "robot kinematics");
-  const Pose baseInverse = cell.robot.base.inverse();
-  const Pose tcpInverse = cell.tool.tcp.inverse();
-  JointVector previousJoints{};
-  bool haveJoints = false;
-  std::vector<std::string> failures;
-  std::size_t failureCount = 0;
-  Vec3 previousX = Vec3::UnitX();
+// ---- robot kinematics ---------------------------------------------------------------------
 
+/// Robot joints along the paths: TCP poses, inverse kinematics continuous along each path, the
+/// points it cannot reach. Carries the joints and tool x axis from one path to the next.
+class RobotKinematicsPass {
+ public:
+  RobotKinematicsPass(const Cell& cell, const Vec3& gravity, const MotionOptions& options,
+                      MotionPlan& result, WarningLog& warnings)
+      : cell_(cell),
+        gravity_(gravity),
+        options_(options),
+        result_(result),
+        warnings_(warnings),
+        baseInverse_(cell.robot.base.inverse()),
+        tcpInverse_(cell.tool.tcp.inverse()),
+        shortfall_(result.points.size(), 0.0) {}
+
+  void run(const Progress& progress);
+
+ private:
+  void setToolPoses(const MotionPathSpan& span);
+  void solvePath(const MotionPathSpan& span);
+  std::size_t solvePathJoints(const MotionPathSpan& span, const JointVector& start, bool haveStart);
+  IkSolution chooseSolution(const IkResult& ik, const JointVector& reference, bool pathStart,
+                            int pathConfiguration, bool& inside) const;
+  void recordFailures(const MotionPathSpan& span);
+  void reportFailures() const;
+
+  const Cell& cell_;
+  const Vec3 gravity_;
+  const MotionOptions& options_;
+  MotionPlan& result_;
+  WarningLog& warnings_;
+  const Pose baseInverse_;
+  const Pose tcpInverse_;
+  JointVector previousJoints_{};
+  bool haveJoints_ = false;
+  std::vector<std::string> failures_;
+  std::size_t failureCount_ = 0;
+  Vec3 previousX_ = Vec3::UnitX();
   // Reach shortfall per point (mm, > 0 only where no IK solution exists).
-  std::vector<double> shortfall(result.points.size(), 0.0);
-  // Joints along one path from a start reference; sets joints and flags, returns a badness:
-  // 1e6 per point without a solution inside the limits plus 1 per configuration change.
-  auto solvePathJoints = [&](const MotionPathSpan& span, const JointVector& start, bool haveStart) {
-    std::size_t pathFailures = 0, configurationChanges = 0;
-    JointVector previous = start;
-    bool have = haveStart;
-    int pathConfiguration = -1;
-    for (std::size_t k = span.begin; k < span.end; ++k) {
-      MotionPoint& m = result.points[k];
-      m.flags &= ~(kMotionRobotLimit | kMotionWristSingular | kMotionConfigurationChange);
-      const Pose flange = m.toolInRobotBase * tcpInverse;
-      const IkResult ik = solveInverseKinematics(cell.robot, flange, have ? previous[3] : 0.0);
-      if (ik.solutions.empty()) {
-        ++pathFailures;
-        m.flags |= kMotionRobotLimit;
-        if (have) m.joints = previous;  // Warn policy: hold the last joints
-        shortfall[k] = std::max(ik.reachShortfall, 1e-3);
-        continue;
-      }
-      shortfall[k] = 0.0;
-      const JointVector reference = have ? previous : JointVector{};
-      double bestCost = kInf;
-      IkSolution best;
-      bool bestInside = false;
-      for (const IkSolution& sol : ik.solutions) {
-        JointVector q = sol.joints;
-        bool inside;
-        if (k == span.begin) {
-          // arc-off move to the path start: any turn of a joint that lands inside its limits
-          inside = unwrapJoints(cell.robot, q, reference);
-        } else {
-          // along the path joints move continuously: the nearest turn must be inside the limits
-          inside = true;
-          for (int j = 0; j < 6; ++j) {
-            q[j] = unwrapNear(q[j], reference[j]);
-            inside = inside && cell.robot.joints[j].contains(q[j]);
-          }
-        }
-        double cost = 0.0;
-        for (int j = 0; j < 6; ++j) cost += std::abs(q[j] - reference[j]);
-        if (!inside) {
-          // outside the limits: prefer the solution that violates them least (clear messages)
-          cost += 1e6;
-          for (int j = 0; j < 6; ++j) {
-            const JointLimit& lim = cell.robot.joints[j];
-            cost += 1e3 * std::max({0.0, lim.min - q[j], q[j] - lim.max});
-          }
-        }
-        if (pathConfiguration >= 0 && sol.configuration != pathConfiguration) cost += 1e3;
-        if (cost < bestCost) {
-          bestCost = cost;
-          best = sol;
-          best.joints = q;
-          bestInside = inside;
-        }
-      }
-      m.joints = best.joints;
-      m.configuration = best.configuration;
-      if (best.wristSingular) m.flags |= kMotionWristSingular;
-      if (pathConfiguration < 0) {
-        pathConfiguration = best.configuration;
-      } else if (best.configuration != pathConfiguration) {
-        m.flags |= kMotionConfigurationChange;
-        ++configurationChanges;
-      }
-      if (!bestInside) {
-        m.flags |= kMotionRobotLimit;
-        ++pathFailures;
-      }
-      previous = m.joints;
-      have = true;
-    }
-    return 1000000 * pathFailures + configurationChanges;
+  std::vector<double> shortfall_;
+};
+
+void RobotKinematicsPass::run(const Progress& progress) {
+  progress.report(0.0, "robot kinematics");
+  for (std::size_t s = 0; s < result_.paths.size(); ++s) {
+    const MotionPathSpan& span = result_.paths[s];
+    setToolPoses(span);
+    solvePath(span);
+    recordFailures(span);
+    previousJoints_ = result_.points[span.end - 1].joints;
+    haveJoints_ = true;
+    progress.report(static_cast<double>(s + 1) / static_cast<double>(result_.paths.size()),
+                    "robot kinematics");
+  }
+  reportFailures();
+}
+
+/// TCP poses (independent of the robot joints).
+void RobotKinematicsPass::setToolPoses(const MotionPathSpan& span) {
+  const PositionerDescription& pos = cell_.positioner;
+  for (std::size_t k = span.begin; k < span.end; ++k) {
+    MotionPoint& m = result_.points[k];
+    const Pose partInWorld = computePartInWorld(pos, m.a1, m.a2);
+    const Vec3 pointWorld = partInWorld * m.position;
+    // travel direction: central difference along the path, turned into world
+    const Vec3 next = k + 1 < span.end ? result_.points[k + 1].position : m.position;
+    const Vec3 prev = k > span.begin ? result_.points[k - 1].position : m.position;
+    Vec3 travel = partInWorld.linear() * (next - prev);
+    if (!options_.toolAlongTravel) travel = Vec3::UnitX();
+    const Vec3 z = gravity_;
+    const Vec3 x = toolXAxis(travel, z, previousX_);
+    previousX_ = x;
+    m.toolInWorld = Pose::Identity();
+    m.toolInWorld.linear().col(0) = x;
+    m.toolInWorld.linear().col(1) = z.cross(x);
+    m.toolInWorld.linear().col(2) = z;
+    m.toolInWorld.translation() = pointWorld;
+    m.toolInRobotBase = baseInverse_ * m.toolInWorld;
+    m.toolInTable = computeTableInWorld(pos, m.a1, m.a2).inverse() * m.toolInWorld;
+    m.toolInPart = partInWorld.inverse() * m.toolInWorld;
+  }
+}
+
+/// The arc-off move to the path start may re-centre the wrist joints (R, T) by a turn; tries
+/// that when the nearest start would run a joint into its limit along the path.
+void RobotKinematicsPass::solvePath(const MotionPathSpan& span) {
+  const double shifts[5][2] = {{0, 0}, {0, -kTwoPi}, {0, kTwoPi}, {-kTwoPi, 0}, {kTwoPi, 0}};
+  std::size_t bestShift = 0, lastRun = 0;
+  std::size_t fewest = std::numeric_limits<std::size_t>::max();
+  auto shiftedStart = [&](std::size_t t) {
+    JointVector start = previousJoints_;
+    start[3] += shifts[t][0];
+    start[5] += shifts[t][1];
+    return start;
   };
+  for (std::size_t t = 0; t < 5; ++t) {
+    if (t > 0 && !haveJoints_) break;
+    const std::size_t n = solvePathJoints(span, shiftedStart(t), haveJoints_);
+    lastRun = t;
+    if (n < fewest) {
+      fewest = n;
+      bestShift = t;
+    }
+    if (n == 0) break;
+  }
+  if (bestShift != lastRun) solvePathJoints(span, shiftedStart(bestShift), haveJoints_);
+}
 
-  for (std::size_t s = 0; s < result.paths.size(); ++s) {
-    const MotionPathSpan& span = result.paths[s];
-    // TCP poses (independent of the robot joints)
-    for (std::size_t k = span.begin; k < span.end; ++k) {
-      MotionPoint& m = result.points[k];
-      const Pose partInWorld = computePartInWorld(pos, m.a1, m.a2);
-      const Vec3 pointWorld = partInWorld * m.position;
-      // travel direction: central difference along the path, turned into world
-      const Vec3 next = k + 1 < span.end ? result.points[k + 1].position : m.position;
-      const Vec3 prev = k > span.begin ? result.points[k - 1].position : m.position;
-      Vec3 travel = partInWorld.linear() * (next - prev);
-      if (!options.toolAlongTravel) travel = Vec3::UnitX();
-      const Vec3 z = gravity;
-      const Vec3 x = toolXAxis(travel, z, previousX);
-      previousX = x;
-      m.toolInWorld = Pose::Identity();
-      m.toolInWorld.linear().col(0) = x;
-      m.toolInWorld.linear().col(1) = z.cross(x);
-      m.toolInWorld.linear().col(2) = z;
-      m.toolInWorld.translation() = pointWorld;
-      m.toolInRobotBase = baseInverse * m.toolInWorld;
-      m.toolInTable = computeTableInWorld(pos, m.a1, m.a2).inverse() * m.toolInWorld;
-      m.toolInPart = partInWorld.inverse() * m.toolInWorld;
+/// Joints along one path from a start reference; sets joints and flags, returns a badness:
+/// 1e6 per point without a solution inside the limits plus 1 per configuration change.
+std::size_t RobotKinematicsPass::solvePathJoints(const MotionPathSpan& span,
+                                                 const JointVector& start, bool haveStart) {
+  std::size_t pathFailures = 0, configurationChanges = 0;
+  JointVector previous = start;
+  bool have = haveStart;
+  int pathConfiguration = -1;
+  for (std::size_t k = span.begin; k < span.end; ++k) {
+    MotionPoint& m = result_.points[k];
+    m.flags &= ~(kMotionRobotLimit | kMotionWristSingular | kMotionConfigurationChange);
+    const Pose flange = m.toolInRobotBase * tcpInverse_;
+    const IkResult ik = solveInverseKinematics(cell_.robot, flange, have ? previous[3] : 0.0);
+    if (ik.solutions.empty()) {
+      ++pathFailures;
+      m.flags |= kMotionRobotLimit;
+      if (have) m.joints = previous;  // Warn policy: hold the last joints
+      shortfall_[k] = std::max(ik.reachShortfall, 1e-3);
+      continue;
     }
-    // The arc-off move to the path start may re-centre the wrist joints (R, T) by a turn; try
-    // that when the nearest start would run a joint into its limit along the path.
-    const double shifts[5][2] = {{0, 0}, {0, -kTwoPi}, {0, kTwoPi}, {-kTwoPi, 0}, {kTwoPi, 0}};
-    std::size_t bestShift = 0, lastRun = 0;
-    std::size_t fewest = std::numeric_limits<std::size_t>::max();
-    auto shiftedStart = [&](std::size_t t) {
-      JointVector start = previousJoints;
-      start[3] += shifts[t][0];
-      start[5] += shifts[t][1];
-      return start;
-    };
-    for (std::size_t t = 0; t < 5; ++t) {
-      if (t > 0 && !haveJoints) break;
-      const std::size_t n = solvePathJoints(span, shiftedStart(t), haveJoints);
-      lastRun = t;
-      if (n < fewest) {
-        fewest = n;
-        bestShift = t;
-      }
-      if (n == 0) break;
+    shortfall_[k] = 0.0;
+    const JointVector reference = have ? previous : JointVector{};
+    bool bestInside = false;
+    const IkSolution best =
+        chooseSolution(ik, reference, k == span.begin, pathConfiguration, bestInside);
+    m.joints = best.joints;
+    m.configuration = best.configuration;
+    if (best.wristSingular) m.flags |= kMotionWristSingular;
+    if (pathConfiguration < 0) {
+      pathConfiguration = best.configuration;
+    } else if (best.configuration != pathConfiguration) {
+      m.flags |= kMotionConfigurationChange;
+      ++configurationChanges;
     }
-    if (bestShift != lastRun) solvePathJoints(span, shiftedStart(bestShift), haveJoints);
-    // record what the chosen run left
-    for (std::size_t k = span.begin; k < span.end; ++k) {
-      const MotionPoint& m = result.points[k];
-      if (m.flags & kMotionConfigurationChange) {
-        warnings.add("robot configuration changes within a path (joint limits)", pointName(m));
-      }
-      if (!(m.flags & kMotionRobotLimit)) continue;
-      ++failureCount;
-      if (failures.size() >= 5) continue;
-      if (shortfall[k] > 0.0) {
-        failures.push_back(pointName(m) + " misses by " + fmt(shortfall[k], 1) + " mm");
-        continue;
-      }
-      std::string joints;
+    if (!bestInside) {
+      m.flags |= kMotionRobotLimit;
+      ++pathFailures;
+    }
+    previous = m.joints;
+    have = true;
+  }
+  return 1000000 * pathFailures + configurationChanges;
+}
+
+/// The IK solution nearest `reference` (joints unwrapped towards it), preferring those inside
+/// the limits and in the path's configuration; `inside` says whether it is within the limits.
+IkSolution RobotKinematicsPass::chooseSolution(const IkResult& ik, const JointVector& reference,
+                                               bool pathStart, int pathConfiguration,
+                                               bool& bestInside) const {
+  double bestCost = kInf;
+  IkSolution best;
+  for (const IkSolution& sol : ik.solutions) {
+    JointVector q = sol.joints;
+    bool inside;
+    if (pathStart) {
+      // arc-off move to the path start: any turn of a joint that lands inside its limits
+      inside = unwrapJoints(cell_.robot, q, reference);
+    } else {
+      // along the path joints move continuously: the nearest turn must be inside the limits
+      inside = true;
       for (int j = 0; j < 6; ++j) {
-        const JointLimit& lim = cell.robot.joints[j];
-        if (!lim.contains(m.joints[j])) {
-          joints += std::string(joints.empty() ? "" : ", ") + "joint " + std::to_string(j + 1) +
-                    " at " + fmt(m.joints[j] / kDeg, 1) + " deg (limits " + fmt(lim.min / kDeg, 1) +
-                    " .. " + fmt(lim.max / kDeg, 1) + ")";
-        }
+        q[j] = unwrapNear(q[j], reference[j]);
+        inside = inside && cell_.robot.joints[j].contains(q[j]);
       }
-      failures.push_back(pointName(m) + " is outside the joint limits: " + joints);
     }
-    previousJoints = result.points[span.end - 1].joints;
-    haveJoints = true;
-    robotProgress.report(static_cast<double>(s + 1) / static_cast<double>(result.paths.size()),
-                         "robot kinematics");
+    double cost = 0.0;
+    for (int j = 0; j < 6; ++j) cost += std::abs(q[j] - reference[j]);
+    if (!inside) {
+      // outside the limits: prefer the solution that violates them least (clear messages)
+      cost += 1e6;
+      for (int j = 0; j < 6; ++j) {
+        const JointLimit& lim = cell_.robot.joints[j];
+        cost += 1e3 * std::max({0.0, lim.min - q[j], q[j] - lim.max});
+      }
+    }
+    if (pathConfiguration >= 0 && sol.configuration != pathConfiguration) cost += 1e3;
+    if (cost < bestCost) {
+      bestCost = cost;
+      best = sol;
+      best.joints = q;
+      bestInside = inside;
+    }
   }
-  if (failureCount > 0) {
-    std::string list;
-    for (const auto& f : failures) list += (list.empty() ? "" : "; ") + f;
-    const std::string message = "robot cannot reach " + std::to_string(failureCount) +
-                                " point(s) within its reach and joint limits: " + list +
-                                (failureCount > failures.size() ? "; ..." : "") +
-                                "; move the positioner or the part (cell positioner/base, "
-                                "positioner/table_to_part) or use a longer torch";
-    if (options.unreachable == UnreachablePolicy::Throw) throw InvalidInput(message);
-    result.warnings.push_back(message);
-  }
+  return best;
+}
 
-  // ---- estimates ------------------------------------------------------------------------
-  progress.report(0.95, "estimates");
+/// Records what the chosen run left: configuration changes, unreachable points.
+void RobotKinematicsPass::recordFailures(const MotionPathSpan& span) {
+  for (std::size_t k = span.begin; k < span.end; ++k) {
+    const MotionPoint& m = result_.points[k];
+    if (m.flags & kMotionConfigurationChange) {
+      warnings_.add("robot configuration changes within a path (joint limits)", pointName(m));
+    }
+    if (!(m.flags & kMotionRobotLimit)) continue;
+    ++failureCount_;
+    if (failures_.size() >= 5) continue;
+    if (shortfall_[k] > 0.0) {
+      failures_.push_back(pointName(m) + " misses by " + fmt(shortfall_[k], 1) + " mm");
+      continue;
+    }
+    std::string joints;
+    for (int j = 0; j < 6; ++j) {
+      const JointLimit& lim = cell_.robot.joints[j];
+      if (!lim.contains(m.joints[j])) {
+        joints += std::string(joints.empty() ? "" : ", ") + "joint " + std::to_string(j + 1) +
+                  " at " + fmt(m.joints[j] / kDeg, 1) + " deg (limits " + fmt(lim.min / kDeg, 1) +
+                  " .. " + fmt(lim.max / kDeg, 1) + ")";
+      }
+    }
+    failures_.push_back(pointName(m) + " is outside the joint limits: " + joints);
+  }
+}
+
+void RobotKinematicsPass::reportFailures() const {
+  if (failureCount_ == 0) return;
+  std::string list;
+  for (const auto& f : failures_) list += (list.empty() ? "" : "; ") + f;
+  const std::string message = "robot cannot reach " + std::to_string(failureCount_) +
+                              " point(s) within its reach and joint limits: " + list +
+                              (failureCount_ > failures_.size() ? "; ..." : "") +
+                              "; move the positioner or the part (cell positioner/base, "
+                              "positioner/table_to_part) or use a longer torch";
+  if (options_.unreachable == UnreachablePolicy::Throw) throw InvalidInput(message);
+  result_.warnings.push_back(message);
+}
+
+// ---- estimates ----------------------------------------------------------------------------
+
+/// Process estimates per layer, the travel time refined with the positioner motion between
+/// paths.
+void estimateMotion(const Plan& plan, const Cell& cell, MotionPlan& result) {
+  const PositionerDescription& pos = cell.positioner;
   result.total = estimatePlan(plan, cell.process, &result.layers);
-  // refine the travel time with the positioner motion between paths
   MotionEstimate refinedTotal;
   std::vector<double> travelTime(plan.layers.size(), 0.0);
   for (std::size_t s = 0; s < result.paths.size(); ++s) {
@@ -739,6 +818,22 @@ MotionPlan planMotion(const Plan& plan, const Cell& cell, const MotionOptions& o
     addEstimates(refinedTotal, result.layers[l]);
   }
   result.total = refinedTotal;
+}
+
+}  // namespace
+
+MotionPlan planMotion(const Plan& plan, const Cell& cell, const MotionOptions& options,
+                      const Progress& progress) {
+  validateCell(cell);
+  validateInputs(plan, options);
+  const Vec3 gravity = cell.gravity.normalized();
+  MotionPlan result;
+  result.points.reserve(plan.pointCount() + plan.pathCount());
+  WarningLog warnings;
+  planPositionerAngles(plan, cell, gravity, options, progress.sub(0.0, 0.4), result, warnings);
+  RobotKinematicsPass(cell, gravity, options, result, warnings).run(progress.sub(0.4, 0.95));
+  progress.report(0.95, "estimates");
+  estimateMotion(plan, cell, result);
   warnings.flush(result.warnings);
   progress.report(1.0, "estimates");
   return result;

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -28,6 +29,21 @@
 #include "voxel/distinct_keys.hpp"
 
 namespace curvedslicer {
+
+std::string_view toString(GridAlignment alignment) {
+  return alignment == GridAlignment::Pca ? "pca" : "model";
+}
+
+GridAlignment parseGridAlignment(std::string_view name) {
+  const std::size_t first = name.find_first_not_of(" \t\r\n");
+  const std::size_t last = name.find_last_not_of(" \t\r\n");
+  std::string n(first == std::string_view::npos ? "" : name.substr(first, last - first + 1));
+  for (char& c : n) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (n == "pca") return GridAlignment::Pca;
+  if (n == "model") return GridAlignment::Model;
+  throw InvalidInput("unknown grid alignment: '" + std::string(name) +
+                     "'; use pca (principal axes, paper §2.1) or model (the model's axes)");
+}
 namespace {
 
 /// Relative tolerance under which two variances count as equal (see frame.hpp).

@@ -57,7 +57,7 @@
 namespace curvedslicer {
 
 struct LayerOptions {
-  double layerThickness = 1.0;  ///< h, mm (> 0)
+  double layerThickness = 1.5;  ///< h, mm (> 0); the workbench's default too
   bool clipToSolid = true;      ///< clip surfaces to the model and project rims onto it
   int maxLayers = 100000;       ///< safety limit; more layers is an InvalidInput error
   /// Vertices per layer measured for `thicknessToPrevious` (evenly spaced runs of consecutive

@@ -105,9 +105,10 @@ enum class WallEdgeKind {
   NearestToPoint,   ///< the loop nearest to `point`
 };
 
-/// "lowest" | "nearest" (the command line's --thin-wall prefixes).
+/// "lowest" | "nearest" (the names in the thin-wall edge spec, pipeline/option_parsing.hpp, and
+/// the Python module's `edge` argument).
 std::string_view toString(WallEdgeKind kind);
-/// @throws InvalidInput naming the text and the choices.
+/// @throws InvalidInput for another name, listing the choices.
 WallEdgeKind parseWallEdgeKind(std::string_view name);
 
 struct ThinWallOptions {

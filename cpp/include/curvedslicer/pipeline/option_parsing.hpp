@@ -1,7 +1,11 @@
 // Parsing the textual job options of the command line (and of scripts): start-surface specs such
-// as "plane:bottom", "plane:z=12.5", "faces:0-9,15", "mesh:base.obj"; id lists; lengths; grid
-// alignment and layer file format names. Pure string handling, O(length of the text) apart from
-// expanding id ranges; no file is read except by `loadStartSurface`.
+// as "plane:bottom", "plane:z=12.5", "faces:0-9,15", "mesh:base.obj"; initial-curve specs
+// ("boundary", "plane:X,Y,Z,NX,NY,NZ", "mesh:FILE"); thin-wall edge specs ("lowest",
+// "lowest:AX,AY,AZ", "nearest:X,Y,Z"); id lists; lengths; the layer file format. The names of the
+// option enums are parsed and formatted next to each enum (GeodesicMethod, GridAlignment,
+// SurfaceGeodesicMethod, NarrowStripMode, ExportFormat, GcodeMode). Pure string handling,
+// O(length of the text) apart from expanding id ranges; no file is read except by
+// `loadStartSurface` and `loadInitialCurve`.
 #pragma once
 
 #include <filesystem>
@@ -10,6 +14,7 @@
 #include <vector>
 
 #include "curvedslicer/field/start_surface.hpp"
+#include "curvedslicer/paths/planner.hpp"
 #include "curvedslicer/voxel/frame.hpp"
 
 namespace curvedslicer {
@@ -41,6 +46,33 @@ StartSurfaceSpec parseStartSurfaceSpec(std::string_view text);
 /// @throws InvalidInput from reading the file, prefixed with "start surface mesh".
 StartSurface loadStartSurface(const StartSurfaceSpec& spec);
 
+/// An initial curve as given on the command line. For kind Surface the mesh is not loaded yet:
+/// `meshFile` names it (see loadInitialCurve).
+struct InitialCurveSpec {
+  std::string text;                ///< the spec as given, e.g. "plane:0,0,0,1,0,0"
+  InitialCurve curve;              ///< kind and parameters (Surface: empty mesh)
+  std::filesystem::path meshFile;  ///< Surface only: the surface file
+};
+
+/// Parses "boundary" (the layer's edge), "plane:X,Y,Z,NX,NY,NZ" (the section with the plane
+/// through X,Y,Z with normal NX,NY,NZ; part frame, mm; the normal is checked by
+/// validatePlannerOptions) or "mesh:FILE" (the section with a surface mesh, STL or OBJ).
+/// @throws InvalidInput listing the accepted forms, or naming a malformed number list.
+InitialCurveSpec parseInitialCurveSpec(std::string_view text);
+
+/// The spec's InitialCurve, with the mesh file read (and cleaned) for kind Surface.
+/// @throws InvalidInput from reading the file, prefixed with "initial surface mesh".
+InitialCurve loadInitialCurve(const InitialCurveSpec& spec);
+
+/// Parses a thin wall's edge into `options` (edge, axis or point): "lowest" (the boundary loop
+/// lowest along z), "lowest:AX,AY,AZ" (lowest along that axis) or "nearest:X,Y,Z" (the loop
+/// nearest to that point, part frame, mm). Other fields of `options` are left as they are.
+/// @throws InvalidInput listing the accepted forms.
+void parseThinWallEdge(std::string_view text, ThinWallOptions& options);
+
+/// The edge of `options` in the form parseThinWallEdge reads ("lowest" for the z axis).
+std::string formatThinWallEdge(const ThinWallOptions& options);
+
 /// Parses a length in mm ("1.5", "2e-1"). Non-finite spellings ("nan", "inf") are returned as
 /// such so that range checks can report them.
 /// @param what  the parameter's name for the message, e.g. "layer thickness"
@@ -50,10 +82,6 @@ double parseLength(std::string_view text, std::string_view what);
 /// Parses an angle in degrees ("30", "22.5"), as parseLength (range checks are the caller's).
 /// @throws InvalidInput if the text is not a number.
 double parseAngle(std::string_view text, std::string_view what);
-
-/// "pca" or "model". @throws InvalidInput listing the choices.
-GridAlignment parseGridAlignment(std::string_view name);
-std::string_view toString(GridAlignment alignment);
 
 /// File format of the layer surfaces.
 enum class LayerFileFormat {

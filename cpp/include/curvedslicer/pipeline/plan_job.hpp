@@ -55,6 +55,13 @@ struct PlanJobResult {
   double totalSeconds = 0.0;
 };
 
+/// The thin-wall options that share the planner's: bead spacing, point spacing, fit tolerance,
+/// corner angle, surface geodesic options, minimum path length, seam separation, 2-opt passes
+/// and deposition options, copied from `planner`; the wall's edge is ThinWallOptions{}'s (set it
+/// with parseThinWallEdge). Front ends that take one set of planner options use this, so a planner
+/// option that also applies to walls is copied in one place.
+ThinWallOptions thinWallOptionsFrom(const PlannerOptions& planner);
+
 /// Checks every option without touching geometry: the layer job's (unless thin wall), the
 /// planner's or the thin wall's, and their combination.
 /// @throws InvalidInput naming the option and its value.

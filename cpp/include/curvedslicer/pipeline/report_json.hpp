@@ -23,6 +23,9 @@ inline constexpr int kLayerReportFormatVersion = 1;
 struct LayerReportInputs {
   std::string modelPath;               ///< as given by the user
   std::size_t modelFileTriangles = 0;  ///< triangles read from the file (before cleaning)
+  /// mm; chord error the CAD model was tessellated with ("tessellation_tolerance_mm");
+  /// 0 for a mesh file (then not written)
+  double tessellationTolerance = 0.0;
   std::string startSpec;               ///< as given, e.g. "plane:bottom"
   LayerFileFormat layerFormat = LayerFileFormat::Ply;
   std::vector<std::string> layerFiles;  ///< one per surface, same order; empty: not written

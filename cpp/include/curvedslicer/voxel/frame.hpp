@@ -2,6 +2,8 @@
 // bounding box are rotated to the X, Y and Z axes").
 #pragma once
 
+#include <string_view>
+
 #include "curvedslicer/core/types.hpp"
 #include "curvedslicer/mesh/tri_mesh.hpp"
 
@@ -26,6 +28,12 @@ enum class GridAlignment {
   Pca,    ///< principal axes of the surface (paper §2.1), largest extent first
   Model,  ///< the model's own axes
 };
+
+/// "pca" | "model" (the command line's, the workbench's and the report's names).
+std::string_view toString(GridAlignment alignment);
+/// Parses "pca" or "model" (case and surrounding spaces ignored).
+/// @throws InvalidInput listing the choices.
+GridAlignment parseGridAlignment(std::string_view name);
 
 /// Principal-axis frame of a triangle surface.
 ///

@@ -9,7 +9,7 @@
 #include "common/test_paths.hpp"
 #include "curvedslicer/plan/plan_io.hpp"
 #include "curvedslicer/robot/cell.hpp"
-#include "export_test_support.hpp"
+#include "export/export_test_support.hpp"
 
 namespace curvedslicer {
 namespace {

@@ -16,7 +16,7 @@
 #include "common/test_paths.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
 #include "curvedslicer/plan/plan_io.hpp"
-#include "json_schema_subset.hpp"
+#include "plan/json_schema_subset.hpp"
 
 namespace curvedslicer {
 namespace {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "cli_test_support.hpp"
+#include "cli/cli_test_support.hpp"
 #include "common/test_paths.hpp"
 #include "curvedslicer/core/atomic_file.hpp"
 #include "curvedslicer/core/error.hpp"

@@ -1,0 +1,158 @@
+#include "curvedslicer/pipeline/plan_output.hpp"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "curvedslicer/core/atomic_file.hpp"
+#include "curvedslicer/mesh/mesh_io.hpp"
+#include "curvedslicer/pipeline/layer_output.hpp"
+#include "curvedslicer/pipeline/report_json.hpp"
+#include "curvedslicer/plan/plan_io.hpp"
+
+namespace curvedslicer {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json depositionReport(const DepositionStats& d) {
+  return Json{
+      {"points", d.points},
+      {"towards_surface", d.towardsSurface},
+      {"towards_beads", d.towardsBeads},
+      {"normal_fallbacks", d.normalFallbacks},
+      {"min_distance_mm", std::isfinite(d.minDistance) ? Json(d.minDistance) : Json(nullptr)},
+      {"max_distance_mm", d.maxDistance}};
+}
+
+Json layerReport(const PlanLayer& layer) {
+  double length = 0.0;
+  std::size_t points = 0;
+  for (const PlanPath& p : layer.paths) {
+    length += p.length;
+    points += p.points.size();
+  }
+  return Json{{"index", layer.index}, {"height_mm", layer.height}, {"paths", layer.paths.size()},
+              {"points", points},     {"arc_length_mm", length},   {"warnings", layer.warnings}};
+}
+
+Json plannerInputs(const PlanParameters& p) {
+  Json inputs = Json{{"bead_spacing_mm", p.beadSpacing},
+                     {"point_spacing_mm", p.pointSpacing},
+                     {"fit_tolerance_mm", p.fitTolerance},
+                     {"corner_angle_deg", p.cornerAngle ? Json(*p.cornerAngle) : Json(nullptr)},
+                     {"initial_curve", p.initialCurve},
+                     {"surface_method", p.surfaceMethod}};
+  if (!p.narrowStrips.empty()) inputs["narrow_strips"] = p.narrowStrips;
+  return inputs;
+}
+
+/// The report of a thin wall: its inputs and the read time (there is no layer job).
+Json thinWallReport(const PlanOutputInputs& inputs, const ThinWallOptions& wall) {
+  Json report;
+  report["inputs"] = Json{{"model", inputs.modelPath},
+                          {"thin_wall_edge", formatThinWallEdge(wall)},
+                          {"bead_spacing_mm", wall.beadSpacing},
+                          {"point_spacing_mm", wall.pointSpacing},
+                          {"fit_tolerance_mm", wall.fitTolerance},
+                          {"corner_angle_deg", wall.cornerAngle},
+                          {"surface_method", std::string(toString(wall.geodesic.method))},
+                          {"version", CURVEDSLICER_VERSION}};
+  report["stage_times"] = Json::array({Json{{"stage", "read"}, {"seconds", inputs.readSeconds}}});
+  return report;
+}
+
+/// Stages the layer surfaces and voxel_sets.ply (volume layers only).
+void stageLayerFiles(OutputStaging& staging, const PlanJobOptions& options,
+                     const PlanJobResult& result, const Progress& progress) {
+  const MeshFormat meshFormat =
+      options.layerFormat == LayerFileFormat::Ply ? MeshFormat::Ply : MeshFormat::Obj;
+  const auto& surfaces = result.layers.layers.surfaces;
+  for (std::size_t k = 0; k < surfaces.size(); ++k) {
+    staging.stage(result.layerFiles[k],
+                  [&](const fs::path& path) { writeMesh(path, surfaces[k].mesh, meshFormat); });
+    progress.report(0.8 * static_cast<double>(k + 1) / surfaces.size(), "write");
+  }
+  staging.stage(kVoxelSetsFileName, [&](const fs::path& path) {
+    writeFileAtomically(
+        path,
+        [&](std::ostream& out) {
+          writeVoxelSetsPly(out, result.layers.layers, result.layers.field.field);
+        },
+        /*binary=*/true);
+  });
+}
+
+void stageText(OutputStaging& staging, const std::string& name, const std::string& text) {
+  staging.stage(name, [&](const fs::path& path) { writeTextFileAtomically(path, text); });
+}
+
+}  // namespace
+
+Json makePlanReportSection(const PlanResult& planned) {
+  Json j;
+  const PlanStats& s = planned.stats;
+  j["paths"] = planned.plan.pathCount();
+  j["points"] = planned.plan.pointCount();
+  j["arc_length_mm"] = s.arcLength;
+  j["travel_mm"] = s.travel;
+  j["layers_without_paths"] = s.layersWithoutPaths;
+  j["dropped_fragments"] = s.droppedFragments;
+  j["seams_too_close"] = s.seamsTooClose;
+  j["max_fit_deviation_mm"] = s.maxFitDeviation;
+  j["deposition"] = depositionReport(s.deposition);
+  Json times = Json::array();
+  for (const PlanStageTime& t : s.stageTimes) {
+    times.push_back(Json{{"stage", t.name}, {"seconds", t.seconds}});
+  }
+  j["stage_times"] = times;
+  Json layers = Json::array();
+  for (const PlanLayer& layer : planned.plan.layers) layers.push_back(layerReport(layer));
+  j["layers"] = layers;
+  j["inputs"] = plannerInputs(planned.plan.parameters);
+  j["files"] = Json{{"json", kPlanJsonFileName}, {"csv", kPlanCsvFileName}};
+  return j;
+}
+
+Json makePlanJobReport(const PlanOutputInputs& inputs, const PlanJobOptions& options,
+                       PlanJobResult& result) {
+  Json report;
+  if (options.thinWall) {
+    report = thinWallReport(inputs, *options.thinWall);
+  } else {
+    LayerJobResult& layers = result.layers;
+    layers.stageTimes.insert(layers.stageTimes.begin(), StageTime{"read", inputs.readSeconds});
+    layers.totalSeconds += inputs.readSeconds;
+    layers.peakMemoryBytes = peakResidentMemoryBytes();
+    LayerReportInputs layerInputs;
+    layerInputs.modelPath = inputs.modelPath;
+    layerInputs.modelFileTriangles = inputs.modelFileTriangles;
+    layerInputs.tessellationTolerance = inputs.tessellationTolerance;
+    layerInputs.startSpec = options.startSpec;
+    layerInputs.layerFormat = options.layerFormat;
+    layerInputs.layerFiles = result.layerFiles;
+    layerInputs.voxelSetsFile = kVoxelSetsFileName;
+    report = makeLayerReport(layerInputs, options.layerJob, layers);
+  }
+  report["plan"] = makePlanReportSection(result.planned);
+  return report;
+}
+
+void writePlanOutput(const fs::path& dir, const PlanOutputInputs& inputs,
+                     const PlanJobOptions& options, PlanJobResult& result,
+                     const Progress& progress) {
+  progress.report(0.0, "write");
+  OutputStaging staging(dir);
+  if (!options.thinWall) stageLayerFiles(staging, options, result, progress);
+  const Json report = makePlanJobReport(inputs, options, result);
+  stageText(staging, kPlanJsonFileName, formatPlanJson(result.planned.plan));
+  stageText(staging, kPlanCsvFileName, formatPlanCsv(result.planned.plan));
+  stageText(staging, kReportFileName, formatLayerReport(report));
+  progress.report(1.0, "write");  // last chance to cancel: nothing is in place yet
+  staging.commit(isLayerFileName);
+}
+
+}  // namespace curvedslicer

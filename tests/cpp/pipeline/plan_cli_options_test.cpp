@@ -1,0 +1,121 @@
+// `curvedslicer plan` translates its arguments into PlanJobOptions and nothing more: defaults and
+// the --help text come from PlannerOptions{}; range checks (a zero plane normal, an initial curve
+// with a thin wall) are the core's, with the core's messages.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "common/test_paths.hpp"
+#include "curvedslicer/paths/planner.hpp"
+#include "curvedslicer/plan/plan_io.hpp"
+
+namespace curvedslicer {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliOutput {
+  int exitCode = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string readText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Runs the CLI with `args` (no quotes in them), stdout and stderr captured in `dir`.
+CliOutput runCli(const std::vector<std::string>& args, const fs::path& dir) {
+  std::string command = testing::cliPath().string();
+  for (const std::string& a : args) command += " '" + a + "'";
+  command += " >'" + (dir / "stdout.txt").string() + "' 2>'" + (dir / "stderr.txt").string() + "'";
+  const int status = std::system(command.c_str());
+  return CliOutput{WIFEXITED(status) ? WEXITSTATUS(status) : -1, readText(dir / "stdout.txt"),
+                   readText(dir / "stderr.txt")};
+}
+
+std::string g(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%g", value);
+  return buffer;
+}
+
+std::vector<std::string> coarseBox(const fs::path& out) {
+  return {"plan",
+          testing::modelPath("simple_box_closed_low_res.stl").string(),
+          "--layer-thickness",
+          "20",
+          "--voxel",
+          "5",
+          "--bead-spacing",
+          "12",
+          "-o",
+          out.string(),
+          "-q"};
+}
+
+TEST(PlanCliOptions, HelpShowsThePlannerDefaults) {
+  const fs::path dir = testing::freshTempDir();
+  const CliOutput help = runCli({"plan", "--help"}, dir);
+  ASSERT_EQ(help.exitCode, 0) << help.err;
+  const PlannerOptions defaults;
+  for (const std::string& part : std::vector<std::string>{
+           "(default " + g(defaults.pointSpacing) + ")",
+           "(default " + g(defaults.fitTolerance) + ")",
+           "(default " + g(defaults.cornerAngle) + ")",
+           "default " + std::string(toString(defaults.geodesic.method)),
+           "Default " + narrowStripModeName(defaults.narrowStrips), std::string("Default boundary"),
+           std::string("--tessellation-tolerance")}) {
+    EXPECT_NE(help.out.find(part), std::string::npos) << part << "\n" << help.out;
+  }
+}
+
+TEST(PlanCliOptions, OptionsNotGivenAreThePlannerDefaults) {
+  const fs::path dir = testing::freshTempDir();
+  const CliOutput run = runCli(coarseBox(dir / "out"), dir);
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  const Plan plan = readPlanJson(dir / "out/plan.json");
+  const PlannerOptions defaults;
+  EXPECT_EQ(plan.parameters.beadSpacing, 12.0);
+  EXPECT_EQ(plan.parameters.pointSpacing, defaults.pointSpacing);
+  EXPECT_EQ(plan.parameters.fitTolerance, defaults.fitTolerance);
+  EXPECT_EQ(plan.parameters.cornerAngle, defaults.cornerAngle);
+  EXPECT_EQ(plan.parameters.surfaceMethod, toString(defaults.geodesic.method));
+  EXPECT_EQ(plan.parameters.narrowStrips, narrowStripModeName(defaults.narrowStrips));
+  EXPECT_EQ(plan.parameters.initialCurve, "boundary");
+  EXPECT_EQ(plan.start, "plane:bottom");
+}
+
+TEST(PlanCliOptions, RangeChecksAreTheCores) {
+  const fs::path dir = testing::freshTempDir();
+  const auto expectError = [&](std::vector<std::string> args, const std::string& message) {
+    const CliOutput run = runCli(args, dir);
+    EXPECT_EQ(run.exitCode, 2) << run.err;
+    EXPECT_NE(run.err.find("curvedslicer: error: " + message), std::string::npos) << run.err;
+    EXPECT_FALSE(fs::exists(dir / "out"));
+  };
+  std::vector<std::string> args = coarseBox(dir / "out");
+  args.insert(args.end(), {"--initial-curve", "plane:0,0,0,0,0,0"});
+  expectError(args, "initial plane needs a finite point and a non-zero normal");
+  expectError({"plan", testing::modelPath("simple_box_closed_low_res.stl").string(), "--thin-wall",
+               "lowest", "--bead-spacing", "2", "--initial-curve", "plane:0,0,0,1,0,0", "-o",
+               (dir / "out").string(), "-q"},
+              "an initial curve does not apply to a thin wall");
+  args = coarseBox(dir / "out");
+  args.insert(args.end(), {"--point-spacing", "0"});
+  expectError(args, "point spacing must be a positive number of mm: 0");
+}
+
+}  // namespace
+}  // namespace curvedslicer
