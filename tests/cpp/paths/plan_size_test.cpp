@@ -41,6 +41,15 @@ TEST(PlanSize, NanometrePointSpacingIsRefusedAtOnceUnderTheAutomaticBudget) {
   const auto begin = std::chrono::steady_clock::now();
   EXPECT_THROW(checkPlanSize(2.0e5, 3.7, 1e-9, 0.0), ResourceLimit);
   EXPECT_LT(std::chrono::steady_clock::now() - begin, std::chrono::seconds(1));
+  // Beyond 2^31 points a larger budget does not help.
+  try {
+    checkPlanSize(2.0e5, 3.7, 1e-9, 1e36);
+    ADD_FAILURE() << "22 trillion points were accepted under a budget of 1e36 bytes";
+  } catch (const ResourceLimit& e) {
+    EXPECT_NE(std::string(e.what()).find("(or over the limit of 2,147,483,647 points)"),
+              std::string::npos)
+        << e.what();
+  }
   // Bad spacings are left to the option checks (their own messages).
   EXPECT_NO_THROW(checkPlanSize(2.0e5, 0.0, 1e-9, 0.0));
   EXPECT_NO_THROW(checkPlanSize(2.0e5, 3.7, -1.0, 0.0));

@@ -12,6 +12,9 @@ namespace curvedslicer {
 /// (304,838 points): 446 bytes per point (points, fitted curves, plan.json and plan.csv text).
 inline constexpr double kPlanBytesPerPoint = 450.0;
 
+/// Most robot points a plan may hold, whatever the budget (2^31 - 1).
+inline constexpr double kMaxPlanPoints = 2147483647.0;
+
 struct PlanSizeEstimate {
   double pathLength = 0.0;  ///< mm, about the layer area / bead spacing
   double points = 0.0;      ///< robot points, about pathLength / point spacing
@@ -23,7 +26,8 @@ struct PlanSizeEstimate {
 /// @param pointSpacing  p, mm (> 0)
 PlanSizeEstimate estimatePlanSize(double layerArea, double beadSpacing, double pointSpacing);
 
-/// Refuses a plan whose estimated memory exceeds the budget.
+/// Refuses a plan whose estimated memory exceeds the budget, or that would hold more than
+/// kMaxPlanPoints points.
 /// @param memoryBudgetBytes  bytes; 0 = 80 % of physical memory (as the voxel grid's budget)
 /// @throws ResourceLimit naming the estimated points and memory, the budget, and the smallest
 ///         point spacing (two significant digits) that fits.
