@@ -80,8 +80,7 @@ MeshReport analyzeMesh(const TriMesh& mesh) {
       ++end;
     }
     const std::size_t uses = end - begin;
-    const bool inconsistent =
-        uses == 2 && halfEdges[begin].forward == halfEdges[begin + 1].forward;
+    const bool inconsistent = uses == 2 && halfEdges[begin].forward == halfEdges[begin + 1].forward;
     report.openEdges += uses == 1;
     report.nonManifoldEdges += uses >= 3;
     report.inconsistentEdges += inconsistent;

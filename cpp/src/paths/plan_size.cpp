@@ -71,11 +71,10 @@ void checkPlanSize(double layerArea, double beadSpacing, double pointSpacing,
   const double limit = std::min(budget, kMaxPlanPoints * kPlanBytesPerPoint);
   if (!(e.bytes > limit)) return;  // also for a non-finite area: the model checks report it
   const double fitting = roundUpTwoDigits(pointSpacing * e.bytes / limit);
-  throw ResourceLimit("the plan would hold about " + formatCount(e.points) +
-                      " robot points (" + formatCount(e.pathLength) +
-                      " mm of bead paths at a point spacing of " + formatGeneral(pointSpacing, 4) +
-                      " mm) and need about " + formatMemory(e.bytes) + " at " +
-                      formatGeneral(kPlanBytesPerPoint, 3) +
+  throw ResourceLimit("the plan would hold about " + formatCount(e.points) + " robot points (" +
+                      formatCount(e.pathLength) + " mm of bead paths at a point spacing of " +
+                      formatGeneral(pointSpacing, 4) + " mm) and need about " +
+                      formatMemory(e.bytes) + " at " + formatGeneral(kPlanBytesPerPoint, 3) +
                       " bytes per point, over the memory budget of " + formatMemory(budget) +
                       (budget > limit ? " (or over the limit of 2,147,483,647 points)" : "") +
                       "; use a point spacing of at least " + formatGeneral(fitting, 2) +

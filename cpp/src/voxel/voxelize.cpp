@@ -42,11 +42,11 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <iomanip>
+#include <limits>
 #include <numeric>
 #include <sstream>
 #include <string>

@@ -11,7 +11,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_test_support.hpp"
@@ -135,19 +137,47 @@ TEST(CliRobustness, BoxWithOneFaceMissingIsSlicedWithAWarningThatSaysWhere) {
   const CliRun run = runCli({"layers", model.string(), "--layer-thickness", "2", "--voxel", "1",
                              "--grid", "model", "-o", (dir / "out").string(), "-q"});
   ASSERT_EQ(run.exitCode, 0) << run.err;
-  EXPECT_TRUE(contains(run.err, "curvedslicer: warning: the model is open: 4 boundary edges and 0 "
-                                "non-manifold edges around x 0..20, y 0..16, z 10..10 mm"));
+  EXPECT_TRUE(contains(run.err,
+                       "curvedslicer: warning: the model is open: 4 boundary edges and 0 "
+                       "non-manifold edges around x 0..20, y 0..16, z 10..10 mm"));
   EXPECT_TRUE(contains(run.err, "pass --cap-holes (CapHoles) or close the model"));
   std::ifstream in(dir / "out" / "report.json");
   const nlohmann::json report = nlohmann::json::parse(in);
   ASSERT_EQ(report["warnings"].size(), 1u);
   EXPECT_TRUE(contains(report["warnings"][0].get<std::string>(), "the model is open"));
   // With the hole capped the model is closed: no warning.
-  const CliRun capped = runCli({"layers", model.string(), "--layer-thickness", "2", "--voxel",
-                                "1", "--grid", "model", "--cap-holes", "-o",
-                                (dir / "capped").string(), "-q"});
+  const CliRun capped =
+      runCli({"layers", model.string(), "--layer-thickness", "2", "--voxel", "1", "--grid", "model",
+              "--cap-holes", "-o", (dir / "capped").string(), "-q"});
   ASSERT_EQ(capped.exitCode, 0) << capped.err;
   EXPECT_FALSE(contains(capped.err, "warning"));
+}
+
+TEST(CliRobustness, FlippedTriangleIsFilledByParityWithAWarningThatSaysWhere) {
+  const fs::path dir = testing::freshTempDir();
+  TriMesh box = testing::makeBox(Vec3(0, 0, 0), Vec3(20, 16, 10));
+  std::swap(box.triangles[4][1], box.triangles[4][2]);
+  Aabb flipped;
+  for (int k = 0; k < 3; ++k) flipped.extend(box.vertices[box.triangles[4][k]]);
+  const fs::path model = dir / "flipped.stl";
+  testing::writeBinaryStl(model, testing::trianglesOf(box));
+  const CliRun run = runCli({"layers", model.string(), "--layer-thickness", "2", "--voxel", "1",
+                             "--grid", "model", "-o", (dir / "out").string(), "-q"});
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  const auto range = [&flipped](int a) {
+    std::ostringstream s;
+    s << flipped.min[a] << ".." << flipped.max[a];
+    return s.str();
+  };
+  EXPECT_TRUE(contains(run.err,
+                       "curvedslicer: warning: the model's surface is inconsistently "
+                       "oriented: 3 edges where neighbouring triangles disagree, around x " +
+                           range(0) + ", y " + range(1) + ", z " + range(2) + " mm"));
+  std::ifstream in(dir / "out" / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["grid"]["fill_rule"], "parity");
+  EXPECT_EQ(report["grid"]["inside_voxels"], 20 * 16 * 10);
+  EXPECT_EQ(report["warnings"].size(), 1u);
 }
 
 TEST(CliRobustness, OpenTubeSaysTheModelIsOpenNotThatTheVoxelIsTooCoarse) {
@@ -174,11 +204,11 @@ TEST(CliRobustness, OpenTubeSaysTheModelIsOpenNotThatTheVoxelIsTooCoarse) {
 TEST(CliRobustness, PointSpacingThatExplodesThePlanExitsFourWithinSeconds) {
   const fs::path dir = testing::freshTempDir();
   const auto start = std::chrono::steady_clock::now();
-  const CliRun run = runCli({"plan", testing::modelPath("custom_base_geom_to_slice.obj").string(),
-                             "--start",
-                             "mesh:" + testing::modelPath("custom_base_surface.obj").string(),
-                             "--cap-holes", "--layer-thickness", "1.5", "--voxel", "0.5", "--bead-spacing", "3.7",
-                             "--point-spacing", "1e-9", "-o", (dir / "out").string(), "-q"});
+  const CliRun run =
+      runCli({"plan", testing::modelPath("custom_base_geom_to_slice.obj").string(), "--start",
+              "mesh:" + testing::modelPath("custom_base_surface.obj").string(), "--cap-holes",
+              "--layer-thickness", "1.5", "--voxel", "0.5", "--bead-spacing", "3.7",
+              "--point-spacing", "1e-9", "-o", (dir / "out").string(), "-q"});
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_EQ(run.exitCode, 4) << run.err;

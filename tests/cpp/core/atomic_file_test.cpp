@@ -136,7 +136,8 @@ TEST(AtomicFile, EmptyPathOrOneNamingNoFileIsInvalidInput) {
     writeTextFileAtomically(fs::path(), "new");
     ADD_FAILURE() << "an empty path was accepted";
   } catch (const InvalidInput& e) {
-    EXPECT_EQ(std::string(e.what()), "output path is empty: ''; pass a file path such as 'PART.JBI'");
+    EXPECT_EQ(std::string(e.what()),
+              "output path is empty: ''; pass a file path such as 'PART.JBI'");
   }
   try {
     writeTextFileAtomically(dir / "missing" / "", "new");

@@ -120,8 +120,9 @@ TEST(Exporter, DateThatIsNotYyyyMmDdHhMmIsRefusedBeforeWriting) {
   }
   options.date = "2026/11/22 07:00";
   EXPECT_NO_THROW(validateExportOptions(options));
-  EXPECT_NE(exportProgram(motion, cell, ExportFormat::Jbi, options).files[0].text.find(
-                "///DATE 2026/11/22 07:00\r\n"),
+  EXPECT_NE(exportProgram(motion, cell, ExportFormat::Jbi, options)
+                .files[0]
+                .text.find("///DATE 2026/11/22 07:00\r\n"),
             std::string::npos);
   EXPECT_NO_THROW(validateExportOptions(ExportOptions{}));
 }
@@ -134,7 +135,8 @@ TEST(Exporter, EmptyOutputPathIsRefusedWithItsOwnMessage) {
     writeExportFiles(result, fs::path());
     ADD_FAILURE() << "an empty path was accepted";
   } catch (const InvalidInput& e) {
-    EXPECT_EQ(std::string(e.what()), "output path is empty: ''; pass a file path such as 'PART.JBI'");
+    EXPECT_EQ(std::string(e.what()),
+              "output path is empty: ''; pass a file path such as 'PART.JBI'");
   }
   EXPECT_TRUE(fs::is_empty(dir));
 }

@@ -43,7 +43,7 @@ std::string_view toString(FillRule rule);  ///< "nonzero" or "parity"
 
 struct VoxelizeStats {
   FillRule fillRule = FillRule::NonZeroWinding;
-  std::size_t overlapVoxels = 0;     ///< voxels inside two or more shells (winding |w| >= 2)
+  std::size_t overlapVoxels = 0;  ///< voxels inside two or more shells (winding |w| >= 2)
   /// Part frame, mm: the box of the overlap voxels' centres (empty without overlap).
   Aabb overlapBounds;
   std::size_t columns = 0;           ///< z columns cast
