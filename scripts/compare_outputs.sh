@@ -117,6 +117,23 @@ def strip(value):
         return [strip(v) for v in value]
     return value
 
+def paths_differing(a, b, prefix=""):
+    """Key paths where two JSON values differ (added, removed or changed)."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        out = []
+        for k in list(a) + [k for k in b if k not in a]:
+            if k not in a or k not in b:
+                out.append("%s/%s (%s)" % (prefix, k, "added" if k in b else "removed"))
+            else:
+                out += paths_differing(a[k], b[k], "%s/%s" % (prefix, k))
+        return out
+    if isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
+        out = []
+        for i, (x, y) in enumerate(zip(a, b)):
+            out += paths_differing(x, y, "%s/%d" % (prefix, i))
+        return out
+    return [] if a == b else ["%s (changed)" % (prefix or "/")]
+
 def files(root):
     out = set()
     for folder, _, names in os.walk(root):
@@ -134,8 +151,11 @@ for case in cases:
         count += 1
         pa, pb = os.path.join(a, name), os.path.join(b, name)
         if os.path.basename(name) == "report.json":
-            if strip(json.load(open(pa))) != strip(json.load(open(pb))):
-                differ.append("%s/%s: differs (beyond timings)" % (case, name))
+            keys = paths_differing(strip(json.load(open(pa))), strip(json.load(open(pb))))
+            if keys:
+                shown = sorted(set(keys))
+                differ.append("%s/%s: differs beyond timings at %s%s" % (
+                    case, name, ", ".join(shown[:8]), " …" if len(shown) > 8 else ""))
         elif not filecmp.cmp(pa, pb, shallow=False):
             differ.append("%s/%s: differs" % (case, name))
 print("compare_outputs.sh: %d files compared in %s" % (count, ", ".join(cases)))

@@ -35,29 +35,20 @@ namespace {
 py::dict estimateGridPy(const DoubleArray& vertices, const IntArray& triangles,
                         VoxelizeOptions options) {  // a copy: used without the GIL
   const TriMesh model = toTriMesh(vertices, triangles, std::nullopt, "model");
-  const double budget =
-      options.memoryBudgetBytes > 0.0 ? options.memoryBudgetBytes : 0.8 * physicalMemoryBytes();
-  VoxelizeOptions unlimited = options;
-  unlimited.memoryBudgetBytes = std::numeric_limits<double>::max();
-  GridGeometry geometry;
+  GridEstimate e;
   {
     py::gil_scoped_release release;
-    geometry = planGrid(model, unlimited);
+    e = estimateGrid(model, options);
   }
   py::dict d;
-  d["dims"] = py::make_tuple(geometry.dims.x(), geometry.dims.y(), geometry.dims.z());
-  d["cells"] = geometry.cellCount();
-  d["bytes"] = static_cast<double>(geometry.cellCount()) * options.bytesPerCell;
-  d["budget_bytes"] = budget;
-  d["fits"] = true;
-  d["message"] = "";
-  try {
-    py::gil_scoped_release release;
-    (void)planGrid(model, options);
-  } catch (const ResourceLimit& e) {
-    d["fits"] = false;
-    d["message"] = std::string(e.what());
-  }
+  d["dims"] = py::make_tuple(static_cast<std::int64_t>(e.dims[0]),
+                             static_cast<std::int64_t>(e.dims[1]),
+                             static_cast<std::int64_t>(e.dims[2]));
+  d["cells"] = static_cast<std::int64_t>(e.cells);
+  d["bytes"] = e.bytes;
+  d["budget_bytes"] = e.budgetBytes;
+  d["fits"] = e.fits;
+  d["message"] = e.message;
   return d;
 }
 

@@ -20,7 +20,7 @@ from freecad.curvedslicer.core import Cancelled, InvalidInput, native  # noqa: E
 # The defaults the core documents (field comments in cpp/include/curvedslicer/**, README),
 # written down once here; the module must report the same, since it constructs `Options{}`.
 DOCUMENTED_DEFAULTS = {
-    "LayerJobOptions": {"voxel_size": 1.0, "layer_thickness": 1.0, "method": "anyangle",
+    "LayerJobOptions": {"voxel_size": 1.0, "layer_thickness": 1.5, "method": "anyangle",
                         "alignment": "pca", "memory_budget_bytes": 0.0, "cap_holes": False,
                         "clip_to_solid": True, "thickness_samples": 4096,
                         "max_layers": 100000},
@@ -231,6 +231,11 @@ class TestJobs(cs_testing.DocumentTestCase):
             options=native.VoxelizeOptions(voxel_size=0.01, memory_budget_bytes=1e6))
         self.assertFalse(tight["fits"])
         self.assertEqual(tight["budget_bytes"], 1e6)
+        # Beyond the 2^31-cell limit the estimate still answers (the panel shows it) instead of
+        # raising: about 4,000 x 3,000 x 600 cells of 0.01 mm for the 40 x 30 x 6 mm box.
+        self.assertGreater(tight["cells"], 2 ** 31)
+        self.assertEqual(tight["cells"], tight["dims"][0] * tight["dims"][1] * tight["dims"][2])
+        self.assertIn("use a voxel size of at least", tight["message"])
 
 
 cs_testing.main(__name__)

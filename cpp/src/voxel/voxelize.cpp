@@ -728,6 +728,27 @@ GridGeometry planGrid(const TriMesh& mesh, const VoxelizeOptions& options) {
   return g;
 }
 
+GridEstimate estimateGrid(const TriMesh& mesh, const VoxelizeOptions& options) {
+  validateOptions(options);
+  validateMesh(mesh);
+  const Frame frame =
+      options.alignment == GridAlignment::Pca ? computePcaFrame(mesh) : GridGeometry{}.frame;
+  const LatticeExtent extent =
+      latticeExtent(gridFrameBox(mesh, frame), options.voxelSize, options.padding);
+  GridEstimate e;
+  e.dims = extent.dims;
+  e.cells = extent.cells();
+  e.bytes = e.cells * options.bytesPerCell;
+  e.budgetBytes = effectiveBudget(options);
+  try {
+    (void)planGrid(mesh, options);
+  } catch (const ResourceLimit& error) {
+    e.fits = false;
+    e.message = error.what();
+  }
+  return e;
+}
+
 VoxelizeResult voxelize(const TriMesh& mesh, const VoxelizeOptions& options, Progress progress) {
   const auto started = std::chrono::steady_clock::now();
   progress.report(0.0, "plan grid");

@@ -13,7 +13,7 @@ App side: no GUI imports (a progress dialog and view providers come through hook
 
 import FreeCAD
 
-from . import arguments, geometry, hooks, preferences, stages
+from . import arguments, defaults, geometry, hooks, preferences, stages
 from .core import (Cancelled, CurvedSlicerError, InvalidInput, IoError, NotAvailable,
                    ResourceLimit, native)
 from .objects import job as job_module
@@ -93,13 +93,14 @@ def _check_job_choices(**choices):
         arguments.choice(value, keyword, lists[keyword])
 
 
-def make_job(doc, solid, start=None, layer_thickness=1.5, voxel_size=None, method="AnyAngle",
-             grid_alignment="PCA", cap_holes=False, deflection=0.0, memory_budget_mb=0.0,
-             bead_spacing=3.7, point_spacing=2.0, initial_path="Boundary", cell_file=None,
+def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, voxel_size=None,
+             method="AnyAngle", grid_alignment="PCA", cap_holes=False, deflection=0.0,
+             memory_budget_mb=0.0, bead_spacing=defaults.BEAD_SPACING,
+             point_spacing=defaults.POINT_SPACING, initial_path="Boundary", cell_file=None,
              name="Job", plan_kind="CurvedLayers", wall_surface=None, wall_axis=(0, 0, 1),
-             fit_tolerance=0.05, surface_method="Accurate", initial_plane=None,
+             fit_tolerance=defaults.FIT_TOLERANCE, surface_method="Accurate", initial_plane=None,
              initial_surface=None, path_display="Polyline", tool_along_travel=False,
-             narrow_strips="CentreBead", corner_angle=path_stage.DEFAULT_CORNER_ANGLE):
+             narrow_strips="CentreBead", corner_angle=defaults.CORNER_ANGLE):
     """Creates a Job for `solid` in `doc` (no computation; call run() or doc.recompute()).
 
     start: see _set_start. voxel_size None = the preference (default 1 mm). method "AnyAngle" |

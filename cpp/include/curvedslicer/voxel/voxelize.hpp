@@ -14,6 +14,9 @@
 // columns (OpenMP).
 #pragma once
 
+#include <array>
+#include <string>
+
 #include <cstddef>
 #include <string_view>
 
@@ -65,6 +68,20 @@ struct VoxelizeResult {
 ///         ResourceLimit when cells·bytesPerCell exceeds the budget — the message gives the cell
 ///         count, the memory it needs and the smallest voxel size that fits.
 GridGeometry planGrid(const TriMesh& mesh, const VoxelizeOptions& options = {});
+
+/// What planGrid would allocate, also for grids beyond the cell limits (which no GridGeometry can
+/// describe): the task panel's voxel and memory estimate. No allocation.
+struct GridEstimate {
+  std::array<double, 3> dims{};  ///< cells per axis (may exceed the per-axis limit)
+  double cells = 0.0;            ///< dims[0]·dims[1]·dims[2]
+  double bytes = 0.0;            ///< cells · bytesPerCell
+  double budgetBytes = 0.0;      ///< the budget in force (0 in the options: 80 % of memory)
+  bool fits = true;              ///< planGrid would succeed
+  std::string message;           ///< planGrid's ResourceLimit text when it does not fit
+};
+
+/// @throws InvalidInput as planGrid; never ResourceLimit (that is `fits` = false).
+GridEstimate estimateGrid(const TriMesh& mesh, const VoxelizeOptions& options = {});
 
 /// Voxelizes a closed (or nearly closed) mesh. See the file comment.
 VoxelizeResult voxelize(const TriMesh& mesh, const VoxelizeOptions& options = {},

@@ -15,7 +15,7 @@ attached through hooks.py, see docs/WORKBENCH.md).
 
 import FreeCAD
 
-from .. import SCHEMA_VERSION, hooks, preferences, stages
+from .. import SCHEMA_VERSION, defaults, hooks, preferences, stages
 from ..core import CurvedSlicerError
 from ..stages import layers, paths
 
@@ -49,7 +49,8 @@ PROPERTIES = [
      FreeCAD.Vector(0, 0, 0)),
     ("App::PropertyVector", "StartPlaneNormal", "Start surface",
      "Normal of the start plane, towards the part (StartMode Plane)", FreeCAD.Vector(0, 0, 1)),
-    ("App::PropertyLength", "LayerThickness", "Layers", "Layer thickness h, mm", 1.5),
+    ("App::PropertyLength", "LayerThickness", "Layers", "Layer thickness h, mm",
+     defaults.LAYER_THICKNESS),
     ("App::PropertyLength", "VoxelSize", "Layers",
      "Voxel edge length L, mm; time and memory grow as 1/L^3", None),
     ("App::PropertyEnumeration", "Method", "Layers",
@@ -76,15 +77,15 @@ PROPERTIES = [
      "A point near the wall's start edge, mm (WallEdge Nearest)", FreeCAD.Vector(0, 0, 0)),
     ("App::PropertyLength", "BeadSpacing", "Paths",
      "Distance between neighbouring beads, mm (thin wall: between consecutive beads along the "
-     "wall)", 3.7),
+     "wall)", defaults.BEAD_SPACING),
     ("App::PropertyLength", "PointSpacing", "Paths", "Largest distance between robot points, mm",
-     2.0),
+     defaults.POINT_SPACING),
     ("App::PropertyFloat", "FitTolerance", "Paths", "Spline fit tolerance of the paths, mm",
-     0.05),
+     defaults.FIT_TOLERANCE),
     ("App::PropertyAngle", "CornerAngle", "Paths",
      "Where a path turns by more than this within 0.2 mm, the spline fit keeps the raw vertex as "
      "an exact corner, degrees in (0, 180]; 180 keeps no corners (every path one smooth spline)",
-     paths.DEFAULT_CORNER_ANGLE),
+     defaults.CORNER_ANGLE),
     ("App::PropertyEnumeration", "InitialPath", "Paths",
      "Initial curve of every layer: Boundary (contour-parallel paths), Plane (section with "
      "InitialPlanePoint/InitialPlaneNormal) or Surface (section with InitialSurface)",
@@ -220,6 +221,9 @@ class JobProxy:
         self.Type = JOB_TYPE
         old = obj.SchemaVersion if "SchemaVersion" in obj.PropertiesList else 0
         added = add_missing_properties(obj)
+        if "CornerAngle" in added:
+            # Planned before the option existed: its fit used the legacy angle.
+            obj.CornerAngle = paths.LEGACY_CORNER_ANGLE
         if "NarrowStrips" in added:
             # Planned before the option existed: keep what it planned (overlapping paths).
             obj.NarrowStrips = "Overlap"

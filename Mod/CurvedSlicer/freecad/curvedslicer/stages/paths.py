@@ -21,7 +21,7 @@ import json
 
 import FreeCAD
 
-from .. import geometry
+from .. import defaults, geometry
 from ..core import InvalidInput, native
 from .features import ensure_group, group_members, prune_unused_features, retire_features
 from .layers import _deflection, layer_objects, start_mesh_object
@@ -53,16 +53,17 @@ def _degrees(quantity):
     return float(FreeCAD.Units.Quantity(quantity).getValueAs("deg"))
 
 
-#: The default CornerAngle, degrees: also the value of Jobs saved before the property existed
-#: (their fit used it already), so a Job with this value keeps the digest it had then.
-DEFAULT_CORNER_ANGLE = 30.0
+#: The corner angle every fit used before CornerAngle existed (Job schema < 4), degrees. Not a
+#: default (that is defaults.CORNER_ANGLE, from the core): a migrated Job gets this value, and a
+#: Job with it keeps the digest it had then.
+LEGACY_CORNER_ANGLE = 30.0
 
 
 def _corner_angle(job):
     angle = _degrees(job.CornerAngle)
     if not 0.0 < angle <= 180.0:
-        raise InvalidInput("CornerAngle must be in (0, 180] degrees: %g; set it, e.g. 30, or 180 "
-                           "to keep no corners" % angle)
+        raise InvalidInput("CornerAngle must be in (0, 180] degrees: %g; set it, e.g. %g, or 180 "
+                           "to keep no corners" % (angle, defaults.CORNER_ANGLE))
     return angle
 
 
@@ -106,8 +107,9 @@ def _common_parameters(job):
                         ("FitTolerance", tolerance)):
         if not value > 0:
             raise InvalidInput("%s must be positive: %g mm; set it, e.g. %s" % (
-                name, value, {"BeadSpacing": "3.7", "PointSpacing": "2",
-                              "FitTolerance": "0.05"}[name]))
+                name, value, "%g" % {"BeadSpacing": defaults.BEAD_SPACING,
+                                     "PointSpacing": defaults.POINT_SPACING,
+                                     "FitTolerance": defaults.FIT_TOLERANCE}[name]))
     return {"bead_spacing": spacing, "point_spacing": points, "fit_tolerance": tolerance,
             "surface_method": job.SurfaceMethod.lower()}
 
@@ -116,7 +118,7 @@ def path_inputs(job):
     """Everything the plan stage needs: (callable that plans, digest)."""
     common = _common_parameters(job)
     corner_angle = _corner_angle(job)
-    corner_part = [] if corner_angle == DEFAULT_CORNER_ANGLE else [("corner_angle", corner_angle)]
+    corner_part = [] if corner_angle == LEGACY_CORNER_ANGLE else [("corner_angle", corner_angle)]
     if job.PlanKind == "ThinWall":
         link = job.WallSurface
         obj, subs = (link[0], list(link[1])) if link else (None, [])

@@ -1,0 +1,18 @@
+"""Default values of the Job's parameters, read from the core's options structs (one source of
+defaults for the command line, the Python module and the workbench: the C++ ``Options{}``).
+
+App side: imports only the compiled module.
+"""
+
+from .core import native
+
+_LAYERS = native.LayerJobOptions()
+_PLANNER = native.PlannerOptions()
+_WALL = native.ThinWallOptions()
+
+LAYER_THICKNESS = _LAYERS.layer_thickness  # mm
+BEAD_SPACING = _PLANNER.bead_spacing  # mm, curved layers
+WALL_BEAD_SPACING = _WALL.bead_spacing  # mm, between the beads of a thin wall
+POINT_SPACING = _PLANNER.point_spacing  # mm
+FIT_TOLERANCE = _PLANNER.fit_tolerance  # mm
+CORNER_ANGLE = _PLANNER.corner_angle  # degrees
