@@ -5,12 +5,13 @@ export's date cannot inject a header line, and path='' gets a message of its own
 
 import os
 import sys
+import time
 
 sys.path.insert(0, os.environ.get("CURVEDSLICER_TEST_DIR", os.path.dirname(__file__)))
 
 import cs_testing  # noqa: E402
 from freecad.curvedslicer import api  # noqa: E402
-from freecad.curvedslicer.core import InvalidInput  # noqa: E402
+from freecad.curvedslicer.core import InvalidInput, ResourceLimit  # noqa: E402
 
 
 class TestApiArguments(cs_testing.DocumentTestCase):
@@ -67,6 +68,19 @@ class TestApiArguments(cs_testing.DocumentTestCase):
         self.assertIn("unknown grid_alignment: 'obb'; use one of PCA, Model",
                       self.refused(grid_alignment="obb"))
         self.assertIn("unknown narrow_strips: 'x'", self.refused(narrow_strips="x"))
+
+    def test_a_point_spacing_that_explodes_the_plan_is_a_resource_limit(self):
+        box = self.box(20, 16, 6)
+        job = api.make_job(self.doc, box, layer_thickness=2.0, voxel_size=1.0, bead_spacing=4.0,
+                           point_spacing=1e-6, memory_budget_mb=64, cell_file="")
+        begin = time.monotonic()
+        with self.assertRaises(ResourceLimit) as caught:
+            api.run(job, progress=False)
+        self.assertLess(time.monotonic() - begin, 5.0)
+        message = str(caught.exception)
+        self.assertIn("the plan would hold about ", message)
+        self.assertIn("over the memory budget of 67.1 MB", message)
+        self.assertIn("use a point spacing of at least ", message)
 
     def test_export_date_and_empty_path(self):
         box = self.box(20, 16, 6)
