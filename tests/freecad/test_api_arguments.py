@@ -10,6 +10,7 @@ import time
 sys.path.insert(0, os.environ.get("CURVEDSLICER_TEST_DIR", os.path.dirname(__file__)))
 
 import cs_testing  # noqa: E402
+import FreeCAD  # noqa: E402
 from freecad.curvedslicer import api  # noqa: E402
 from freecad.curvedslicer.core import InvalidInput, ResourceLimit  # noqa: E402
 
@@ -81,6 +82,23 @@ class TestApiArguments(cs_testing.DocumentTestCase):
         self.assertIn("the plan would hold about ", message)
         self.assertIn("over the memory budget of 67.1 MB", message)
         self.assertIn("use a point spacing of at least ", message)
+
+    def test_overlapping_solids_are_sliced_as_their_union_with_a_warning(self):
+        a = self.box(20, 30, 20, name="A")
+        b = self.box(20, 30, 20, name="B")
+        b.Placement.Base = FreeCAD.Vector(5, 0, 0)
+        both = self.doc.addObject("Part::Compound", "Both")
+        both.Links = [a, b]
+        self.doc.recompute()
+        job = api.make_job(self.doc, both, layer_thickness=4.0, voxel_size=1.0,
+                           grid_alignment="Model")
+        api.run(job, progress=False)
+        report = api.report(job)
+        self.assertEqual(report["grid"]["fill_rule"], "nonzero")
+        self.assertEqual(report["grid"]["inside_voxels"], 15000)
+        self.assertEqual(len(report["warnings"]), 1)
+        self.assertIn("9000 voxels lie inside two or more shells of the model", report["warnings"][0])
+        self.assertIn("around x 5.5..19.5, y 0.5..29.5, z 0.5..19.5 mm", report["warnings"][0])
 
     def test_export_date_and_empty_path(self):
         box = self.box(20, 16, 6)
