@@ -52,6 +52,7 @@ int runExportCommand(const ExportArguments& args) {
     // ---- read ----------------------------------------------------------------------------------
     progress.report(0.0, "read");
     const Plan plan = readPlanJson(fs::path(args.plan));
+    checkExportSize(plan.pointCount());
     const Cell cell = args.cell.empty() ? defaultCell() : readCell(fs::path(args.cell));
 
     // ---- motion --------------------------------------------------------------------------------

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cctype>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <set>
@@ -20,6 +21,7 @@
 #include "curvedslicer/export/ls_writer.hpp"
 #include "curvedslicer/export/neutral_writer.hpp"
 #include "curvedslicer/export/rapid_writer.hpp"
+#include "curvedslicer/voxel/voxelize.hpp"  // physicalMemoryBytes
 #include "writer_support.hpp"
 
 namespace curvedslicer {
@@ -146,6 +148,24 @@ std::string quoteForMessage(const std::string& text) {
 }
 
 }  // namespace
+
+void checkExportSize(std::size_t points, double memoryBudgetBytes) {
+  double budget = memoryBudgetBytes;
+  if (!(budget > 0.0)) {
+    const double physical = physicalMemoryBytes();
+    budget = physical > 0.0 ? 0.8 * physical : 4e9;  // as the voxel grid's budget
+  }
+  const double perPoint = static_cast<double>(sizeof(MotionPoint)) + kExportTextBytesPerPoint;
+  const double bytes = static_cast<double>(points) * perPoint;
+  if (!(bytes > budget)) return;
+  char text[256];
+  std::snprintf(text, sizeof(text),
+                "the export of %zu plan points would need about %.1f GB (%.0f bytes per point: "
+                "motion and program text), over the memory budget of %.1f GB",
+                points, bytes / 1e9, perPoint, budget / 1e9);
+  throw ResourceLimit(std::string(text) +
+                      "; export fewer layers or re-plan with a larger point spacing");
+}
 
 void validateExportOptions(const ExportOptions& options) {
   if (!isProgramDate(options.date)) {

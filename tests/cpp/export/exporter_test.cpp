@@ -127,6 +127,21 @@ TEST(Exporter, DateThatIsNotYyyyMmDdHhMmIsRefusedBeforeWriting) {
   EXPECT_NO_THROW(validateExportOptions(ExportOptions{}));
 }
 
+TEST(Exporter, ExportBeyondTheMemoryBudgetIsRefusedBeforePlanningTheMotion) {
+  const double perPoint = static_cast<double>(sizeof(MotionPoint)) + kExportTextBytesPerPoint;
+  EXPECT_NO_THROW(checkExportSize(1000, 1000 * perPoint));
+  try {
+    checkExportSize(1001, 1000 * perPoint);
+    ADD_FAILURE() << "an export over the budget was accepted";
+  } catch (const ResourceLimit& e) {
+    EXPECT_NE(std::string(e.what()).find("the export of 1001 plan points would need about"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(checkExportSize(std::size_t{1} << 50), ResourceLimit);  // automatic budget
+  EXPECT_NO_THROW(checkExportSize(100000));
+}
+
 TEST(Exporter, EmptyOutputPathIsRefusedWithItsOwnMessage) {
   const fs::path dir = freshTempDir();
   ExportResult result;
