@@ -127,10 +127,10 @@ py::dict exportResultDict(const ExportResult& result) {
 // nothing (writeExportFiles), so nothing is written unless every step succeeded.
 py::dict exportProgramPy(const std::string& planJson, const std::string& cellJson,
                          const std::string& format, const std::optional<std::string>& path,
-                         ExportOptions options, MotionOptions motion,
-                         const py::object& progress) {
+                         ExportOptions options, MotionOptions motion, const py::object& progress) {
   const ExportFormat f = parseExportFormat(format);
   const Plan plan = parsePlanJson(planJson, "plan");
+  checkExportSize(plan.pointCount());
   const Cell cell = parseCell(cellJson, "cell");
   const ExportResult result = runWithProgress(progress, [&](Progress p) {
     const MotionPlan planned = planMotion(plan, cell, motion, p.sub(0.0, 0.7));

@@ -10,6 +10,12 @@
 
 namespace curvedslicer::cli {
 
+void printWarnings(const std::vector<std::string>& warnings) {
+  for (const std::string& warning : warnings) {
+    std::fprintf(stderr, "curvedslicer: warning: %s\n", warning.c_str());
+  }
+}
+
 int reportFailure(TerminalProgress& display, int code, const std::string& message) {
   display.finishLine();
   std::fprintf(stderr, "curvedslicer: error: %s\n", message.c_str());

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "terminal_progress.hpp"
 
@@ -18,6 +19,10 @@ inline const std::string kJobOutOfMemoryMessage =
 
 /// Ends the progress line, prints "curvedslicer: error: <message>" on stderr, returns `code`.
 int reportFailure(TerminalProgress& display, int code, const std::string& message);
+
+/// Prints each of the job's warnings as "curvedslicer: warning: <warning>" on stderr (also with
+/// --quiet: they say where the part may differ from the model).
+void printWarnings(const std::vector<std::string>& warnings);
 
 /// Call only inside a `catch (...)` block: maps the exception being handled to its exit code and
 /// message — Cancelled (interrupt → 128 + signal, "nothing was written to '<output>'"),

@@ -1,6 +1,5 @@
 #include "export_command.hpp"
 
-#include <cctype>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -23,28 +22,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// "YYYY/MM/DD HH:MM" with digits where the pattern has them.
-bool isProgramDate(const std::string& date) {
-  const std::string pattern = "dddd/dd/dd dd:dd";
-  if (date.size() != pattern.size()) return false;
-  for (std::size_t k = 0; k < pattern.size(); ++k) {
-    const bool digit = std::isdigit(static_cast<unsigned char>(date[k])) != 0;
-    if (pattern[k] == 'd' ? !digit : date[k] != pattern[k]) return false;
-  }
-  return true;
-}
-
 ExportOptions parseExportOptions(const ExportArguments& args) {
   ExportOptions options;
   options.programName = args.name;
-  if (!args.date.empty()) {
-    if (!isProgramDate(args.date)) {
-      throw InvalidInput("--date must look like \"YYYY/MM/DD HH:MM\": '" + args.date +
-                         "'; e.g. --date \"2026/11/22 07:00\"");
-    }
-    options.date = args.date;
-  }
+  if (!args.date.empty()) options.date = args.date;
   if (!args.gcodeMode.empty()) options.gcodeMode = parseGcodeMode(args.gcodeMode);
+  validateExportOptions(options);  // the core's checks, shared with the workbench API
   return options;
 }
 
@@ -69,6 +52,7 @@ int runExportCommand(const ExportArguments& args) {
     // ---- read ----------------------------------------------------------------------------------
     progress.report(0.0, "read");
     const Plan plan = readPlanJson(fs::path(args.plan));
+    checkExportSize(plan.pointCount());
     const Cell cell = args.cell.empty() ? defaultCell() : readCell(fs::path(args.cell));
 
     // ---- motion --------------------------------------------------------------------------------

@@ -210,6 +210,7 @@ int runLayersCommand(const LayersArguments& args) {
     writeProgress.report(1.0, "write");  // last chance to cancel: nothing is in place yet
     staging.commit(isLayerFileName);
     display.finishLine();
+    printWarnings(result.warnings);
 
     if (!args.quiet) {
       printUnreachedWarning(result.field);

@@ -117,6 +117,7 @@ int runPlanCommand(const PlanArguments& args) {
     PlanJobResult result = runPlanJob(model.mesh, job.options, progress.sub(0.0, 0.95));
     writePlanOutput(outputDir, outputInputs, job.options, result, progress.sub(0.95, 1.0));
     display.finishLine();
+    printWarnings(result.layers.warnings);
     if (!args.layers.quiet) printSummary(result, outputDir);
     return kExitOk;
   } catch (...) {

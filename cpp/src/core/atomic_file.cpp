@@ -44,6 +44,13 @@ std::string describeFileType(fs::file_type type) {
 }  // namespace
 
 fs::path resolveOutputPath(const fs::path& path) {
+  if (path.empty()) {
+    throw InvalidInput("output path is empty: ''; pass a file path such as 'PART.JBI'");
+  }
+  if (!path.has_filename()) {
+    throw InvalidInput("output path names no file: '" + path.string() +
+                       "'; pass a file path such as '" + (path / "PART.JBI").string() + "'");
+  }
   std::error_code ec;
   const fs::file_status own = fs::symlink_status(path, ec);
   if (ec || own.type() == fs::file_type::not_found) return path;

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cctype>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <set>
@@ -20,6 +21,7 @@
 #include "curvedslicer/export/ls_writer.hpp"
 #include "curvedslicer/export/neutral_writer.hpp"
 #include "curvedslicer/export/rapid_writer.hpp"
+#include "curvedslicer/voxel/voxelize.hpp"  // physicalMemoryBytes
 #include "writer_support.hpp"
 
 namespace curvedslicer {
@@ -110,8 +112,71 @@ std::unique_ptr<ProgramExporter> makeExporter(ExportFormat format) {
   throw InvalidInput("unknown export format; use one of jbi, krl, rapid, ls, gcode, csv, json");
 }
 
+namespace {
+
+/// "YYYY/MM/DD HH:MM" with digits where the pattern has them.
+bool isProgramDate(const std::string& date) {
+  const std::string pattern = "dddd/dd/dd dd:dd";
+  if (date.size() != pattern.size()) return false;
+  for (std::size_t k = 0; k < pattern.size(); ++k) {
+    const bool digit = std::isdigit(static_cast<unsigned char>(date[k])) != 0;
+    if (pattern[k] == 'd' ? !digit : date[k] != pattern[k]) return false;
+  }
+  return true;
+}
+
+/// `text` for a message: control characters as \r, \n, \t or \xHH, cut after 40 characters.
+std::string quoteForMessage(const std::string& text) {
+  static const char* const kHex = "0123456789abcdef";
+  std::string out;
+  for (std::size_t k = 0; k < text.size() && k < 40; ++k) {
+    const auto c = static_cast<unsigned char>(text[k]);
+    if (c == '\r') {
+      out += "\\r";
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (c < 0x20 || c == 0x7f) {
+      out += std::string("\\x") + kHex[c >> 4] + kHex[c & 15];
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  if (text.size() > 40) out += "...";
+  return out;
+}
+
+}  // namespace
+
+void checkExportSize(std::size_t points, double memoryBudgetBytes) {
+  double budget = memoryBudgetBytes;
+  if (!(budget > 0.0)) {
+    const double physical = physicalMemoryBytes();
+    budget = physical > 0.0 ? 0.8 * physical : 4e9;  // as the voxel grid's budget
+  }
+  const double perPoint = static_cast<double>(sizeof(MotionPoint)) + kExportTextBytesPerPoint;
+  const double bytes = static_cast<double>(points) * perPoint;
+  if (!(bytes > budget)) return;
+  char text[256];
+  std::snprintf(text, sizeof(text),
+                "the export of %zu plan points would need about %.1f GB (%.0f bytes per point: "
+                "motion and program text), over the memory budget of %.1f GB",
+                points, bytes / 1e9, perPoint, budget / 1e9);
+  throw ResourceLimit(std::string(text) +
+                      "; export fewer layers or re-plan with a larger point spacing");
+}
+
+void validateExportOptions(const ExportOptions& options) {
+  if (!isProgramDate(options.date)) {
+    throw InvalidInput("date must look like \"YYYY/MM/DD HH:MM\": '" +
+                       quoteForMessage(options.date) + "'; e.g. \"2026/11/22 07:00\"");
+  }
+}
+
 ExportResult exportProgram(const MotionPlan& motion, const Cell& cell, ExportFormat format,
                            const ExportOptions& options, const Progress& progress) {
+  validateExportOptions(options);
   return makeExporter(format)->write(motion, cell, options, progress);
 }
 

@@ -80,12 +80,13 @@ MeshReport analyzeMesh(const TriMesh& mesh) {
       ++end;
     }
     const std::size_t uses = end - begin;
-    if (uses == 1) {
-      ++report.openEdges;
-    } else if (uses >= 3) {
-      ++report.nonManifoldEdges;
-    } else if (halfEdges[begin].forward == halfEdges[begin + 1].forward) {
-      ++report.inconsistentEdges;
+    const bool inconsistent = uses == 2 && halfEdges[begin].forward == halfEdges[begin + 1].forward;
+    report.openEdges += uses == 1;
+    report.nonManifoldEdges += uses >= 3;
+    report.inconsistentEdges += inconsistent;
+    if (uses != 2 || inconsistent) {
+      report.defectBounds.extend(mesh.vertices[halfEdges[begin].lo]);
+      report.defectBounds.extend(mesh.vertices[halfEdges[begin].hi]);
     }
     begin = end;
   }

@@ -10,8 +10,10 @@
 #include <system_error>
 #include <unordered_set>
 
+#include <signal.h>
 #include <unistd.h>
 
+#include "curvedslicer/core/atomic_file.hpp"
 #include "curvedslicer/core/error.hpp"
 
 namespace curvedslicer {
@@ -39,6 +41,19 @@ std::string errorText(const std::error_code& ec) {
 }
 
 }  // namespace
+
+long stagingFolderPid(const std::string& name) {
+  constexpr std::string_view prefix = ".curvedslicer-staging-";
+  if (name.rfind(prefix, 0) != 0) return 0;
+  const std::string_view rest = std::string_view(name).substr(prefix.size());
+  const std::size_t dash = rest.find('-');
+  if (dash == 0 || dash == std::string_view::npos || dash > 9 || dash + 1 == rest.size()) return 0;
+  const auto digits = [](std::string_view t) {
+    return std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  if (!digits(rest.substr(0, dash)) || !digits(rest.substr(dash + 1))) return 0;
+  return std::stol(std::string(rest.substr(0, dash)));
+}
 
 std::string layerFileName(int index, std::size_t layerCount, LayerFileFormat format) {
   const std::size_t width = std::max<std::size_t>(4, std::to_string(layerCount).size());
@@ -135,6 +150,7 @@ void OutputStaging::prepare() {
     }
     createdDir_ = true;
   }
+  removeDeadStagings();
   static std::atomic<unsigned> counter{0};
   staging_ = dir_ / (".curvedslicer-staging-" + std::to_string(::getpid()) + "-" +
                      std::to_string(counter++));
@@ -146,6 +162,21 @@ void OutputStaging::prepare() {
     throw IoError(message);
   }
   prepared_ = true;
+}
+
+void OutputStaging::removeDeadStagings() {
+  std::error_code ec;
+  std::vector<fs::path> dead;
+  for (fs::directory_iterator it(dir_, ec), end; !ec && it != end; it.increment(ec)) {
+    const long pid = stagingFolderPid(it->path().filename().string());
+    if (pid <= 0 || !it->is_directory(ec) || it->is_symlink(ec)) continue;
+    // kill(pid, 0) fails with ESRCH only when no such process exists (EPERM: it exists).
+    if (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) dead.push_back(it->path());
+  }
+  for (const fs::path& p : dead) {
+    fs::remove_all(p, ec);
+    if (!ec) removedStagings_.push_back(p.filename().string());
+  }
 }
 
 void OutputStaging::stage(const std::string& name,
@@ -163,11 +194,14 @@ fs::path OutputStaging::reserve(const std::string& name) {
 
 void OutputStaging::commit(const std::function<bool(const std::string&)>& isStale) {
   std::error_code ec;
-  for (const std::string& name : names_) {
-    fs::rename(staging_ / name, dir_ / name, ec);
+  // Every target is checked before the first move: never onto a device, FIFO, socket or folder.
+  std::vector<fs::path> targets;
+  for (const std::string& name : names_) targets.push_back(resolveOutputPath(dir_ / name));
+  for (std::size_t k = 0; k < names_.size(); ++k) {
+    fs::rename(staging_ / names_[k], targets[k], ec);
     if (ec) {
-      throw IoError("cannot move '" + (staging_ / name).string() + "' to '" +
-                    (dir_ / name).string() + "': " + errorText(ec) + "; check the output folder");
+      throw IoError("cannot move '" + (staging_ / names_[k]).string() + "' to '" +
+                    targets[k].string() + "': " + errorText(ec) + "; check the output folder");
     }
   }
   committed_ = true;

@@ -73,6 +73,55 @@ void validateModel(const MeshReport& report) {
   }
 }
 
+/// "x 0..20, y 0..16, z 10..10 mm" (part frame), for saying where something lies.
+std::string describeRegion(const Aabb& box) {
+  if (box.empty()) return "(nowhere)";
+  std::string text;
+  const char* const axes[] = {"x ", ", y ", ", z "};
+  for (int a = 0; a < 3; ++a) {
+    text += axes[a] + formatNumber(box.min[a]) + ".." + formatNumber(box.max[a]);
+  }
+  return text + " mm";
+}
+
+std::string openModelAdvice(bool capHoles) {
+  return capHoles ? "repair the mesh into a watertight solid"
+                  : "pass --cap-holes (CapHoles) or close the model";
+}
+
+/// Warnings for geometry the voxelizer had to interpret (report.json "warnings", stderr): an open
+/// model, a surface filled by parity, shells that overlap — each with where it lies.
+std::vector<std::string> geometryWarnings(const VoxelizeStats& stats, const MeshReport& report,
+                                          bool capHoles) {
+  std::vector<std::string> warnings;
+  if (!report.closed()) {
+    warnings.push_back(
+        "the model is open: " + std::to_string(report.openEdges) + " boundary edges and " +
+        std::to_string(report.nonManifoldEdges) + " non-manifold edges around " +
+        describeRegion(report.defectBounds) + "; inside was decided by crossing parity (" +
+        std::to_string(stats.oddColumns) +
+        " columns voxel by voxel), so the part may differ from the intended solid there: " +
+        openModelAdvice(capHoles));
+  } else if (stats.fillRule == FillRule::Parity) {
+    warnings.push_back(
+        "the model's surface is inconsistently oriented: " +
+        std::to_string(report.inconsistentEdges) +
+        " edges where neighbouring triangles disagree, around " +
+        describeRegion(report.defectBounds) +
+        "; inside was decided by crossing parity, so the part may differ from the intended "
+        "solid there: orient those triangles consistently (outward normals)");
+  }
+  if (stats.overlapVoxels > 0) {
+    warnings.push_back(std::to_string(stats.overlapVoxels) +
+                       " voxels lie inside two or more shells of the model (overlapping or nested "
+                       "bodies) around " +
+                       describeRegion(stats.overlapBounds) +
+                       "; they were filled as the union of the shells: check that the bodies are "
+                       "meant to be one part");
+  }
+  return warnings;
+}
+
 /// A voxel size giving roughly `cells` inside voxels for a solid of `volume` mm³.
 double voxelSizeForCells(double volume, double cells) {
   return std::cbrt(volume / cells);
@@ -97,6 +146,13 @@ void validateGrid(const VoxelizeResult& vox, const MeshReport& report,
                    " boundary edges could not be capped (pinched holes) or the caps intersect the "
                    "mesh: repair the mesh into a watertight solid"
              : std::string("close the holes of the mesh or enable hole capping (--cap-holes)")));
+  }
+  if (inside < options.minInsideVoxels && !report.closed()) {
+    // An open surface (a tube, a sheet cup) encloses nothing at any voxel size.
+    throw InvalidInput("the model is open: " + std::to_string(report.openEdges) +
+                       " boundary edges around " + describeRegion(report.defectBounds) +
+                       ", and only " + std::to_string(inside) + " voxels at " + formatNumber(L) +
+                       " mm are inside it; " + openModelAdvice(options.capHoles));
   }
   if (inside < options.minInsideVoxels) {
     // Aim for about a thousand inside voxels; never suggest anything coarser than half of L.
@@ -191,6 +247,8 @@ void runStagesUpToField(const TriMesh& rawModel, const LayerJobOptions& options,
   clock.start("voxelize");
   result.voxelization = voxelize(model, options.voxelize, progress.sub(0.02, 0.2));
   validateGrid(result.voxelization, result.meshReport, result.capping, options);
+  result.warnings =
+      geometryWarnings(result.voxelization.stats, result.meshReport, options.capHoles);
   clock.stop();
 
   // ---- field ---------------------------------------------------------------------------------

@@ -1,11 +1,13 @@
 #include "curvedslicer/pipeline/plan_job.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <string>
 #include <utility>
 
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/mesh/mesh_repair.hpp"
+#include "curvedslicer/paths/plan_size.hpp"
 #include "curvedslicer/pipeline/layer_output.hpp"
 
 namespace curvedslicer {
@@ -26,6 +28,31 @@ void recordProvenance(Plan& plan, const PlanJobOptions& options) {
   plan.parameters.layerThickness = options.layerJob.layers.layerThickness;
   plan.parameters.voxelSize = options.layerJob.voxelize.voxelSize;
   plan.parameters.fieldMethod = std::string(toString(options.layerJob.geodesic.method));
+}
+
+/// Refuses a plan whose robot points would not fit the job's memory budget
+/// (layerJob.voxelize.memoryBudgetBytes, also for a thin wall), before anything is fitted.
+/// @param area  mm², of the layer surfaces (or of the wall's surface)
+void checkPlanSizeFor(double area, const PlanJobOptions& options) {
+  const double budget = options.layerJob.voxelize.memoryBudgetBytes;
+  if (options.thinWall) {
+    checkPlanSize(area, options.thinWall->beadSpacing, options.thinWall->pointSpacing, budget);
+  } else {
+    checkPlanSize(area, options.planner.beadSpacing, options.planner.pointSpacing, budget);
+  }
+}
+
+/// The same before slicing, in O(triangles): a solid of volume V in layers h apart has layer
+/// surfaces of about V / h in all; a wall is its own surface.
+void checkPlanSizeBeforeSlicing(const TriMesh& model, const PlanJobOptions& options) {
+  const auto n = static_cast<int>(model.vertices.size());
+  for (const Vec3i& t : model.triangles) {
+    if ((t.array() < 0).any() || (t.array() >= n).any()) return;  // the mesh checks report it
+  }
+  const double area = options.thinWall
+                          ? surfaceArea(model)
+                          : std::abs(signedVolume(model)) / options.layerJob.layers.layerThickness;
+  checkPlanSizeFor(area, options);
 }
 
 }  // namespace
@@ -69,8 +96,12 @@ PlanResult planOnLayers(const std::vector<LayerSurface>& layers, const TriMesh& 
           "a thin wall is planned on its surface, not on layers: " + std::to_string(layers.size()) +
           " layers given; pass the wall as the surface and no layers");
     }
+    checkPlanSizeFor(surfaceArea(startSurface), options);
     planned = planThinWall(startSurface, *options.thinWall, std::move(progress));
   } else {
+    double area = 0.0;
+    for (const LayerSurface& layer : layers) area += surfaceArea(layer.mesh);
+    checkPlanSizeFor(area, options);
     planned = planLayers(layers, startSurface, options.planner, std::move(progress));
   }
   recordProvenance(planned.plan, options);
@@ -79,6 +110,7 @@ PlanResult planOnLayers(const std::vector<LayerSurface>& layers, const TriMesh& 
 
 PlanJobResult runPlanJob(const TriMesh& model, const PlanJobOptions& options, Progress progress) {
   validatePlanJobOptions(options);
+  checkPlanSizeBeforeSlicing(model, options);
   const auto begin = Clock::now();
   PlanJobResult result;
   if (options.thinWall) {

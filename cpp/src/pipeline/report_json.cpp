@@ -96,6 +96,7 @@ Json gridJson(const LayerJobResult& result) {
   j["unresolved_voxels"] = s.unresolvedVoxels;
   j["fill_rule"] = std::string(toString(s.fillRule));
   j["overlap_voxels"] = s.overlapVoxels;
+  j["overlap_bounds"] = box(s.overlapBounds);
   return j;
 }
 
@@ -187,6 +188,7 @@ Json makeLayerReport(const LayerReportInputs& inputs, const LayerJobOptions& opt
                                  {"area_mm2", number(surfaceArea(result.source))}};
   report["grid"] = gridJson(result);
   report["field"] = fieldJson(result);
+  report["warnings"] = result.warnings;
   Json stages = Json::object();
   for (const StageTime& st : result.stageTimes) stages[st.name] = number(st.seconds);
   Json stagePeaks = Json::object();

@@ -46,6 +46,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <iomanip>
+#include <limits>
 #include <numeric>
 #include <sstream>
 #include <string>
@@ -508,13 +509,15 @@ bool rayCloses(std::vector<Hit>::const_iterator begin, std::vector<Hit>::const_i
 struct SlabFill {
   std::size_t filled = 0;
   std::size_t overlap = 0;
+  Vec3i overlapLo = Vec3i::Constant(std::numeric_limits<int>::max());  ///< cell index box
+  Vec3i overlapHi = Vec3i::Constant(std::numeric_limits<int>::min());
 };
 
 /// Fills the voxels of one column from the crossings [begin, end) of its ray, sorted by depth:
 /// the centres c = k + ½ in each span [depth_p, depth_p+1) where the running winding sum after
 /// crossing p is not zero (winding rule) or p is even (parity).
 void fillColumn(std::vector<Hit>::const_iterator begin, std::vector<Hit>::const_iterator end,
-                bool winding, int nz, std::uint8_t* column, SlabFill& fill) {
+                bool winding, const Vec3i& column0, int nz, std::uint8_t* column, SlabFill& fill) {
   int sum = 0;
   for (auto p = begin; p + 1 < end; ++p) {
     sum += p->winding;
@@ -525,7 +528,13 @@ void fillColumn(std::vector<Hit>::const_iterator begin, std::vector<Hit>::const_
       const auto count = static_cast<std::size_t>(k1 - k0);
       std::memset(column + static_cast<std::size_t>(k0), 1, count);
       fill.filled += count;
-      if (std::abs(sum) >= 2) fill.overlap += count;
+      if (std::abs(sum) >= 2) {
+        fill.overlap += count;
+        const Vec3i lo(column0.x(), column0.y(), static_cast<int>(k0));
+        const Vec3i hi(column0.x(), column0.y(), static_cast<int>(k1) - 1);
+        fill.overlapLo = fill.overlapLo.cwiseMin(lo);
+        fill.overlapHi = fill.overlapHi.cwiseMax(hi);
+      }
     }
   }
 }
@@ -546,7 +555,8 @@ SlabFill fillSlab(const LatticeMesh& m, const SlabBins& xBins, const GridGeometr
     if (!rayCloses(h, end, m.windingRule)) {
       oddRows.push_back(h->row);
     } else {
-      fillColumn(h, end, m.windingRule, nz, slab + static_cast<std::size_t>(h->row) * nz, fill);
+      fillColumn(h, end, m.windingRule, Vec3i(i, h->row, 0), nz,
+                 slab + static_cast<std::size_t>(h->row) * nz, fill);
     }
     h = end;
   }
@@ -766,6 +776,13 @@ VoxelizeResult voxelize(const TriMesh& mesh, const VoxelizeOptions& options, Pro
   for (const SlabFill& f : filled) {
     grid.insideCount += f.filled;
     stats.overlapVoxels += f.overlap;
+    if (f.overlap == 0) continue;
+    for (int corner = 0; corner < 8; ++corner) {  // the index box's corners, in the part frame
+      const Vec3i c((corner & 1 ? f.overlapHi : f.overlapLo).x(),
+                    (corner & 2 ? f.overlapHi : f.overlapLo).y(),
+                    (corner & 4 ? f.overlapHi : f.overlapLo).z());
+      stats.overlapBounds.extend(g.centerInPart(c));
+    }
   }
   stats.fillRule = m.windingRule ? FillRule::NonZeroWinding : FillRule::Parity;
 

@@ -11,7 +11,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_test_support.hpp"
@@ -107,6 +109,114 @@ TEST(CliRobustness, OverlappingCubesGiveTheUnionAndAReportEntry) {
   EXPECT_EQ(report["grid"]["inside_voxels"], 15000);
   EXPECT_EQ(report["grid"]["overlap_voxels"], 9000);
   EXPECT_EQ(report["grid"]["fill_rule"], "nonzero");
+  // Ambiguous geometry is said, with where: the overlap's voxel centres span x 5.5..19.5.
+  const std::string warning =
+      "curvedslicer: warning: 9000 voxels lie inside two or more shells of the model (overlapping "
+      "or nested bodies) around x 5.5..19.5, y 0.5..29.5, z 0.5..19.5 mm; they were filled as the "
+      "union of the shells";
+  EXPECT_TRUE(contains(run.err, warning));
+  ASSERT_EQ(report["warnings"].size(), 1u);
+  EXPECT_TRUE(contains(report["warnings"][0].get<std::string>(), "around x 5.5..19.5"));
+  EXPECT_EQ(report["grid"]["overlap_bounds"]["min_mm"], nlohmann::json::array({5.5, 0.5, 0.5}));
+}
+
+/// The box (0,0,0)-(20,16,10) without the triangles of its top face (z = 10).
+TriMesh boxWithoutTop() {
+  TriMesh box = testing::makeBox(Vec3(0, 0, 0), Vec3(20, 16, 10));
+  std::erase_if(box.triangles, [&box](const Vec3i& t) {
+    return box.vertices[t[0]].z() == 10 && box.vertices[t[1]].z() == 10 &&
+           box.vertices[t[2]].z() == 10;
+  });
+  return box;
+}
+
+TEST(CliRobustness, BoxWithOneFaceMissingIsSlicedWithAWarningThatSaysWhere) {
+  const fs::path dir = testing::freshTempDir();
+  const fs::path model = dir / "open_box.stl";
+  testing::writeBinaryStl(model, testing::trianglesOf(boxWithoutTop()));
+  const CliRun run = runCli({"layers", model.string(), "--layer-thickness", "2", "--voxel", "1",
+                             "--grid", "model", "-o", (dir / "out").string(), "-q"});
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  EXPECT_TRUE(contains(run.err,
+                       "curvedslicer: warning: the model is open: 4 boundary edges and 0 "
+                       "non-manifold edges around x 0..20, y 0..16, z 10..10 mm"));
+  EXPECT_TRUE(contains(run.err, "pass --cap-holes (CapHoles) or close the model"));
+  std::ifstream in(dir / "out" / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  ASSERT_EQ(report["warnings"].size(), 1u);
+  EXPECT_TRUE(contains(report["warnings"][0].get<std::string>(), "the model is open"));
+  // With the hole capped the model is closed: no warning.
+  const CliRun capped =
+      runCli({"layers", model.string(), "--layer-thickness", "2", "--voxel", "1", "--grid", "model",
+              "--cap-holes", "-o", (dir / "capped").string(), "-q"});
+  ASSERT_EQ(capped.exitCode, 0) << capped.err;
+  EXPECT_FALSE(contains(capped.err, "warning"));
+}
+
+TEST(CliRobustness, FlippedTriangleIsFilledByParityWithAWarningThatSaysWhere) {
+  const fs::path dir = testing::freshTempDir();
+  TriMesh box = testing::makeBox(Vec3(0, 0, 0), Vec3(20, 16, 10));
+  std::swap(box.triangles[4][1], box.triangles[4][2]);
+  Aabb flipped;
+  for (int k = 0; k < 3; ++k) flipped.extend(box.vertices[box.triangles[4][k]]);
+  const fs::path model = dir / "flipped.stl";
+  testing::writeBinaryStl(model, testing::trianglesOf(box));
+  const CliRun run = runCli({"layers", model.string(), "--layer-thickness", "2", "--voxel", "1",
+                             "--grid", "model", "-o", (dir / "out").string(), "-q"});
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  const auto range = [&flipped](int a) {
+    std::ostringstream s;
+    s << flipped.min[a] << ".." << flipped.max[a];
+    return s.str();
+  };
+  EXPECT_TRUE(contains(run.err,
+                       "curvedslicer: warning: the model's surface is inconsistently "
+                       "oriented: 3 edges where neighbouring triangles disagree, around x " +
+                           range(0) + ", y " + range(1) + ", z " + range(2) + " mm"));
+  std::ifstream in(dir / "out" / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["grid"]["fill_rule"], "parity");
+  EXPECT_EQ(report["grid"]["inside_voxels"], 20 * 16 * 10);
+  EXPECT_EQ(report["warnings"].size(), 1u);
+}
+
+TEST(CliRobustness, OpenTubeSaysTheModelIsOpenNotThatTheVoxelIsTooCoarse) {
+  const fs::path dir = testing::freshTempDir();
+  TriMesh tube = testing::makeCylinder(Vec3(50, 0, 0), 10.0, 20.0, 32);
+  // Without its caps: only the triangles with a vertex at each end height.
+  std::erase_if(tube.triangles, [&tube](const Vec3i& t) {
+    const double z0 = tube.vertices[t[0]].z(), z1 = tube.vertices[t[1]].z(),
+                 z2 = tube.vertices[t[2]].z();
+    return z0 == z1 && z1 == z2;
+  });
+  const fs::path model = dir / "tube.stl";
+  testing::writeBinaryStl(model, testing::trianglesOf(tube));
+  for (const char* voxel : {"1", "0.5"}) {
+    const CliRun run = runCli({"layers", model.string(), "--layer-thickness", "2", "--voxel", voxel,
+                               "-o", (dir / "out").string(), "-q"});
+    EXPECT_EQ(run.exitCode, 2) << run.err;
+    EXPECT_TRUE(contains(run.err, "curvedslicer: error: the model is open: 64 boundary edges"));
+    EXPECT_TRUE(contains(run.err, "; pass --cap-holes (CapHoles) or close the model"));
+    EXPECT_FALSE(contains(run.err, "too coarse"));
+  }
+}
+
+TEST(CliRobustness, PointSpacingThatExplodesThePlanExitsFourWithinSeconds) {
+  const fs::path dir = testing::freshTempDir();
+  const auto start = std::chrono::steady_clock::now();
+  const CliRun run =
+      runCli({"plan", testing::modelPath("custom_base_geom_to_slice.obj").string(), "--start",
+              "mesh:" + testing::modelPath("custom_base_surface.obj").string(), "--cap-holes",
+              "--layer-thickness", "1.5", "--voxel", "0.5", "--bead-spacing", "3.7",
+              "--point-spacing", "1e-9", "-o", (dir / "out").string(), "-q"});
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(run.exitCode, 4) << run.err;
+  EXPECT_TRUE(contains(run.err, "curvedslicer: error: the plan would hold about "));
+  EXPECT_TRUE(contains(run.err, "at a point spacing of 1e-09 mm"));
+  EXPECT_TRUE(contains(run.err, "use a point spacing of at least "));
+  EXPECT_LT(seconds, 5.0);
+  EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
 }  // namespace

@@ -130,5 +130,24 @@ TEST(AtomicFile, SymlinkToAFifoOrToNothingIsRefused) {
   EXPECT_FALSE(fs::exists(dir / "nowhere"));
 }
 
+TEST(AtomicFile, EmptyPathOrOneNamingNoFileIsInvalidInput) {
+  const fs::path dir = testing::freshTempDir();
+  try {
+    writeTextFileAtomically(fs::path(), "new");
+    ADD_FAILURE() << "an empty path was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "output path is empty: ''; pass a file path such as 'PART.JBI'");
+  }
+  try {
+    writeTextFileAtomically(dir / "missing" / "", "new");
+    ADD_FAILURE() << "a path ending in a separator was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_TRUE(contains(e.what(), "output path names no file: '"));
+    EXPECT_TRUE(contains(e.what(), "missing/PART.JBI'"));
+  }
+  EXPECT_EQ(entryCount(dir), 0u);
+}
+
 }  // namespace
 }  // namespace curvedslicer

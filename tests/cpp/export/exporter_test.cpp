@@ -94,5 +94,67 @@ TEST(Exporter, WritesAllFilesOrNone) {
   EXPECT_THROW(writeExportFiles(ExportResult{}, dir / "x.JBI"), InvalidInput);
 }
 
+TEST(Exporter, DateThatIsNotYyyyMmDdHhMmIsRefusedBeforeWriting) {
+  const Cell cell = defaultCell();
+  const MotionPlan motion = planMotion(makeConePlan(1, 8), cell);
+  ExportOptions options;
+  options.date = "2026/11/22 07:00\r\nMOVJ VJ=100.00";  // would inject a line into the JBI header
+  try {
+    exportProgram(motion, cell, ExportFormat::Jbi, options);
+    ADD_FAILURE() << "a date with a line break was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "date must look like \"YYYY/MM/DD HH:MM\": '2026/11/22 07:00\\r\\nMOVJ VJ=100.00'; "
+              "e.g. \"2026/11/22 07:00\"");
+  }
+  for (const char* bad : {"2026", "2026/11/22 7:00", "2026-11-22 07:00", "", "2026/11/22 07:0x"}) {
+    options.date = bad;
+    EXPECT_THROW(validateExportOptions(options), InvalidInput) << bad;
+  }
+  options.date = std::string(100000, '9');
+  try {
+    validateExportOptions(options);
+    ADD_FAILURE() << "a long date was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_LT(std::string(e.what()).size(), 120u);
+  }
+  options.date = "2026/11/22 07:00";
+  EXPECT_NO_THROW(validateExportOptions(options));
+  EXPECT_NE(exportProgram(motion, cell, ExportFormat::Jbi, options)
+                .files[0]
+                .text.find("///DATE 2026/11/22 07:00\r\n"),
+            std::string::npos);
+  EXPECT_NO_THROW(validateExportOptions(ExportOptions{}));
+}
+
+TEST(Exporter, ExportBeyondTheMemoryBudgetIsRefusedBeforePlanningTheMotion) {
+  const double perPoint = static_cast<double>(sizeof(MotionPoint)) + kExportTextBytesPerPoint;
+  EXPECT_NO_THROW(checkExportSize(1000, 1000 * perPoint));
+  try {
+    checkExportSize(1001, 1000 * perPoint);
+    ADD_FAILURE() << "an export over the budget was accepted";
+  } catch (const ResourceLimit& e) {
+    EXPECT_NE(std::string(e.what()).find("the export of 1001 plan points would need about"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(checkExportSize(std::size_t{1} << 50), ResourceLimit);  // automatic budget
+  EXPECT_NO_THROW(checkExportSize(100000));
+}
+
+TEST(Exporter, EmptyOutputPathIsRefusedWithItsOwnMessage) {
+  const fs::path dir = freshTempDir();
+  ExportResult result;
+  result.files = {{"MAIN.JBI", "main\r\n", 1}};
+  try {
+    writeExportFiles(result, fs::path());
+    ADD_FAILURE() << "an empty path was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "output path is empty: ''; pass a file path such as 'PART.JBI'");
+  }
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
 }  // namespace
 }  // namespace curvedslicer

@@ -60,6 +60,30 @@ TEST(MeshReport, FlippedTriangleGivesInconsistentEdges) {
   EXPECT_NEAR(r.volume, 1.0 - 2.0 / 12.0, 1e-12);
 }
 
+TEST(MeshReport, DefectBoundsBoxTheOpenAndInconsistentEdges) {
+  EXPECT_TRUE(analyzeMesh(makeBox(Vec3::Zero(), Vec3::Ones())).defectBounds.empty());
+  // Without the two top triangles (z = 1) the open edges are the top square's rim.
+  TriMesh open = makeBox(Vec3::Zero(), Vec3(2, 3, 4));
+  const auto top = [&open](const Vec3i& t) {
+    return open.vertices[t[0]].z() == 4 && open.vertices[t[1]].z() == 4 &&
+           open.vertices[t[2]].z() == 4;
+  };
+  open.triangles.erase(std::remove_if(open.triangles.begin(), open.triangles.end(), top),
+                       open.triangles.end());
+  const MeshReport r = analyzeMesh(open);
+  EXPECT_EQ(r.openEdges, 4u);
+  EXPECT_EQ(r.defectBounds.min, Vec3(0, 0, 4));
+  EXPECT_EQ(r.defectBounds.max, Vec3(2, 3, 4));
+  // One flipped triangle: the box of its three edges, i.e. of the triangle.
+  TriMesh flipped = makeBox(Vec3::Zero(), Vec3::Ones());
+  std::swap(flipped.triangles[4][1], flipped.triangles[4][2]);
+  Aabb triangle;
+  for (int k = 0; k < 3; ++k) triangle.extend(flipped.vertices[flipped.triangles[4][k]]);
+  const MeshReport f = analyzeMesh(flipped);
+  EXPECT_EQ(f.defectBounds.min, triangle.min);
+  EXPECT_EQ(f.defectBounds.max, triangle.max);
+}
+
 TEST(MeshReport, InwardOrientationGivesNegativeVolume) {
   TriMesh sphere = makeSphere(Vec3(3, 2, 1), 2, 3);
   for (Vec3i& t : sphere.triangles) std::swap(t[1], t[2]);

@@ -3,6 +3,9 @@
 #include "curvedslicer/pipeline/layer_output.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <fstream>
 #include <stdexcept>
@@ -113,6 +116,52 @@ TEST(LayerOutput, CommitMovesFilesInAndRemovesStaleLayerFiles) {
   EXPECT_EQ(listFolder(dir), (Names{"layer_0001.ply", "notes.txt", "report.json"}));
   EXPECT_EQ(readWholeFile(dir / "layer_0001.ply"), "new layer");
   EXPECT_EQ(readWholeFile(dir / "notes.txt"), "old");
+}
+
+TEST(LayerOutput, StagingFoldersOfDeadRunsAreRemovedOthersKept) {
+  const fs::path dir = freshTempDir();
+  // A process that has exited (and been reaped): its id names no process now.
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ASSERT_EQ(::waitpid(child, nullptr, 0), child);
+  const std::string dead = ".curvedslicer-staging-" + std::to_string(child) + "-0";
+  const std::string alive = ".curvedslicer-staging-" + std::to_string(::getppid()) + "-3";
+  for (const std::string& name : {dead, alive, std::string(".curvedslicer-staging-x")}) {
+    fs::create_directory(dir / name);
+    writeText(dir / name / "layer_0001.ply", "half-written");
+  }
+  EXPECT_EQ(stagingFolderPid(dead), child);
+  EXPECT_EQ(stagingFolderPid(".curvedslicer-staging-x"), 0);
+  EXPECT_EQ(stagingFolderPid(".curvedslicer-staging-12-"), 0);
+  EXPECT_EQ(stagingFolderPid("layer_0001.ply"), 0);
+  {
+    OutputStaging staging(dir);
+    staging.stage("report.json", [](const fs::path& p) { writeText(p, "{}"); });
+    EXPECT_EQ(staging.removedStagings(), (Names{dead}));
+    staging.commit();
+  }
+  EXPECT_EQ(listFolder(dir), (Names{alive, ".curvedslicer-staging-x", "report.json"}));
+}
+
+TEST(LayerOutput, CommitNeverRenamesOntoAFifoNamedLikeALayerFile) {
+  const fs::path dir = freshTempDir();
+  writeText(dir / "layer_0001.ply", "old");
+  ASSERT_EQ(::mkfifo((dir / "layer_0002.ply").c_str(), 0600), 0);
+  try {
+    OutputStaging staging(dir);
+    staging.stage("layer_0001.ply", [](const fs::path& p) { writeText(p, "new"); });
+    staging.stage("layer_0002.ply", [](const fs::path& p) { writeText(p, "new"); });
+    staging.commit(isLayerFileName);
+    ADD_FAILURE() << "a FIFO was replaced";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("output path is a FIFO (named pipe), not a regular file"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_TRUE(fs::is_fifo(fs::symlink_status(dir / "layer_0002.ply")));
+  EXPECT_EQ(readWholeFile(dir / "layer_0001.ply"), "old");  // checked before anything moved
+  EXPECT_EQ(listFolder(dir), (Names{"layer_0001.ply", "layer_0002.ply"}));
 }
 
 TEST(LayerOutput, FailureBeforeCommitLeavesTheFolderAsItWas) {

@@ -90,7 +90,7 @@ LayerJobOptions makeOptions() {
 TEST(LayerReport, TopLevelKeysInAStableOrder) {
   const Json report = makeLayerReport(makeInputs(), makeOptions(), makeResult());
   EXPECT_EQ(keysOf(report), (Names{"report", "format_version", "inputs", "mesh", "start_surface",
-                                   "grid", "field", "timing", "peak_memory_bytes",
+                                   "grid", "field", "warnings", "timing", "peak_memory_bytes",
                                    "peak_memory_bytes_per_cell", "outputs", "layers"}));
   EXPECT_EQ(
       keysOf(report["inputs"]),

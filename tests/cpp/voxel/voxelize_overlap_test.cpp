@@ -45,6 +45,11 @@ TEST(VoxelizeOverlap, OverlappingBoxesGiveTheirUnionAndCountTheOverlap) {
   EXPECT_EQ(result.grid.insideCount, 15000u);
   EXPECT_EQ(result.stats.overlapVoxels, 9000u);
   EXPECT_EQ(result.stats.oddColumns, 0u);
+  // Where: the overlap's voxel centres span x 5.5..19.5, y 0.5..29.5, z 0.5..19.5 (part frame).
+  EXPECT_TRUE(result.stats.overlapBounds.min.isApprox(Vec3(5.5, 0.5, 0.5), 1e-12))
+      << result.stats.overlapBounds.min.transpose();
+  EXPECT_TRUE(result.stats.overlapBounds.max.isApprox(Vec3(19.5, 29.5, 19.5), 1e-12))
+      << result.stats.overlapBounds.max.transpose();
   const GridGeometry& g = result.grid.geometry;
   for (int i = 0; i < g.dims.x(); ++i) {
     for (int j = 0; j < g.dims.y(); ++j) {
@@ -64,6 +69,7 @@ TEST(VoxelizeOverlap, ASingleShellCountsNoOverlap) {
   EXPECT_EQ(result.stats.fillRule, FillRule::NonZeroWinding);
   EXPECT_EQ(result.grid.insideCount, 12000u);
   EXPECT_EQ(result.stats.overlapVoxels, 0u);
+  EXPECT_TRUE(result.stats.overlapBounds.empty());
 }
 
 TEST(VoxelizeOverlap, NestedShellsAreAUnionButAnInvertedInnerShellIsACavity) {

@@ -13,7 +13,7 @@ App side: no GUI imports (a progress dialog and view providers come through hook
 
 import FreeCAD
 
-from . import defaults, geometry, hooks, preferences, stages
+from . import arguments, defaults, geometry, hooks, preferences, stages
 from .core import (Cancelled, CurvedSlicerError, InvalidInput, IoError, NotAvailable,
                    ResourceLimit, native)
 from .objects import job as job_module
@@ -69,6 +69,30 @@ def _set_start(job, start):
         job.StartSurface = (obj, subs)
 
 
+def _check_job_numbers(layer_thickness, voxel_size, deflection, memory_budget_mb, bead_spacing,
+                       point_spacing, fit_tolerance, corner_angle, thin_wall):
+    """The core's checks of make_job's numbers, before a length property stores -1 as 0."""
+    arguments.positive_mm(layer_thickness, "layer thickness", "1.5")
+    if voxel_size is not None:
+        arguments.positive_mm(voxel_size, "voxel size", "0.5")
+    arguments.zero_or_positive(deflection, "deflection", "millimetres", "deflection=0.1")
+    arguments.zero_or_positive(memory_budget_mb, "memory budget", "MB", "memory_budget_mb=4096")
+    arguments.positive_mm(bead_spacing, "bead spacing", "1.65" if thin_wall else "3.7", 4, "mm")
+    arguments.positive_mm(point_spacing, "point spacing", "2", 4, "mm")
+    arguments.positive_mm(fit_tolerance, "fit tolerance", "0.05", 4, "mm")
+    arguments.corner_angle(corner_angle)
+
+
+def _check_job_choices(**choices):
+    """Each keyword is a make_job enumeration argument; its value must be one of the Job's."""
+    lists = {"method": job_module.METHODS, "grid_alignment": job_module.ALIGNMENTS,
+             "surface_method": job_module.SURFACE_METHODS,
+             "narrow_strips": job_module.NARROW_STRIPS,
+             "initial_path": job_module.INITIAL_PATHS, "path_display": job_module.PATH_DISPLAYS}
+    for keyword, value in choices.items():
+        arguments.choice(value, keyword, lists[keyword])
+
+
 def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, voxel_size=None,
              method="AnyAngle", grid_alignment="PCA", cap_holes=False, deflection=0.0,
              memory_budget_mb=0.0, bead_spacing=defaults.BEAD_SPACING,
@@ -96,9 +120,22 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
     if plan_kind not in path_stage.PLAN_KINDS:
         raise InvalidInput("unknown plan_kind: %r; use one of %s"
                            % (plan_kind, ", ".join(path_stage.PLAN_KINDS)))
+    arguments.document_object(solid, "solid", allow_none=True)
     if plan_kind == "CurvedLayers" or solid is not None:
         if solid is not None and not geometry.is_mesh_object(solid):
             geometry.solid_shape(solid)
+    _check_job_numbers(layer_thickness=layer_thickness, voxel_size=voxel_size,
+                       deflection=deflection, memory_budget_mb=memory_budget_mb,
+                       bead_spacing=bead_spacing, point_spacing=point_spacing,
+                       fit_tolerance=fit_tolerance, corner_angle=corner_angle,
+                       thin_wall=plan_kind == "ThinWall")
+    _check_job_choices(method=method, grid_alignment=grid_alignment,
+                       surface_method=surface_method, narrow_strips=narrow_strips,
+                       initial_path=initial_path, path_display=path_display)
+    wall_axis = arguments.vector(wall_axis, "wall_axis")
+    if initial_plane is not None:
+        initial_plane = (arguments.vector(initial_plane[0], "initial_plane point"),
+                         arguments.vector(initial_plane[1], "initial_plane normal"))
     obj = doc.addObject("App::DocumentObjectGroupPython", name)
     job_module.JobProxy(obj)
     obj.Solid = solid
@@ -264,6 +301,8 @@ def export(job, path=None, format="jbi", program_name="", date="", gcode_mode="t
     None = the (first) Job's CellFile. Returns {format, files [(name, bytes, lines)],
     motion_count, arc_count, warnings, total_bytes}."""
     jobs = _jobs(job)
+    path = arguments.output_path(path)
+    arguments.program_date(date)
     text = plan_json(jobs)
     if cell_file is None:
         cell = poses.cell_json(jobs[0])

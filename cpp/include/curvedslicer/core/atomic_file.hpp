@@ -12,6 +12,7 @@ namespace curvedslicer {
 /// The path a finished output file is renamed onto in place of `path`: `path` itself when nothing
 /// is there or a regular file is; the regular file a symbolic link resolves to when `path` is such
 /// a link (the link stays, its target is replaced). Never a device, FIFO, socket or folder.
+/// @throws InvalidInput for an empty path or one that names no file ("out/").
 /// @throws IoError naming the path for anything else (a device, FIFO, socket, folder, a link to
 ///         one of those or a dangling link). The check precedes the rename by a moment: it guards
 ///         against mistakes, not against a concurrent process swapping the path.

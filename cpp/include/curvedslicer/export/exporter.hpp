@@ -103,7 +103,21 @@ std::string_view fileExtension(ExportFormat format);
 /// The writer of `format`.
 std::unique_ptr<ProgramExporter> makeExporter(ExportFormat format);
 
-/// makeExporter(format)->write(…).
+/// Program text per motion point, bytes: the upper end of the writers' 100–300 (file comment).
+inline constexpr double kExportTextBytesPerPoint = 300.0;
+
+/// Refuses, before the motion is planned, an export whose motion points (sizeof(MotionPoint))
+/// and program text (kExportTextBytesPerPoint) for `points` plan points would not fit the budget.
+/// @param memoryBudgetBytes  bytes; 0 = 80 % of physical memory
+/// @throws ResourceLimit naming the points, the memory and the budget.
+void checkExportSize(std::size_t points, double memoryBudgetBytes = 0.0);
+
+/// Checks the options every writer relies on: the date must be "YYYY/MM/DD HH:MM" (digits where
+/// the pattern has them), so no header line can be broken or injected through it.
+/// @throws InvalidInput quoting the value (control characters escaped, long values cut).
+void validateExportOptions(const ExportOptions& options);
+
+/// validateExportOptions(options), then makeExporter(format)->write(…).
 ExportResult exportProgram(const MotionPlan& motion, const Cell& cell, ExportFormat format,
                            const ExportOptions& options = {}, const Progress& progress = {});
 

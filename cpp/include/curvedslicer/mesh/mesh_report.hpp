@@ -20,6 +20,9 @@ struct MeshReport {
   double area = 0.0;           ///< mm²
   double volume = 0.0;         ///< mm³, signed (negative: inward-oriented)
   Aabb bounds;                 ///< part frame
+  /// Part frame: the box of the open, non-manifold and inconsistent edges' end points (where a
+  /// fill rule may have to guess); empty when the mesh has none.
+  Aabb defectBounds;
 
   bool closed() const { return openEdges == 0 && nonManifoldEdges == 0; }
   bool consistentlyOriented() const { return inconsistentEdges == 0; }

@@ -45,8 +45,13 @@ void writeVoxelSetsPlyHeader(std::ostream& out, std::size_t points);
 void appendVoxelSetPly(std::ostream& out, const VoxelLayerSet& set, const GridGeometry& geometry,
                        const std::vector<float>& distance);
 
+/// The process id in a staging folder's name ".curvedslicer-staging-PID-N"; 0 for other names.
+long stagingFolderPid(const std::string& name);
+
 /// A set of files staged inside `dir` and published together. Nothing touches the disk until the
-/// first `stage` call. Destroying an uncommitted staging removes everything it created.
+/// first `stage` call, which also removes the staging folders of dead runs in `dir` (a run killed
+/// with SIGKILL leaves its ".curvedslicer-staging-PID-N"; removed when no process PID exists).
+/// Destroying an uncommitted staging removes everything it created.
 class OutputStaging {
  public:
   explicit OutputStaging(std::filesystem::path dir);
@@ -67,19 +72,25 @@ class OutputStaging {
 
   /// Moves every staged file into `dir` (in staging order), removes files for which
   /// `isStale(name)` holds and that were not just written, then deletes the staging folder.
-  /// @throws IoError if a move fails (files already moved stay; the rest are removed).
+  /// A target may only be a new name, a regular file or a link to one (resolveOutputPath).
+  /// @throws IoError if a target is a device, FIFO, socket or folder (before anything moves), or
+  ///         if a move fails (files already moved stay; the rest are removed).
   void commit(const std::function<bool(const std::string&)>& isStale = {});
 
   const std::filesystem::path& dir() const { return dir_; }
   const std::vector<std::string>& stagedNames() const { return names_; }
+  /// Staging folders of dead runs that `stage` removed from `dir` (their names).
+  const std::vector<std::string>& removedStagings() const { return removedStagings_; }
 
  private:
   void prepare();
+  void removeDeadStagings();
   void discard() noexcept;
 
   std::filesystem::path dir_;
   std::filesystem::path staging_;
   std::vector<std::string> names_;
+  std::vector<std::string> removedStagings_;
   bool createdDir_ = false;
   bool prepared_ = false;
   bool committed_ = false;

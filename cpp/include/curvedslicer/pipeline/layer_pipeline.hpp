@@ -78,6 +78,10 @@ struct LayerJobResult {
   LayersResult layers;
   std::vector<StageTime> stageTimes;  ///< in execution order
   double totalSeconds = 0.0;
+  /// Geometry the voxelizer had to interpret, each saying where (part frame): an open model, a
+  /// surface filled by crossing parity, overlapping shells. Empty for a closed, consistently
+  /// oriented single-shell model. In report.json "warnings"; the command line prints them.
+  std::vector<std::string> warnings;
   /// The same for big jobs: every layer surface and voxel set goes to `sink` as soon as it is
   /// finished (see streamLayers in layers/layer_extraction.hpp) and is not kept; `result.layers`
   /// holds the per-layer summaries. The field and the inside mask are released on the way (see

@@ -28,7 +28,8 @@ namespace curvedslicer {
 
 struct PlanJobOptions {
   /// The layer job (start surface, voxel size, field method, layer thickness, …). Unused for a
-  /// thin wall.
+  /// thin wall, except its memory budget (voxelize.memoryBudgetBytes), which is the whole job's:
+  /// the plan's estimated robot points must fit it too (paths/plan_size.hpp).
   LayerJobOptions layerJob;
   /// Paths on the layers (bead spacing, point spacing, fit, initial curve, narrow strips, …).
   PlannerOptions planner;

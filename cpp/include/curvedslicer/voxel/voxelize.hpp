@@ -46,7 +46,9 @@ std::string_view toString(FillRule rule);  ///< "nonzero" or "parity"
 
 struct VoxelizeStats {
   FillRule fillRule = FillRule::NonZeroWinding;
-  std::size_t overlapVoxels = 0;     ///< voxels inside two or more shells (winding |w| >= 2)
+  std::size_t overlapVoxels = 0;  ///< voxels inside two or more shells (winding |w| >= 2)
+  /// Part frame, mm: the box of the overlap voxels' centres (empty without overlap).
+  Aabb overlapBounds;
   std::size_t columns = 0;           ///< z columns cast
   std::size_t oddColumns = 0;        ///< z columns whose crossings do not close (odd count)
   std::size_t resolvedVoxels = 0;    ///< voxels of odd columns decided by x/y rays

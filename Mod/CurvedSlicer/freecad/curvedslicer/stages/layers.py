@@ -208,6 +208,8 @@ def apply_result(job, result, digest, prune=True):
     job.PeakMemoryMB = float(result["peak_memory_bytes"]) / 2 ** 20
     job.StageTimes = ["%s: %.3f s" % (name, seconds) for (name, seconds) in result["stage_times"]]
     job.Report = result["report_json"]
+    for warning in report(job).get("warnings", []):  # where the part may differ from the model
+        FreeCAD.Console.PrintWarning("CurvedSlicer %s: %s\n" % (job.Label, warning))
     job.InputsDigest = digest
     job.RunCount = job.RunCount + 1
     job.Status = _done_status(job)

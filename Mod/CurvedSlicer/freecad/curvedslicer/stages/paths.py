@@ -24,7 +24,7 @@ import FreeCAD
 from .. import defaults, geometry
 from ..core import InvalidInput, native
 from .features import ensure_group, group_members, prune_unused_features, retire_features
-from .layers import _deflection, layer_objects, start_mesh_object
+from .layers import _deflection, layer_objects, memory_budget_mb, start_mesh_object
 
 PLAN_KINDS = ["CurvedLayers", "ThinWall"]
 INITIAL_PATHS = ["Boundary", "Plane", "Surface"]
@@ -141,8 +141,9 @@ def path_inputs(job):
                                           corner_angle=corner_angle, **common)
             # The start the plan records, as the bindings wrote it before (std::to_string).
             start = "thin-wall:%s:%f,%f,%f" % ((edge,) + (axis if edge == "lowest" else point))
-            options = native.PlanJobOptions(thin_wall=wall, model_name=obj.Label,
-                                            start_spec=start)
+            options = native.PlanJobOptions(
+                thin_wall=wall, model_name=obj.Label, start_spec=start,
+                layer_job=native.LayerJobOptions(memory_budget_bytes=_budget_bytes(job)))
             return native.plan_thin_wall(vertices, triangles, options=options,
                                          progress=progress)
 
@@ -179,13 +180,20 @@ def path_inputs(job):
         options = native.PlanJobOptions(
             layer_job=native.LayerJobOptions(
                 layer_thickness=_mm(job.LayerThickness), voxel_size=_mm(job.VoxelSize),
-                method={"AnyAngle": "anyangle", "Paper": "paper"}[job.Method]),
+                method={"AnyAngle": "anyangle", "Paper": "paper"}[job.Method],
+                memory_budget_bytes=_budget_bytes(job)),
             planner=native.PlannerOptions(**kwargs),
             model_name=job.Solid.Label if job.Solid else "",
             start_spec=str(report.get("inputs", {}).get("start", job.StartMode)))
         return native.plan_layers(arrays, options=options, progress=progress, **surface)
 
     return plan, digest
+
+
+def _budget_bytes(job):
+    """The Job's memory budget in bytes (0 = 80 % of physical memory): the plan's estimated robot
+    points must fit it (the core refuses a point spacing that would not, ResourceLimit)."""
+    return memory_budget_mb(job) * 1024.0 * 1024.0
 
 
 # ---- running -----------------------------------------------------------------------------------
