@@ -82,14 +82,6 @@ struct LayerJobResult {
   /// surface filled by crossing parity, overlapping shells. Empty for a closed, consistently
   /// oriented single-shell model. In report.json "warnings"; the command line prints them.
   std::vector<std::string> warnings;
-  /// The same for big jobs: every layer surface and voxel set goes to `sink` as soon as it is
-  /// finished (see streamLayers in layers/layer_extraction.hpp) and is not kept; `result.layers`
-  /// holds the per-layer summaries. The field and the inside mask are released on the way (see
-  /// LayerJobResult::layers). Same errors; after an exception the sink may have received some
-  /// layers and must discard them.
-  LayerJobResult runLayerJob(const TriMesh& rawModel, const LayerJobOptions& options,
-                             LayerSink& sink, Progress progress = {});
-
   /// Peak resident set size of the whole process so far (getrusage ru_maxrss), bytes. In a
   /// process that runs several jobs it is the maximum over all of them.
   std::size_t peakMemoryBytes = 0;
