@@ -1,5 +1,7 @@
 #include "common/test_paths.hpp"
 
+#include <cstdlib>
+
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -16,8 +18,13 @@ fs::path freshTempDir(const std::string& tag) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "global";
   if (!tag.empty()) name += "." + tag;
-  const fs::path dir = fs::temp_directory_path() /
-                       ("curvedslicer-test-" + std::to_string(::getuid())) / name;
+  // Under ctest each build tree has its own scratch folder (CURVEDSLICER_TEST_TMP), so test runs
+  // of two checkouts on one machine do not wipe each other's folders.
+  const char* root = std::getenv("CURVEDSLICER_TEST_TMP");
+  const fs::path base = root && *root ? fs::path(root)
+                                      : fs::temp_directory_path() /
+                                            ("curvedslicer-test-" + std::to_string(::getuid()));
+  const fs::path dir = base / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
