@@ -1,6 +1,5 @@
 #include "common/test_paths.hpp"
 
-#include <cstdlib>
 
 #include <gtest/gtest.h>
 
@@ -18,12 +17,9 @@ fs::path freshTempDir(const std::string& tag) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "global";
   if (!tag.empty()) name += "." + tag;
-  // Under ctest each build tree has its own scratch folder (CURVEDSLICER_TEST_TMP), so test runs
-  // of two checkouts on one machine do not wipe each other's folders.
-  const char* root = std::getenv("CURVEDSLICER_TEST_TMP");
-  const fs::path base = root && *root ? fs::path(root)
-                                      : fs::temp_directory_path() /
-                                            ("curvedslicer-test-" + std::to_string(::getuid()));
+  // Each build tree has its own scratch folder (CURVEDSLICER_TEST_TMP_DIR, set by CMake), so
+  // test runs of two checkouts on one machine do not wipe each other's folders.
+  const fs::path base = fs::path(CURVEDSLICER_TEST_TMP_DIR);
   const fs::path dir = base / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
