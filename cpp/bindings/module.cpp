@@ -2,11 +2,12 @@
 //
 // Thin conversions only: meshes in and out as numpy arrays (vertices float64 (n, 3) in mm, part
 // frame; triangles int32 (m, 3); face ids int32 (m,)), the options structs as classes
-// (option_bindings.cpp), the layer and plan jobs (job_bindings.cpp), OpenCASCADE tessellation of BREP text and CAD files, mesh files, and the grid/memory
-// estimate of the task panel. Long calls release the GIL; the progress callback
-// `progress(stage: str, fraction: float) -> bool | None` runs on the calling thread with the GIL
-// re-acquired; returning False or raising cancels the job, which then raises `Cancelled`. Core
-// errors arrive as Python exceptions derived from `CurvedSlicerError` with the core's message.
+// (option_bindings.cpp), the layer and plan jobs (job_bindings.cpp), OpenCASCADE tessellation of
+// BREP text and CAD files, mesh files, and the grid/memory estimate of the task panel. Long calls
+// release the GIL; the progress callback `progress(stage: str, fraction: float) -> bool | None`
+// runs on the calling thread with the GIL re-acquired; returning False or raising cancels the job,
+// which then raises `Cancelled`. Core errors arrive as Python exceptions derived from
+// `CurvedSlicerError` with the core's message.
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -41,9 +42,9 @@ py::dict estimateGridPy(const DoubleArray& vertices, const IntArray& triangles,
     e = estimateGrid(model, options);
   }
   py::dict d;
-  d["dims"] = py::make_tuple(static_cast<std::int64_t>(e.dims[0]),
-                             static_cast<std::int64_t>(e.dims[1]),
-                             static_cast<std::int64_t>(e.dims[2]));
+  d["dims"] =
+      py::make_tuple(static_cast<std::int64_t>(e.dims[0]), static_cast<std::int64_t>(e.dims[1]),
+                     static_cast<std::int64_t>(e.dims[2]));
   d["cells"] = static_cast<std::int64_t>(e.cells);
   d["bytes"] = e.bytes;
   d["budget_bytes"] = e.budgetBytes;

@@ -1,6 +1,5 @@
 #include "common/test_paths.hpp"
 
-
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -9,9 +8,13 @@ namespace curvedslicer::testing {
 
 namespace fs = std::filesystem;
 
-fs::path modelPath(const std::string& name) { return fs::path(CURVEDSLICER_MODELS_DIR) / name; }
+fs::path modelPath(const std::string& name) {
+  return fs::path(CURVEDSLICER_MODELS_DIR) / name;
+}
 
-fs::path cliPath() { return fs::path(CURVEDSLICER_CLI); }
+fs::path cliPath() {
+  return fs::path(CURVEDSLICER_CLI);
+}
 
 fs::path freshTempDir(const std::string& tag) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();

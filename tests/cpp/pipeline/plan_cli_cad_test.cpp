@@ -6,7 +6,6 @@
 //   cad_boss.step   the box with a cylindrical boss r = 6, h = 8 on its top (8 faces)
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -17,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/cli_test_support.hpp"
 #include "common/test_paths.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
 #include "curvedslicer/plan/plan_io.hpp"
@@ -28,40 +28,17 @@ namespace fs = std::filesystem;
 
 const fs::path kData = fs::path(CURVEDSLICER_SOURCE_DIR) / "tests/cpp/pipeline/data";
 
-struct CliResult {
-  int exitCode = -1;
-  std::string err;
-};
-
-std::string readText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-/// Runs the CLI with `args` (no shell metacharacters in them), stderr captured.
-CliResult runCli(const std::vector<std::string>& args, const fs::path& dir) {
-  std::string command = testing::cliPath().string();
-  for (const std::string& a : args) command += " '" + a + "'";
-  const fs::path err = dir / "stderr.txt";
-  command += " >/dev/null 2>'" + err.string() + "'";
-  const int status = std::system(command.c_str());
-  return CliResult{WIFEXITED(status) ? WEXITSTATUS(status) : -1, readText(err)};
-}
-
 #ifdef CURVEDSLICER_CLI_HAS_OCC
 
 nlohmann::json readJson(const fs::path& path) {
-  return nlohmann::json::parse(readText(path));
+  return nlohmann::json::parse(testing::readWholeFile(path));
 }
 
 TEST(PlanCliCad, PlansABrepBox) {
   const fs::path dir = testing::freshTempDir();
-  const CliResult run =
-      runCli({"plan", (kData / "cad_box.brep").string(), "--layer-thickness", "3", "--voxel", "1",
-              "--bead-spacing", "3", "-o", (dir / "out").string(), "-q"},
-             dir);
+  const testing::CliRun run =
+      testing::runCli({"plan", (kData / "cad_box.brep").string(), "--layer-thickness", "3",
+                       "--voxel", "1", "--bead-spacing", "3", "-o", (dir / "out").string(), "-q"});
   ASSERT_EQ(run.exitCode, 0) << run.err;
   const Plan plan = readPlanJson(dir / "out/plan.json");
   EXPECT_EQ(plan.layers.size(), 3u);  // 3, 6, 9 mm above the plate (12 is the top face)
@@ -74,10 +51,9 @@ TEST(PlanCliCad, PlansABrepBox) {
 /// Lowest and highest z of the first layer of `layers` run from `start` on the box.
 std::pair<double, double> firstLayerZRange(const std::string& start) {
   const fs::path dir = testing::freshTempDir(start.substr(start.find(':') + 1));
-  const CliResult run =
-      runCli({"layers", (kData / "cad_box.brep").string(), "--start", start, "--layer-thickness",
-              "3", "--voxel", "1", "--format", "obj", "-o", (dir / "out").string(), "-q"},
-             dir);
+  const testing::CliRun run = testing::runCli(
+      {"layers", (kData / "cad_box.brep").string(), "--start", start, "--layer-thickness", "3",
+       "--voxel", "1", "--format", "obj", "-o", (dir / "out").string(), "-q"});
   EXPECT_EQ(run.exitCode, 0) << run.err;
   const TriMesh layer = readMesh(dir / "out/layer_0001.obj");
   double lo = 1e9, hi = -1e9;
@@ -100,10 +76,9 @@ TEST(PlanCliCad, StartFacesAreFreeCadFaceNumbers) {
   // There is no Face0 (numbers are 1-based) nor Face7.
   const fs::path dir = testing::freshTempDir("bad");
   for (const std::string ids : {"faces:0", "faces:7"}) {
-    const CliResult run =
-        runCli({"layers", (kData / "cad_box.brep").string(), "--start", ids, "--layer-thickness",
-                "3", "--voxel", "1", "-o", (dir / "out").string(), "-q"},
-               dir);
+    const testing::CliRun run = testing::runCli(
+        {"layers", (kData / "cad_box.brep").string(), "--start", ids, "--layer-thickness", "3",
+         "--voxel", "1", "-o", (dir / "out").string(), "-q"});
     EXPECT_EQ(run.exitCode, 2) << ids << ": " << run.err;
     EXPECT_FALSE(fs::exists(dir / "out"));
   }
@@ -122,7 +97,7 @@ TEST(PlanCliCad, TessellationToleranceSetsTheChordError) {
                                      (dir / "out").string(),
                                      "-q"};
     if (!tolerance.empty()) args.insert(args.end(), {"--tessellation-tolerance", tolerance});
-    const CliResult run = runCli(args, dir);
+    const testing::CliRun run = testing::runCli(args);
     EXPECT_EQ(run.exitCode, 0) << run.err;
     const nlohmann::json report = readJson(dir / "out/report.json");
     const double recorded = report["inputs"]["tessellation_tolerance_mm"].get<double>();
@@ -141,10 +116,9 @@ TEST(PlanCliCad, TessellationToleranceSetsTheChordError) {
 
 TEST(PlanCliCad, CadInputNeedsTheOpenCascadeBuild) {
   const fs::path dir = testing::freshTempDir();
-  const CliResult run =
-      runCli({"plan", (kData / "cad_box.brep").string(), "--layer-thickness", "3", "--voxel", "1",
-              "--bead-spacing", "3", "-o", (dir / "out").string(), "-q"},
-             dir);
+  const testing::CliRun run =
+      testing::runCli({"plan", (kData / "cad_box.brep").string(), "--layer-thickness", "3",
+                       "--voxel", "1", "--bead-spacing", "3", "-o", (dir / "out").string(), "-q"});
   EXPECT_EQ(run.exitCode, 2) << run.err;
   EXPECT_NE(run.err.find("CAD input needs the OpenCASCADE build"), std::string::npos) << run.err;
   EXPECT_FALSE(fs::exists(dir / "out"));
@@ -155,11 +129,10 @@ TEST(PlanCliCad, CadInputNeedsTheOpenCascadeBuild) {
 TEST(PlanCliCad, BadTessellationToleranceExitsWithItsMessage) {
   const fs::path dir = testing::freshTempDir();
   for (const std::string bad : {"0", "-0.5", "nan", "fine"}) {
-    const CliResult run =
-        runCli({"plan", (kData / "cad_box.brep").string(), "--layer-thickness", "3", "--voxel", "1",
-                "--bead-spacing", "3", "--tessellation-tolerance", bad, "-o",
-                (dir / "out").string(), "-q"},
-               dir);
+    const testing::CliRun run =
+        testing::runCli({"plan", (kData / "cad_box.brep").string(), "--layer-thickness", "3",
+                         "--voxel", "1", "--bead-spacing", "3", "--tessellation-tolerance", bad,
+                         "-o", (dir / "out").string(), "-q"});
     EXPECT_EQ(run.exitCode, 2) << bad << ": " << run.err;
     EXPECT_NE(run.err.find("curvedslicer: error: tessellation tolerance"), std::string::npos)
         << run.err;

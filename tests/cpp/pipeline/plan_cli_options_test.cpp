@@ -3,7 +3,6 @@
 // with a thin wall) are the core's, with the core's messages.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -13,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/cli_test_support.hpp"
 #include "common/test_paths.hpp"
 #include "curvedslicer/paths/planner.hpp"
 #include "curvedslicer/plan/plan_io.hpp"
@@ -21,29 +21,6 @@ namespace curvedslicer {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct CliOutput {
-  int exitCode = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string readText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-/// Runs the CLI with `args` (no quotes in them), stdout and stderr captured in `dir`.
-CliOutput runCli(const std::vector<std::string>& args, const fs::path& dir) {
-  std::string command = testing::cliPath().string();
-  for (const std::string& a : args) command += " '" + a + "'";
-  command += " >'" + (dir / "stdout.txt").string() + "' 2>'" + (dir / "stderr.txt").string() + "'";
-  const int status = std::system(command.c_str());
-  return CliOutput{WIFEXITED(status) ? WEXITSTATUS(status) : -1, readText(dir / "stdout.txt"),
-                   readText(dir / "stderr.txt")};
-}
 
 std::string g(double value) {
   char buffer[32];
@@ -67,7 +44,7 @@ std::vector<std::string> coarseBox(const fs::path& out) {
 
 TEST(PlanCliOptions, HelpShowsThePlannerDefaults) {
   const fs::path dir = testing::freshTempDir();
-  const CliOutput help = runCli({"plan", "--help"}, dir);
+  const testing::CliRun help = testing::runCli({"plan", "--help"});
   ASSERT_EQ(help.exitCode, 0) << help.err;
   const PlannerOptions defaults;
   for (const std::string& part : std::vector<std::string>{
@@ -83,7 +60,7 @@ TEST(PlanCliOptions, HelpShowsThePlannerDefaults) {
 
 TEST(PlanCliOptions, OptionsNotGivenAreThePlannerDefaults) {
   const fs::path dir = testing::freshTempDir();
-  const CliOutput run = runCli(coarseBox(dir / "out"), dir);
+  const testing::CliRun run = testing::runCli(coarseBox(dir / "out"));
   ASSERT_EQ(run.exitCode, 0) << run.err;
   const Plan plan = readPlanJson(dir / "out/plan.json");
   const PlannerOptions defaults;
@@ -100,7 +77,7 @@ TEST(PlanCliOptions, OptionsNotGivenAreThePlannerDefaults) {
 TEST(PlanCliOptions, RangeChecksAreTheCores) {
   const fs::path dir = testing::freshTempDir();
   const auto expectError = [&](std::vector<std::string> args, const std::string& message) {
-    const CliOutput run = runCli(args, dir);
+    const testing::CliRun run = testing::runCli(args);
     EXPECT_EQ(run.exitCode, 2) << run.err;
     EXPECT_NE(run.err.find("curvedslicer: error: " + message), std::string::npos) << run.err;
     EXPECT_FALSE(fs::exists(dir / "out"));

@@ -26,7 +26,7 @@ struct LayerReportInputs {
   /// mm; chord error the CAD model was tessellated with ("tessellation_tolerance_mm");
   /// 0 for a mesh file (then not written)
   double tessellationTolerance = 0.0;
-  std::string startSpec;               ///< as given, e.g. "plane:bottom"
+  std::string startSpec;  ///< as given, e.g. "plane:bottom"
   LayerFileFormat layerFormat = LayerFileFormat::Ply;
   std::vector<std::string> layerFiles;  ///< one per surface, same order; empty: not written
   std::string voxelSetsFile;            ///< empty: not written
