@@ -6,7 +6,6 @@
 //   cad_boss.step   the box with a cylindrical boss r = 6, h = 8 on its top (8 faces)
 #include <gtest/gtest.h>
 
-
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>

@@ -3,7 +3,6 @@
 // with a thin wall) are the core's, with the core's messages.
 #include <gtest/gtest.h>
 
-
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
