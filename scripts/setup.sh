@@ -11,6 +11,7 @@ packages=(
   libeigen3-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libnanoflann-dev libcgal-dev libboost-dev
+  libfcl-dev  # robot/collision: torch and positioner against part and deposit (FCL)
   python3-numpy python3-scikit-fmm
   python3-dev pybind11-dev
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev

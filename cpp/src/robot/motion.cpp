@@ -14,6 +14,22 @@
 
 namespace curvedslicer {
 
+std::string_view toString(MoveKind kind) {
+  switch (kind) {
+    case MoveKind::Path:
+      return "path";
+    case MoveKind::Retract:
+      return "retract";
+    case MoveKind::Travel:
+      return "travel";
+    case MoveKind::Approach:
+      return "approach";
+    case MoveKind::Home:
+      return "home";
+  }
+  return "path";
+}
+
 std::string_view toString(UnreachablePolicy policy) {
   return policy == UnreachablePolicy::Warn ? "warn" : "throw";
 }

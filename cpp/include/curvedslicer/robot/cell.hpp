@@ -40,6 +40,7 @@
 namespace curvedslicer {
 
 using Pose = Eigen::Isometry3d;  ///< rigid transform, translation in mm
+using JointVector = std::array<double, 6>;  ///< robot joints, rad, controller convention
 
 /// Range and speed of one joint.
 struct JointLimit {

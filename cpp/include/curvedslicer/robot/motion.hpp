@@ -33,10 +33,9 @@
 #include "curvedslicer/core/types.hpp"
 #include "curvedslicer/plan/plan.hpp"
 #include "curvedslicer/robot/cell.hpp"
+#include "curvedslicer/robot/configuration.hpp"
 
 namespace curvedslicer {
-
-using JointVector = std::array<double, 6>;  ///< robot joints, rad, controller convention
 
 /// Bits of MotionPoint::flags.
 enum MotionFlag : std::uint32_t {
@@ -48,11 +47,25 @@ enum MotionFlag : std::uint32_t {
   kMotionConfigurationChange = 1u << 5,  ///< robot configuration differs from the path start
   kMotionWristSingular = 1u << 6,        ///< joint 5 near 0: joints 4/6 split kept continuous
   kMotionRobotLimit = 1u << 7,           ///< no IK solution within the robot's joint limits
+  kMotionSpeedReduced = 1u << 8,  ///< weld speed lowered here so every axis keeps its speed limit
+  kMotionInserted = 1u << 9,      ///< point inserted by the planner (fast positioner turn)
+  kMotionNearSingular = 1u << 10,  ///< V inside the near-singular band (a2 blended, rate bounded)
+  kMotionCollision = 1u << 11,     ///< the move arriving here collides (--allow-collisions)
 };
+
+/// What a motion point is. Path points are the plan's points (welded except the path's first);
+/// the others are arc-off points the planner adds: the retract from a path end along the layer
+/// normal, travel points at the clearance height, the approach above the next path start, and
+/// the cell's home pose at the start and end of the program.
+enum class MoveKind { Path, Retract, Travel, Approach, Home };
+
+/// "path" | "retract" | "travel" | "approach" | "home".
+std::string_view toString(MoveKind kind);
 
 /// One robot/positioner target. Points of a path follow each other; the first point of a path
 /// is reached by an arc-off travel move, every further point by a welding move.
 struct MotionPoint {
+  MoveKind kind = MoveKind::Path;  ///< arc-off points other than Path have index == -1
   int layer = 0;  ///< Plan::layers index
   int path = 0;   ///< index of the path within the layer
   int index = 0;  ///< index of the point in the path; a closed path repeats point 0 at the end
@@ -71,8 +84,10 @@ struct MotionPoint {
   Pose toolInRobotBase = Pose::Identity();  ///< TCP pose in the robot base frame (Cartesian target)
   Pose toolInTable = Pose::Identity();      ///< TCP pose in the positioner table frame
   Pose toolInPart = Pose::Identity();       ///< TCP pose in the part frame
-  double speed = 0.0;       ///< mm/s of the move arriving here: weld speed (relative to the part)
-                            ///< or travel speed for the first point of a path
+  double speed = 0.0;  ///< mm/s of the move arriving here: weld speed (relative to the part;
+                       ///< lower where kMotionSpeedReduced) or travel speed for arc-off moves
+  double time = 0.0;   ///< s from the program start to the arrival here (time parameterisation
+                       ///< against every axis's speed limit; dwells included)
   bool arcOn = false;       ///< the move arriving at this point is welded
   bool pathStart = false;   ///< first point of a path (ARCON after reaching it)
   bool pathEnd = false;     ///< last point of a path (ARCOF after reaching it)
@@ -86,6 +101,25 @@ struct MotionPathSpan {
   int path = 0;
   std::size_t begin = 0;  ///< first point
   std::size_t end = 0;    ///< one past the last point
+  /// The robot configuration of the whole weld (constant within it; exporters write this).
+  RobotConfiguration configuration;
+};
+
+/// A stretch of a path where the weld speed had to drop below the cell's weld speed.
+struct SpeedReduction {
+  int layer = 0;
+  int path = 0;
+  int firstIndex = 0;      ///< path point index where the reduction starts
+  int lastIndex = 0;       ///< path point index where it ends
+  double minSpeed = 0.0;   ///< mm/s, lowest weld speed in the stretch
+  std::string axis;        ///< the limiting axis, e.g. "positioner rotation (a2)" or "robot T"
+};
+
+/// A move that still collides after raising/re-routing (error unless allowCollisions).
+struct CollisionReport {
+  std::size_t point = 0;   ///< MotionPlan::points index of the move's end point
+  std::string what;        ///< e.g. "torch vs deposit of layer 5 path 2"
+  double depth = 0.0;      ///< mm, penetration (or clearance deficit for travel moves)
 };
 
 /// Process estimates (paper §4.1 process parameters from the cell).
@@ -129,6 +163,13 @@ struct MotionOptions {
   bool toolAlongTravel = false;
   UnreachablePolicy unreachable = UnreachablePolicy::Throw;
   double residualWarning = 0.0174532925199433;  ///< rad (1°): warn above this residual
+  // ---- motion a cell can run (travel, collisions, speed limits, placement) ----
+  double clearance = 10.0;        ///< mm, travel height above part and deposit (arc-off moves)
+  bool allowCollisions = false;   ///< remaining collisions are warnings instead of errors
+  bool addHome = true;            ///< start and end the program at the cell's home pose
+  double mergeTolerance = 0.01;   ///< mm, consecutive path points closer than this are merged
+  double maxA2Step = 0.0872664625997165;  ///< rad (5°): insert points so a2 never steps more
+  bool timeParameterise = true;   ///< respect every axis's max speed (else nominal speeds only)
 };
 
 struct MotionPlan {
@@ -140,6 +181,11 @@ struct MotionPlan {
   double maxResidual = 0.0;           ///< rad, over points outside the singular zone
   std::size_t singularPoints = 0;
   std::size_t limitedPoints = 0;  ///< points with a positioner limit active
+  std::vector<SpeedReduction> speedReductions;  ///< where the weld speed drops, and by how much
+  std::vector<CollisionReport> collisions;      ///< what remains (only with allowCollisions)
+  double nearSingularBand = 0.0;  ///< rad, V this close to the rotation axis is blended
+  Pose tableToPart = Pose::Identity();  ///< the part placement used (after the placement rule)
+  std::vector<std::string> notes;       ///< e.g. defaults taken for an older cell version
 };
 
 /// Plans positioner angles, robot joints and estimates for every point of `plan` in `cell`.
