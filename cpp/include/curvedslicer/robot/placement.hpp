@@ -1,0 +1,53 @@
+// Part placement on the positioner table: the part frame in the table frame that the motion
+// uses (`PositionerDescription::tableToPart` as given, or the part resting on the table), and
+// the check that every weld point of the plan lies on or above the table top and inside the
+// positioner's working volume (`PositionerGeometry`, cell.hpp).
+//
+// Bead bottom rule (PartPlacement::Rest): the points of layer i lie on the level surface
+// d = i·h of the geodesic field (h = Plan::parameters.layerThickness, the bead height of a thin
+// wall) and the layer's material fills (i-1)·h < d <= i·h, so the part's material starts one
+// layer thickness below its weld points; Rest lifts the part along the table z until
+// min over weld points of (z_table - h) = 0, i.e. the lowest bead bottom touches the table top.
+// Details and the choice of the default in docs/METHODS.md ("Part placement").
+// Cost: O(points) per call.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "curvedslicer/plan/plan.hpp"
+#include "curvedslicer/robot/cell.hpp"
+
+namespace curvedslicer {
+
+/// How the part sits on the table.
+enum class PartPlacement {
+  Rest,  ///< the cell's table_to_part rotation and xy, lifted along the table z so that the
+         ///< lowest bead bottom lies on the table top (default)
+  Cell,  ///< the cell's table_to_part as given (a measured fixture or substrate placement)
+};
+
+/// "rest" | "cell" (the command line's and the Python module's names).
+std::string_view toString(PartPlacement placement);
+/// @throws InvalidInput naming the text and the choices.
+PartPlacement parsePartPlacement(std::string_view name);
+
+/// The placement of a plan.
+struct PartPlacementResult {
+  Pose tableToPart = Pose::Identity();  ///< part frame in the table frame, used for the motion
+  double lift = 0.0;  ///< mm along the table z added to the cell's table_to_part (Rest)
+  std::string note;   ///< what Rest did (for MotionPlan::notes); empty for Cell
+};
+
+/// The part placement `placement` gives for `plan` in `cell` (cell.positioner.tableToPart is
+/// the starting point). A plan without points keeps the cell's placement.
+PartPlacementResult placePart(const Plan& plan, const Cell& cell, PartPlacement placement);
+
+/// Checks the plan at `positioner.tableToPart` against the table and the working volume
+/// (`positioner.geometry`). @throws InvalidInput naming the lowest point below the table top
+/// (layer/path/point, part coordinates, how far below in mm, how many points), else the
+/// farthest point outside the working volume's radius, else the highest above its height,
+/// with the hint to set the part's placement.
+void checkPartPlacement(const Plan& plan, const PositionerDescription& positioner);
+
+}  // namespace curvedslicer
