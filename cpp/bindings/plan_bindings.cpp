@@ -105,6 +105,8 @@ py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
   d["singular_points"] = motion.singularPoints;
   d["limited_points"] = motion.limitedPoints;
   d["total"] = estimateDict(motion.total);
+  d["table_to_part"] = poseMatrix(motion.tableToPart);  // the placement used (4x4, mm)
+  d["notes"] = motion.notes;
   return d;
 }
 
@@ -255,7 +257,8 @@ void registerPlanBindings(py::module_& m) {
         "direction, else a fixed world x). Returns columns over the motion points: layer, path, "
         "index, a1, a2 (rad), residual (rad), speed, arc_on, path_start, path_end, flags, "
         "position/normal/deposition/used_deposition (n,3) in the part frame; warnings, "
-        "max_residual, singular_points, limited_points, total (estimates).",
+        "max_residual, singular_points, limited_points, total (estimates), table_to_part (4x4 "
+        "mm: the part placement used, MotionOptions.placement), notes.",
         py::arg("plan_json"), py::arg("cell_json"), py::kw_only(),
         py::arg("options") = MotionOptions{}, py::arg("progress") = py::none());
 

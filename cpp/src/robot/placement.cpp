@@ -70,8 +70,9 @@ void forEachWeldPoint(const Plan& plan, const Pose& tableToPart, F&& f) {
 }
 
 const char* const kHint =
-    "set the part's placement on the table: positioner/table_to_part in the cell file, or "
-    "--placement rest (Python: MotionOptions(placement=\"rest\"))";
+    "set the part's placement on the table: positioner/table_to_part in the cell file, or the "
+    "placement rest (--placement rest; Python MotionOptions(placement=\"rest\"); the Job's "
+    "PartPlacement Rest)";
 
 }  // namespace
 
