@@ -88,7 +88,9 @@ PartPlacementResult placePart(const Plan& plan, const Cell& cell, PartPlacement 
   if (!lowest.found()) return result;
   const double h = std::max(plan.parameters.layerThickness, 0.0);
   const double bottom = -lowest.value - h;  // table z of the lowest bead bottom
-  result.lift = -bottom;
+  // A part already resting within kTolerance keeps the cell's placement exactly (no motion
+  // changes in the last digits from a lift of 1e-11 mm).
+  result.lift = std::abs(bottom) <= kTolerance ? 0.0 : -bottom;
   result.tableToPart.pretranslate(Vec3(0, 0, result.lift));
   result.note =
       "part placement rest: the lowest bead bottom (" + fmt(h) + " mm below " + lowest.name() +

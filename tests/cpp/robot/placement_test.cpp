@@ -100,6 +100,13 @@ TEST(Placement, RestPutsTheLowestBeadBottomOnTheTableTop) {
   const PartPlacementResult again = placePart(plan, resting, PartPlacement::Rest);
   EXPECT_NEAR(again.lift, 0.0, 1e-9);
   EXPECT_NO_THROW(checkPartPlacement(plan, resting.positioner));
+  // Resting to within 1e-6 mm (rounding of the plan's coordinates): the cell's placement as is.
+  Cell almost = defaultCell();
+  const Plan rounded = twoRings(1.75 + 1e-11);  // lowest point at h + 1e-11 = 1.5 + 1e-11 mm
+  const PartPlacementResult kept = placePart(rounded, almost, PartPlacement::Rest);
+  EXPECT_EQ(kept.lift, 0.0);
+  EXPECT_TRUE(kept.tableToPart.isApprox(almost.positioner.tableToPart, 0.0));
+  EXPECT_TRUE(kept.tableToPart.matrix() == almost.positioner.tableToPart.matrix());
 }
 
 TEST(Placement, RestFollowsATiltedPlacement) {

@@ -7,7 +7,8 @@
 // d = i·h of the geodesic field (h = Plan::parameters.layerThickness, the bead height of a thin
 // wall) and the layer's material fills (i-1)·h < d <= i·h, so the part's material starts one
 // layer thickness below its weld points; Rest lifts the part along the table z until
-// min over weld points of (z_table - h) = 0, i.e. the lowest bead bottom touches the table top.
+// min over weld points of (z_table - h) = 0, i.e. the lowest bead bottom touches the table top
+// (a part resting within 1e-6 mm already keeps the cell's placement exactly).
 // Details and the choice of the default in docs/METHODS.md ("Part placement").
 // Cost: O(points) per call.
 #pragma once
