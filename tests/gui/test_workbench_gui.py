@@ -243,6 +243,12 @@ def panel_edits_every_group(job, box):
     check(panel.cell_status.text() == "valid cell file", "cell file status: %s"
           % panel.cell_status.text())
     panel.tool_along_travel.setChecked(True)
+    panel.part_placement.setCurrentIndex(job_module.PART_PLACEMENTS.index("Cell"))
+    panel.clearance.setValue(15.0)
+    panel.add_home.setChecked(False)
+    panel.allow_collisions.setChecked(True)
+    panel.merge_tolerance.setValue(0.02)
+    panel.max_a2_step.setValue(4.0)
     panel.pose_point.setValue(pose)
     lines = panel.commands()
     expected = ["InitialPath = 'Plane'", "InitialPlanePoint = App.Vector(1.0, 2.0, 3.0)",
@@ -250,7 +256,9 @@ def panel_edits_every_group(job, box):
                 "CornerAngle = 45.0",
                 "SurfaceMethod = 'Paper'", "NarrowStrips = 'Overlap'",
                 "PathDisplay = 'BSpline'", "CellFile = %r" % cell,
-                "ToolAlongTravel = True", "PosePoint = %d" % pose]
+                "ToolAlongTravel = True", "PartPlacement = 'Cell'", "Clearance = 15.0",
+                "AddHome = False", "AllowCollisions = True", "MergeTolerance = 0.02",
+                "MaxA2Step = 4.0", "PosePoint = %d" % pose]
     prefix = "App.getDocument(%r).getObject(%r)." % (job.Document.Name, job.Name)
     check(all(line.startswith(prefix) for line in lines)
           and sorted(line[len(prefix):] for line in lines) == sorted(expected),
@@ -267,6 +275,11 @@ def panel_edits_every_group(job, box):
           "Apply set the path parameters")
     check(job.CellFile == cell and job.ToolAlongTravel and job.PosePoint == pose,
           "Apply set the robot parameters (cell, torch along travel, pose point %d)" % pose)
+    check(job.PartPlacement == "Cell" and abs(job.Clearance.Value - 15.0) < 1e-12
+          and not job.AddHome and job.AllowCollisions
+          and abs(job.MergeTolerance.Value - 0.02) < 1e-12
+          and abs(FreeCAD.Units.Quantity(job.MaxA2Step).getValueAs("deg").Value - 4.0) < 1e-9,
+          "Apply set the motion options")
     check(panel.commands() == [], "nothing left to apply after Apply")
 
     # A missing and a broken cell file are refused, saying which file; nothing is applied.

@@ -30,6 +30,7 @@ WALL_EDGES = paths.WALL_EDGES
 SURFACE_METHODS = paths.SURFACE_METHODS
 NARROW_STRIPS = paths.NARROW_STRIPS
 PATH_DISPLAYS = paths.PATH_DISPLAYS
+PART_PLACEMENTS = poses.PART_PLACEMENTS
 
 # (type, name, group, tooltip, default). Enumerations take their list as default (first = value).
 PROPERTIES = [
@@ -131,7 +132,7 @@ PROPERTIES = [
      "Where the part sits on the table: Rest (the cell's table_to_part rotation and xy, moved "
      "along the table z so the lowest bead bottom lies on the table top) or Cell (the cell's "
      "table_to_part as given); a weld point below the table or outside the working volume is an "
-     "error", poses.PART_PLACEMENTS),
+     "error", PART_PLACEMENTS),
     ("App::PropertyInteger", "PosePoint", "Robot",
      "Motion point (0-based, execution order) the positioner model shows", 0),
     ("App::PropertyString", "Status", "Results", "What the last run did", "Not run yet"),
