@@ -57,8 +57,9 @@ void addMotionOptions(CLI::App& cmd, OptionBindings<MotionOptions>& b) {
   b.add(cmd, "--placement",
         "Where the part sits on the table:\n"
         "  rest  the cell's table_to_part rotation and xy, moved along the\n"
-        "        table z so the lowest bead bottom (one layer thickness below\n"
-        "        the lowest weld point) lies on the table top\n"
+        "        table z so the lowest bead bottom (a bead: one layer thickness\n"
+        "        below its weld point along the layer normal, half a bead\n"
+        "        spacing to each side) lies on the table top\n"
         "  cell  the cell's positioner/table_to_part as given\n"
         "Default " +
             formatDefault(toString(MotionOptions{}.placement)) +

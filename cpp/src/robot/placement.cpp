@@ -69,6 +69,26 @@ void forEachWeldPoint(const Plan& plan, const Pose& tableToPart, F&& f) {
   }
 }
 
+/// How far below the weld point (table z, mm) its bead reaches: the bead's cross-section is
+/// the rectangle {p - a·n + b·w : a in [0, h], b in [-s/2, s/2]} with n the layer normal and
+/// w = t × n across the path (t the path tangent), all in the table frame. Where the tangent is
+/// undefined (repeated points) w is taken as steep as n allows (the conservative bound).
+double beadDepthBelow(const PlanPath& path, std::size_t k, const Mat3& rotation, double h,
+                      double s) {
+  const auto& points = path.points;
+  const std::size_t n = points.size();
+  const std::size_t prev = k > 0 ? k - 1 : (path.closed ? n - 1 : 0);
+  const std::size_t next = k + 1 < n ? k + 1 : (path.closed ? 0 : n - 1);
+  const Vec3 normal = rotation * points[k].normal.normalized();
+  const Vec3 tangent = rotation * (points[next].position - points[prev].position);
+  const Vec3 across = tangent.cross(normal);
+  const double steepest = std::sqrt(std::max(0.0, 1.0 - normal.z() * normal.z()));
+  const double acrossZ = across.norm() > 1e-9 * std::max(tangent.norm(), 1e-300)
+                             ? std::abs(across.normalized().z())
+                             : steepest;
+  return h * std::max(normal.z(), 0.0) + 0.5 * s * acrossZ;
+}
+
 const char* const kHint =
     "set the part's placement on the table: positioner/table_to_part in the cell file, or the "
     "placement rest (--placement rest; Python MotionOptions(placement=\"rest\"); the Job's "
@@ -80,20 +100,33 @@ PartPlacementResult placePart(const Plan& plan, const Cell& cell, PartPlacement 
   PartPlacementResult result;
   result.tableToPart = cell.positioner.tableToPart;
   if (placement == PartPlacement::Cell) return result;
-  Extreme lowest;  // of -z_table
-  forEachWeldPoint(plan, result.tableToPart,
-                   [&](int l, int p, int k, const Vec3& part, const Vec3& table) {
-                     lowest.add(-table.z(), std::numeric_limits<double>::infinity(), l, p, k, part);
-                   });
-  if (!lowest.found()) return result;
+  // The lowest bead bottom: of -(z_table - depth of the bead below the point).
   const double h = std::max(plan.parameters.layerThickness, 0.0);
-  const double bottom = -lowest.value - h;  // table z of the lowest bead bottom
+  const double s = std::max(plan.parameters.beadSpacing, 0.0);
+  const Mat3 rotation = result.tableToPart.rotation();
+  Extreme lowest;
+  double depth = 0.0;  // of the lowest bead below its weld point
+  for (std::size_t l = 0; l < plan.layers.size(); ++l) {
+    const auto& paths = plan.layers[l].paths;
+    for (std::size_t p = 0; p < paths.size(); ++p) {
+      for (std::size_t k = 0; k < paths[p].points.size(); ++k) {
+        const Vec3& x = paths[p].points[k].position;
+        const double d = beadDepthBelow(paths[p], k, rotation, h, s);
+        const double before = lowest.value;
+        lowest.add(-((result.tableToPart * x).z() - d), std::numeric_limits<double>::infinity(),
+                   static_cast<int>(l), static_cast<int>(p), static_cast<int>(k), x);
+        if (lowest.value != before) depth = d;
+      }
+    }
+  }
+  if (!lowest.found()) return result;
+  const double bottom = -lowest.value;  // table z of the lowest bead bottom
   // A part already resting within kTolerance keeps the cell's placement exactly (no motion
   // changes in the last digits from a lift of 1e-11 mm).
   result.lift = std::abs(bottom) <= kTolerance ? 0.0 : -bottom;
   result.tableToPart.pretranslate(Vec3(0, 0, result.lift));
   result.note =
-      "part placement rest: the lowest bead bottom (" + fmt(h) + " mm below " + lowest.name() +
+      "part placement rest: the lowest bead bottom (" + fmt(depth) + " mm below " + lowest.name() +
       ") lies on the table top: table_to_part z = " + fmt(result.tableToPart.translation().z()) +
       " mm (the cell gives " + fmt(cell.positioner.tableToPart.translation().z()) +
       " mm); use --placement cell to keep the cell's placement";

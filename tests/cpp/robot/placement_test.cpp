@@ -18,11 +18,12 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 /// Two flat layers of one ring each (radius 30 mm about the part origin), layer thickness
-/// 1.5 mm; the first layer's weld points at z = `z0` (part frame), the lowest at point 9 of
-/// layer 0 (0.25 mm lower than the rest).
+/// 1.5 mm, bead spacing 4 mm; the first layer's weld points at z = `z0` (part frame), the lowest at
+/// point 9 of layer 0 (0.25 mm lower than the rest).
 Plan twoRings(double z0) {
   Plan plan;
   plan.parameters.layerThickness = 1.5;
+  plan.parameters.beadSpacing = 4.0;
   for (int l = 0; l < 2; ++l) {
     PlanLayer layer;
     layer.index = l;
@@ -114,11 +115,53 @@ TEST(Placement, RestFollowsATiltedPlacement) {
   cell.positioner.tableToPart = makePose(Vec3(0, 0, 0), Vec3(kPi / 2, 0, 0));  // part y up
   const Plan plan = twoRings(0.0);
   const PartPlacementResult r = placePart(plan, cell, PartPlacement::Rest);
-  // The ring (radius 30 in the part's xy) stands on edge: its lowest point is 30 mm down.
-  EXPECT_NEAR(r.tableToPart.translation().z(), 30.0 + 1.5, 1e-9);
+  // The ring (radius 30 in the part's xy) stands on edge: its lowest point is 30 mm down, the
+  // layers grow sideways, so the bead reaches half a bead spacing (2 mm) below it.
+  EXPECT_NEAR(r.tableToPart.translation().z(), 30.0 + 2.0, 1e-9);
+  expectContains(r.note, "(2.000 mm below layer 0 path 0 point 27");
   Cell placed = cell;
   placed.positioner.tableToPart = r.tableToPart;
   EXPECT_NO_THROW(checkPartPlacement(plan, placed.positioner));
+}
+
+/// A 30 x 12 mm (y, z) block grown sideways along +x from the plane x = 0 in layers of 5 mm:
+/// every layer one contour-parallel rectangle s/2 = 2 mm inside the block's section, as the
+/// planner puts the outer bead's edge on the part's edge.
+Plan sidewaysBlock() {
+  Plan plan;
+  plan.parameters.layerThickness = 5.0;
+  plan.parameters.beadSpacing = 4.0;
+  for (int l = 0; l < 2; ++l) {
+    PlanLayer layer;
+    PlanPath path;
+    path.layer = l;
+    path.closed = true;
+    const double x = 5.0 * (l + 1);
+    const Vec3 corners[4] = {Vec3(x, 2, 2), Vec3(x, 28, 2), Vec3(x, 28, 10), Vec3(x, 2, 10)};
+    for (int c = 0; c < 4; ++c) {
+      for (int i = 0; i < 8; ++i) {
+        PathPoint p;
+        p.position = corners[c] + (corners[(c + 1) % 4] - corners[c]) * (i / 8.0);
+        p.normal = Vec3::UnitX();
+        p.deposition = -Vec3::UnitX();
+        path.points.push_back(p);
+      }
+    }
+    layer.paths.push_back(path);
+    plan.layers.push_back(layer);
+  }
+  return plan;
+}
+
+TEST(Placement, RestPutsTheEdgeOfSidewaysLayersOnTheTable) {
+  Cell cell = defaultCell();
+  cell.positioner.tableToPart = makePose(Vec3(0, 0, 20), Vec3::Zero());
+  const PartPlacementResult r = placePart(sidewaysBlock(), cell, PartPlacement::Rest);
+  // The bottom path runs along y at z = 2: its beads reach s/2 = 2 mm down, to the block's
+  // bottom z = 0, which now lies on the table top (not one layer thickness lower or higher).
+  EXPECT_NEAR(r.tableToPart.translation().z(), 0.0, 1e-12);
+  EXPECT_EQ(r.lift, -20.0);
+  expectContains(r.note, "(2.000 mm below layer 0 path 0 point 1 ");
 }
 
 TEST(Placement, CellKeepsTheGivenPlacement) {

@@ -5,10 +5,13 @@
 //
 // Bead bottom rule (PartPlacement::Rest): the points of layer i lie on the level surface
 // d = i·h of the geodesic field (h = Plan::parameters.layerThickness, the bead height of a thin
-// wall) and the layer's material fills (i-1)·h < d <= i·h, so the part's material starts one
-// layer thickness below its weld points; Rest lifts the part along the table z until
-// min over weld points of (z_table - h) = 0, i.e. the lowest bead bottom touches the table top
-// (a part resting within 1e-6 mm already keeps the cell's placement exactly).
+// wall) and the layer's material fills (i-1)·h < d <= i·h; neighbouring beads are s apart
+// (s = Plan::parameters.beadSpacing). So a weld point's bead is taken as the rectangle of h
+// along -n (the layer normal) by s across the path (w = t × n, t the path tangent), centred
+// across on the path: it reaches h·max(n_z, 0) + s/2·|w_z| below the point (table frame). Rest
+// lifts the part along the table z until the lowest of these bead bottoms touches the table top
+// (flat layers: the lowest weld point one h above the table; layers grown sideways: the outer
+// bead's edge on the table); a part resting within 1e-6 mm keeps the cell's placement exactly.
 // Details and the choice of the default in docs/METHODS.md ("Part placement").
 // Cost: O(points) per call.
 #pragma once
@@ -23,7 +26,7 @@ namespace curvedslicer {
 
 /// How the part sits on the table.
 enum class PartPlacement {
-  Rest,  ///< the cell's table_to_part rotation and xy, lifted along the table z so that the
+  Rest,  ///< the cell's table_to_part rotation and xy, moved along the table z so that the
          ///< lowest bead bottom lies on the table top (default)
   Cell,  ///< the cell's table_to_part as given (a measured fixture or substrate placement)
 };
