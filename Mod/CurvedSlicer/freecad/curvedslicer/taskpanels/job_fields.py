@@ -66,7 +66,7 @@ class QuantityField:
         self.widget.setProperty("minimum", -QUANTITY_LIMIT)
         self.widget.setProperty("maximum", QUANTITY_LIMIT)
         self.widget.setProperty("singleStep", 1.0 if unit == "deg" else 0.1)
-        self.widget.setMinimumWidth(60)
+        self.widget.setMinimumWidth(80)
         self.set_value(value)
 
     def __getattr__(self, name):  # setEnabled, isEnabled, setToolTip, setFocus, ...

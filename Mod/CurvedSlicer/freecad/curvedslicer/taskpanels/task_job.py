@@ -49,6 +49,7 @@ def _scrolled(widget):
     area.setFrameShape(QtGui.QFrame.NoFrame)
     area.setHorizontalScrollBarPolicy(QtCore.Qt.ScrollBarAsNeeded)
     area.setWidget(widget)
+    area.setMinimumHeight(360)  # the combo view is tall: show most of a tab at once
     return area
 
 
@@ -243,11 +244,12 @@ class TaskPanelJob:
         self.cell_status = QtGui.QLabel("")
         self.cell_status.setWordWrap(True)
         f.addRow("", self.cell_status)
-        self.tool_along_travel = QtGui.QCheckBox("Torch x axis along the travel direction")
-        self.tool_along_travel.setToolTip("Off: the torch orientation stays fixed while the "
-                                          "positioner turns the part (no wrist wind-up)")
+        self.tool_along_travel = QtGui.QCheckBox("Torch x along the travel")
+        self.tool_along_travel.setToolTip("Torch x axis along the travel direction. Off: the "
+                                          "torch orientation stays fixed while the positioner "
+                                          "turns the part (no wrist wind-up)")
         self.tool_along_travel.setChecked(job.ToolAlongTravel)
-        f.addRow("Tool orientation", self.tool_along_travel)
+        f.addRow(self.tool_along_travel)
         self.pose_point = QtGui.QSpinBox()
         count = int(job.PoseCount)
         self.pose_point.setRange(0, count - 1 if count > 0 else INT_MAX)
