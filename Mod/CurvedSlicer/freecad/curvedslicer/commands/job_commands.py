@@ -416,7 +416,16 @@ COMMANDS = {
 }
 
 
+# FreeCADGui.addCommand takes the file name of its Python caller as the command's module, and
+# the macro recorder writes "import <that name>" at the top of every macro that runs the
+# command: called from here, "import job_commands", which fails on replay. The call is made from
+# a frame labelled ".../Mod/CurvedSlicer/FreeCADGui": the macro imports FreeCADGui (always
+# importable in the GUI) and the commands' group stays "CurvedSlicer".
+_ADD_COMMAND = compile("FreeCADGui.addCommand(name, command)", "/Mod/CurvedSlicer/FreeCADGui",
+                       "exec")
+
+
 def register():
     for name, cls in COMMANDS.items():
-        FreeCADGui.addCommand(name, cls())
+        exec(_ADD_COMMAND, {"FreeCADGui": FreeCADGui, "name": name, "command": cls()})
     return list(COMMANDS)
