@@ -172,7 +172,29 @@ def reopened_not_modified(doc):
     process_events(0.5)
     gui_doc = FreeCADGui.getDocument(reopened.Name)
     check(not gui_doc.Modified, "a reopened document is not marked modified")
+    from freecad.curvedslicer.commands.job_commands import ExportDialog
+
+    dialog = ExportDialog(reopened.getObject("Job"))
+    check(os.path.dirname(dialog.path.text()) == os.path.dirname(path),
+          "the export dialog starts in the document's folder: %s" % dialog.path.text())
+    dialog.format.setCurrentIndex([f[1] for f in dialog.filters].index("gcode"))
+    check(dialog.path.text().endswith(".gcode") or dialog.path.text().endswith(".nc")
+          or dialog.gcode_mode.isEnabled(), "choosing G-code enables the G-code mode")
+    dialog.close()
     FreeCAD.closeDocument(reopened.Name)
+
+
+def preferences_page():
+    from freecad.curvedslicer import ICON_DIR
+    from freecad.curvedslicer.taskpanels.preferences_page import PreferencesPage
+
+    page = PreferencesPage()
+    check(page.cell.browse.text() == "Browse…", "the preferences page has a Browse button")
+    page.cell.set_text(os.path.join(TMP, "no_such_cell.json"))
+    check(page.cell_status.text().startswith("cell file does not exist"),
+          "a missing default cell file is named: %s" % page.cell_status.text())
+    check(os.path.isfile(os.path.join(ICON_DIR, "preferences-curvedslicer.svg")),
+          "the preferences page has its icon (preferences-curvedslicer)")
 
 
 def run():
@@ -187,6 +209,7 @@ def run():
     error_state(doc, job)
     fewer_layers(doc, job)
     reopened_not_modified(doc)
+    preferences_page()
 
 
 finish(run)
