@@ -7,7 +7,7 @@ state in the tree.
 - The panel fits the combo view at its default width (no field cut off; screenshot saved).
 - The panel's Run button applies and runs the Job.
 - A failed recompute (layer thickness 0, Std_Refresh) puts the Job in FreeCAD's error state: the
-  message in its status string (the tree item's tooltip) and in the Report view; a good recompute clears it.
+  message in the tree item's tooltip and in the Report view; a good recompute clears it.
 - A recompute with fewer layers leaves no "unused" objects in the tree.
 - A document saved and reopened is not marked modified.
 Screenshots go to the test's folder under the build tree (CURVEDSLICER_TEST_TMP)."""
@@ -21,7 +21,7 @@ from PySide import QtCore, QtGui
 
 sys.path.insert(0, os.environ.get("CURVEDSLICER_TEST_DIR", os.path.dirname(__file__)))
 from gui_testing import (TMP, check, finish, process_events, report_view,  # noqa: E402
-                         screenshot)
+                         screenshot, tree_item)
 
 
 def make_job():
@@ -134,9 +134,9 @@ def error_state(doc, job):
     process_events(0.5)
     check("Invalid" in job.State, "a failed recompute puts the Job in the error state (%s)"
           % job.State)
-    status = job.getStatusString()  # what the tree shows as the error item's tooltip
-    check("layer thickness must be a positive number" in status, "the Job's error status (the "
-          "tree's tooltip) has the message: %s" % status)
+    tip = hover_tooltip(job)
+    check("layer thickness must be a positive number" in tip, "the tree's tooltip on the Job "
+          "has the message: %s" % tip)
     text = report.toPlainText() if report is not None else ""
     new = text[len(before):] if text.startswith(before) else text
     check("layer thickness must be a positive number" in new, "the Report view has the message")
@@ -148,6 +148,26 @@ def error_state(doc, job):
     process_events(0.5)
     check(job.State == ["Up-to-date"], "a good recompute clears the error state (%s)"
           % job.State)
+
+
+def hover_tooltip(obj):
+    """The tooltip the tree view shows when the pointer enters `obj`'s item (for an object in
+    error: its status string)."""
+    window = FreeCADGui.getMainWindow()
+    for tabs in window.findChildren(QtGui.QTabWidget):
+        for i in range(tabs.count()):
+            if tabs.tabText(i) == "Model":
+                tabs.setCurrentIndex(i)
+    process_events(0.2)
+    item = tree_item(obj)
+    if item is None:
+        return ""
+    tree = item.treeWidget()
+    tree.scrollToItem(item)
+    process_events(0.2)
+    tree.itemEntered.emit(item, 0)  # as the pointer entering the item
+    process_events(0.3)
+    return QtGui.QToolTip.text() if QtGui.QToolTip.isVisible() else ""
 
 
 def fewer_layers(doc, job):
