@@ -53,6 +53,10 @@ def quantities_and_refusal(job):
     panel.voxel_size.set_text("2*0.5 mm")
     check(abs(panel.voxel_size.value() - 1.0) < 1e-9, "'2*0.5 mm' gives 1 mm (%r)"
           % panel.voxel_size.value())
+    panel.bead_spacing.set_text("=0.5*2 mm")
+    check(abs(panel.bead_spacing.value() - 1.0) < 1e-9, "'=0.5*2 mm' gives 1 mm (%r)"
+          % panel.bead_spacing.value())
+    panel.bead_spacing.set_text("3.7 mm")
     check(panel.error_label.text() == "", "valid values: no message (%s)"
           % panel.error_label.text())
     check(panel.apply(), "the panel applies 1 in")

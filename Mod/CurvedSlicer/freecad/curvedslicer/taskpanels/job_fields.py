@@ -85,7 +85,13 @@ class QuantityField:
     setValue = set_value
 
     def value(self):
-        """The value in `unit` (mm or degrees) the box holds (its last readable text)."""
+        """The value in `unit` (mm or degrees) the box holds (its last readable text); a
+        formula typed as "=2*0.5 mm" is evaluated (the box itself reads "=" only when bound to
+        a property)."""
+        if self.text().strip().startswith("="):
+            value, message = self._read()
+            if message is None:
+                return value
         return float(self.widget.property("rawValue"))
 
     def on_change(self, slot):
@@ -95,10 +101,11 @@ class QuantityField:
         """(value in `unit`, None) of the text, or (None, message) when it is not a quantity of
         this kind."""
         text = self.text().strip()
+        formula = text[1:].strip() if text.startswith("=") else text
         dimension = FreeCAD.Units.Length if self.unit == "mm" else FreeCAD.Units.Angle
         kind = "length" if self.unit == "mm" else "angle"
         try:
-            q = FreeCAD.Units.Quantity(text)
+            q = FreeCAD.Units.Quantity(formula)
         except (ValueError, ArithmeticError):
             q = None
         if q is None or not (q.Unit == dimension or q.Unit == FreeCAD.Units.Unit()):
