@@ -115,6 +115,8 @@ def run():
               "the macro calls freecad.curvedslicer.api.%s...) as a real line" % call)
     check(any("LayerThickness = 2.54" in line for line in lines),
           "the typed 0.1 in is recorded as 2.54 mm")
+    check(any(line.startswith("Gui.getDocument(") and line.endswith(".resetEdit()")
+              for line in lines), "closing the panel is recorded (resetEdit)")
 
     recorded = os.path.join(TMP, "export_recorded")
     shutil.rmtree(recorded, ignore_errors=True)
@@ -127,6 +129,7 @@ def run():
     process_events()
 
     replay(macro)
+    check(not FreeCADGui.Control.activeDialog(), "the replay closed the panel it opened")
     if FreeCADGui.Control.activeDialog():
         FreeCADGui.Control.closeDialog()
     process_events()

@@ -110,8 +110,12 @@ class EditJob:
         return selected_job() is not None
 
     def Activated(self):
-        job = selected_job()
-        FreeCADGui.ActiveDocument.setEdit(job.Name)
+        edit_job(selected_job())
+
+
+def edit_job(job):
+    """Opens the Job's task panel, recorded as Gui.getDocument(...).setEdit(...)."""
+    FreeCADGui.doCommand("Gui.getDocument(%r).setEdit(%r)" % (job.Document.Name, job.Name))
 
 
 class RunJob:
@@ -352,6 +356,7 @@ class AnimatePoses:
 
     def __init__(self):
         self.timer = None
+        self.job = None
 
     def GetResources(self):
         return {"Pixmap": icon_path("Layers"), "MenuText": "Animate positioner poses",
@@ -365,8 +370,7 @@ class AnimatePoses:
         from .. import api
 
         if self.timer is not None:
-            self.timer.stop()
-            self.timer = None
+            self.stop()
             return
         job = selected_job()
         count = api.pose_count(job)
@@ -375,21 +379,31 @@ class AnimatePoses:
 
         def tick():
             if job.Document is None or state["index"] >= count:
-                self.timer.stop()
-                self.timer = None
+                self.stop()
                 return
             try:
                 api.set_pose(job, state["index"])
             except CurvedSlicerError as error:
-                self.timer.stop()
-                self.timer = None
+                self.stop()
                 show_error("animation stopped", error)
                 return
             state["index"] += step
 
+        self.job = job
         self.timer = QtCore.QTimer()
         self.timer.timeout.connect(tick)
         self.timer.start(50)
+
+    def stop(self):
+        """Stops the animation; the pose it stopped at is recorded (set_pose) for macros."""
+        self.timer.stop()
+        self.timer = None
+        job, self.job = self.job, None
+        if job is not None and job.Document is not None:
+            try:
+                do_api("set_pose(%s, %d)" % (_ref(job), job.PosePoint))
+            except CurvedSlicerError as error:
+                show_error("the pose cannot be shown", error)
 
 
 class Preferences:

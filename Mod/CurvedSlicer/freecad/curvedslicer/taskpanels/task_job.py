@@ -539,12 +539,16 @@ class TaskPanelJob:
     def accept(self):
         if not self.apply():
             return False
-        FreeCADGui.ActiveDocument.resetEdit()
+        self.close()
         return True
 
     def reject(self):
-        FreeCADGui.ActiveDocument.resetEdit()
+        self.close()
         return True
+
+    def close(self):
+        """Closes the panel, recorded as Gui.getDocument(...).resetEdit()."""
+        FreeCADGui.doCommand("Gui.getDocument(%r).resetEdit()" % self.doc_name)
 
     def clicked(self, button):
         if enum_value(button) == enum_value(QtGui.QDialogButtonBox.Apply):

@@ -160,9 +160,9 @@ class ViewProviderJob:
         return True
 
     def doubleClicked(self, vobj):
-        import FreeCADGui
+        from ..commands.job_commands import edit_job
 
-        FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name)
+        edit_job(vobj.Object)
         return True
 
     def __getstate__(self):
