@@ -2,8 +2,8 @@
 
 FreeCAD's own macro recorder (Macro > Macro recording…, driven through its dialog) records: a
 new document, a box (Part_Box), Create Job with a picked start face, lengths typed into the task
-panel ("0.1 in", "2*0.5 mm"), the panel's Run button, OK, and an export through the export
-dialog (JBI, a program name). The macro must hold the real freecad.curvedslicer.api lines (no
+panel ("0.1 in", "2*0.5 mm"), the panel's Run button, OK, an export through the export dialog
+(JBI, a program name), three pose steps and a layer range. The macro must hold the real freecad.curvedslicer.api lines (no
 `import job_commands`, Run and Export not as comments). The document is closed, the macro is
 replayed, and its export must equal the recorded session's byte for byte."""
 
@@ -79,6 +79,14 @@ def gui_session():
     check(options["format"] == "jbi" and options["program_name"] == "MACROTEST",
           "the export dialog's options: %s" % options)
     check(job_commands.export_selected_job(job, **options) is not None, "export from the GUI")
+    FreeCADGui.Selection.clearSelection()
+    FreeCADGui.Selection.addSelection(doc.Name, job.Name)
+    for _ in range(3):
+        FreeCADGui.runCommand("CurvedSlicer_StepPose")
+    process_events()
+    dialog = job_commands.LayerRangeDialog(job)
+    dialog.first.setValue(2)
+    dialog.close()
     screenshot("macro_session")
     return doc
 
@@ -97,6 +105,8 @@ def replay(macro):
 def run():
     FreeCADGui.showMainWindow() if hasattr(FreeCADGui, "showMainWindow") else None
     FreeCADGui.activateWorkbench("CurvedSlicerWorkbench")
+    from freecad.curvedslicer import api
+
     os.makedirs(MACROS, exist_ok=True)
     os.makedirs(EXPORT, exist_ok=True)
     start_recording("session")
@@ -123,6 +133,10 @@ def run():
     shutil.move(EXPORT, recorded)
     os.makedirs(EXPORT)
     name = doc.Name
+    job = [o for o in doc.Objects if o.Name == "Job"][0]
+    session_state = (job.PosePoint, [o.Visibility for o in api.layers(job)])
+    check(session_state[0] > 0 and not session_state[1][0], "the session stepped the pose and "
+          "hid layer 1: %s" % (session_state,))
     if FreeCADGui.Control.activeDialog():
         FreeCADGui.Control.closeDialog()
     FreeCAD.closeDocument(name)
@@ -130,6 +144,10 @@ def run():
 
     replay(macro)
     check(not FreeCADGui.Control.activeDialog(), "the replay closed the panel it opened")
+    replayed_job = FreeCAD.ActiveDocument.getObject("Job")
+    replayed_state = (replayed_job.PosePoint, [o.Visibility for o in api.layers(replayed_job)])
+    check(replayed_state == session_state, "the replay steps the pose and shows the layer range "
+          "as the session did: %s" % (replayed_state,))
     if FreeCADGui.Control.activeDialog():
         FreeCADGui.Control.closeDialog()
     process_events()
