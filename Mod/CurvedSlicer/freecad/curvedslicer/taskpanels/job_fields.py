@@ -67,17 +67,19 @@ class QuantityField:
         self.widget.setProperty("maximum", QUANTITY_LIMIT)
         self.widget.setProperty("singleStep", 1.0 if unit == "deg" else 0.1)
         self.widget.setMinimumWidth(80)
+        # The box's line edit as a child widget (QAbstractSpinBox.lineEdit() is protected).
+        self.edit = self.widget.findChild(QtGui.QLineEdit)
         self.set_value(value)
 
     def __getattr__(self, name):  # setEnabled, isEnabled, setToolTip, setFocus, ...
         return getattr(self.widget, name)
 
     def text(self):
-        return self.widget.lineEdit().text()
+        return self.edit.text()
 
     def set_text(self, text):
         """Types `text` into the box (as the user would)."""
-        self.widget.lineEdit().setText(text)
+        self.edit.setText(text)
 
     def set_value(self, value):
         self.widget.setProperty("rawValue", float(value))
@@ -95,7 +97,7 @@ class QuantityField:
         return float(self.widget.property("rawValue"))
 
     def on_change(self, slot):
-        self.widget.lineEdit().textChanged.connect(slot)
+        self.edit.textChanged.connect(slot)
 
     def _read(self):
         """(value in `unit`, None) of the text, or (None, message) when it is not a quantity of
