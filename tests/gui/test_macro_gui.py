@@ -3,9 +3,10 @@
 FreeCAD's own macro recorder (Macro > Macro recording…, driven through its dialog) records: a
 new document, a box (Part_Box), Create Job with a picked start face, lengths typed into the task
 panel ("0.1 in", "2*0.5 mm"), the panel's Run button, OK, an export through the export dialog
-(JBI, a program name), three pose steps and a layer range. The macro must hold the real freecad.curvedslicer.api lines (no
-`import job_commands`, Run and Export not as comments). The document is closed, the macro is
-replayed, and its export must equal the recorded session's byte for byte."""
+(JBI, a program name), three pose steps and a layer range. The macro must hold the real
+freecad.curvedslicer.api lines (no `import job_commands`, Run and Export not as comments). The
+document is closed, the macro is replayed; its export must equal the recorded session's byte for
+byte, and the pose and layer range must be the session's."""
 
 import filecmp
 import os
@@ -25,7 +26,8 @@ EXPORT = os.path.join(TMP, "export")
 
 def start_recording(name):
     """Macro > Macro recording…: the dialog gets the name and Record is pressed."""
-    FreeCAD.ParamGet("User parameter:BaseApp/Preferences/Macro").SetString("MacroPath", MACROS + os.sep)
+    params = FreeCAD.ParamGet("User parameter:BaseApp/Preferences/Macro")
+    params.SetString("MacroPath", MACROS + os.sep)
 
     def fill():
         for w in QtGui.QApplication.topLevelWidgets():
