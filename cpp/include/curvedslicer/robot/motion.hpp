@@ -39,10 +39,11 @@ namespace curvedslicer {
 
 /// Bits of MotionPoint::flags.
 enum MotionFlag : std::uint32_t {
-  kMotionSingular = 1u << 0,         ///< V inside the singular zone: a2 held / interpolated
+  kMotionSingular = 1u << 0,         ///< V inside the near-singular band (as kMotionNearSingular)
   kMotionTiltLimited = 1u << 1,      ///< a1 clamped to its limit: V not on gravity (see residual)
   kMotionRotationLimited = 1u << 2,  ///< a2 clamped to its limit
-  kMotionA2RateLimited = 1u << 3,    ///< a2 lags its exact value after a singular zone
+  kMotionA2RateLimited = 1u << 3,  ///< outside the band, a2 off its exact value (V within the band
+                                   ///< angle of gravity): blended for a bounded a2 rate
   kMotionSmoothed = 1u << 4,         ///< V was smoothed (usedDeposition != deposition)
   kMotionConfigurationChange = 1u << 5,  ///< robot configuration differs from the path start
   kMotionWristSingular = 1u << 6,        ///< joint 5 near 0: joints 4/6 split kept continuous
@@ -148,11 +149,12 @@ std::string_view toString(UnreachablePolicy policy);
 UnreachablePolicy parseUnreachablePolicy(std::string_view name);
 
 struct MotionOptions {
-  double singularZone = 0.0349065850398866;  ///< rad (2°): V within this of ±rotation axis
-  /// rad (2°) per point: a2 change limit in and around the singular zone. a2 follows a linear
-  /// ramp over a window that covers the zone and the neighbouring points whose exact a2 moves
-  /// faster than this; points outside the zone in that window get kMotionA2RateLimited.
-  double maxSingularA2Step = 0.0349065850398866;
+  /// rad (3°): the near-singular band and the stated gravity tolerance. V within this angle of
+  /// the rotation axis: a2 is blended between its exact values on both sides (rate bounded, see
+  /// docs/METHODS.md) and the tilt compensates, so V is within this angle of gravity anyway;
+  /// outside the band a2 may leave its exact value only as far as the compensating tilt keeps V
+  /// within this angle of gravity. Replaces the former singularZone / maxSingularA2Step.
+  double nearSingularBand = 0.0523598775598299;
   double initialA2 = 0.0;          ///< rad, a2 held when the first points of the plan are singular
   bool preferPositiveTilt = true;  ///< branch at the first point: a1 >= 0 if feasible
   double smoothingLength = 0.0;    ///< mm, Gaussian sigma along the path for V; 0 = no smoothing
@@ -167,8 +169,12 @@ struct MotionOptions {
   double clearance = 10.0;        ///< mm, travel height above part and deposit (arc-off moves)
   bool allowCollisions = false;   ///< remaining collisions are warnings instead of errors
   bool addHome = true;            ///< start and end the program at the cell's home pose
-  double mergeTolerance = 0.01;   ///< mm, consecutive path points closer than this are merged
-  double maxA2Step = 0.0872664625997165;  ///< rad (5°): insert points so a2 never steps more
+  /// mm, consecutive path points closer than this are merged (the first kept; an open path
+  /// keeps its last point); MotionPoint::index still names the plan point
+  double mergeTolerance = 0.01;
+  /// rad (5°): within a path a2 never steps more than this between consecutive points; points
+  /// are inserted on the straight segment (kMotionInserted, index = the plan point before)
+  double maxA2Step = 0.0872664625997165;
   bool timeParameterise = true;   ///< respect every axis's max speed (else nominal speeds only)
 };
 
@@ -178,8 +184,8 @@ struct MotionPlan {
   std::vector<MotionEstimate> layers;  ///< per Plan layer
   MotionEstimate total;
   std::vector<std::string> warnings;  ///< aggregated, readable, at most a few per cause
-  double maxResidual = 0.0;           ///< rad, over points outside the singular zone
-  std::size_t singularPoints = 0;
+  double maxResidual = 0.0;           ///< rad, over points outside the near-singular band
+  std::size_t singularPoints = 0;     ///< points inside the near-singular band
   std::size_t limitedPoints = 0;  ///< points with a positioner limit active
   std::vector<SpeedReduction> speedReductions;  ///< where the weld speed drops, and by how much
   std::vector<CollisionReport> collisions;      ///< what remains (only with allowCollisions)
