@@ -470,7 +470,18 @@ void RobotKinematicsPass::setConfiguration(MotionPathSpan& span) {
   for (std::size_t k = span.begin; k < span.end; ++k) {
     MotionPoint& m = result_.points[k];
     if (isWithinConfiguration(m.joints, span.configuration)) continue;
-    m.flags |= kMotionConfigurationChange;  // warned about by recordFailures
+    m.flags |= kMotionConfigurationChange;
+    for (int j = 0; j < 6; ++j) {
+      const double quadrantLow = span.configuration.quadrant[j] * kPi / 2;
+      if (m.joints[j] < quadrantLow - kConfigurationTolerance ||
+          m.joints[j] > quadrantLow + kPi / 2 + kConfigurationTolerance) {
+        warnings_.add("joint " + std::to_string(j + 1) +
+                          " really passes a multiple of 90 deg within a weld (the weld's "
+                          "configuration keeps the quadrant of the middle of its range; ABB cf / "
+                          "KUKA sign bits of these points differ from it)",
+                      pointName(m));
+      }
+    }
   }
 }
 
@@ -589,9 +600,8 @@ IkSolution RobotKinematicsPass::chooseSolution(const IkResult& ik, const JointVe
 void RobotKinematicsPass::recordFailures(const MotionPathSpan& span) {
   for (std::size_t k = span.begin; k < span.end; ++k) {
     const MotionPoint& m = result_.points[k];
-    if (m.flags & kMotionConfigurationChange) {
-      warnings_.add("robot configuration changes within a weld (IK branch, or a joint crossing "
-                    "a multiple of 90 deg)",
+    if ((m.flags & kMotionConfigurationChange) && m.configuration != span.configuration.branch) {
+      warnings_.add("robot configuration (IK branch) changes within a weld (joint limits)",
                     pointName(m));
     }
     if (!(m.flags & kMotionRobotLimit)) continue;
