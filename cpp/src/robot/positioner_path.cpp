@@ -365,8 +365,10 @@ bool insertSamples(const PositionerDescription& pos, const Vec3& gravity,
         AngleSample s = interpolateSample(pos, gravity, a, b, t, options);
         s.a2 = a.a2 + (b.a2 - a.a2) * t;
         if (exact && !s.band) {
-          chooseAngles(pos, gravity, s, a.a1, a.exactA2, true, options);
-          continueExactA2(pos, s, a.exactA2 + (b.exactA2 - a.exactA2) * t);
+          // the exact alignment nearest the a2 chosen so far, so that its tube meets the
+          // neighbours' along that a2 (e sweeps fast here: its interpolation is ambiguous)
+          chooseAngles(pos, gravity, s, a.a1, s.a2, true, options);
+          continueExactA2(pos, s, a.a2 + (b.a2 - a.a2) * t);
           if (!s.fixed) s.a2 = a.a2 + (b.a2 - a.a2) * t;
         } else if (!s.band) {
           projectIntoTube(pos, gravity, s, a, options);

@@ -51,7 +51,7 @@ std::vector<Vec3> sweep(double offset, double span, int count) {
 
 TEST(Motion, NearSingularBandBoundsTheA2StepAndTheResidual) {
   const Cell cell = defaultCell();
-  for (double stepDeg : {5.0, 2.5}) {
+  for (double stepDeg : {5.0, 2.5, 1.0}) {
     for (double offsetDeg : {0.0, 0.3, 1.9, 2.9, 3.5, 5.0, 8.0}) {
       for (int count : {41, 401}) {
         SCOPED_TRACE(std::to_string(stepDeg) + " " + std::to_string(offsetDeg) + " " +
