@@ -129,7 +129,8 @@ py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
     speed.mutable_at(i) = p.speed;
     time.mutable_at(i) = p.time;
     kind.mutable_at(i) = static_cast<std::int32_t>(p.kind);
-    for (py::ssize_t k = 0; k < 6; ++k) joints.mutable_at(i, k) = p.joints[static_cast<std::size_t>(k)];
+    for (py::ssize_t k = 0; k < 6; ++k)
+      joints.mutable_at(i, k) = p.joints[static_cast<std::size_t>(k)];
     arcOn.mutable_at(i) = p.arcOn;
     pathStart.mutable_at(i) = p.pathStart;
     pathEnd.mutable_at(i) = p.pathEnd;

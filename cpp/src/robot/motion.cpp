@@ -307,7 +307,8 @@ void planPositionerAngles(const Plan& plan, const Cell& cell, const Vec3& gravit
                            " mm to the previous one merged (the first kept)");
   }
   if (inserted > 0) {
-    result.notes.push_back(std::to_string(inserted) + " point(s) inserted so that a2 steps at most " +
+    result.notes.push_back(std::to_string(inserted) +
+                           " point(s) inserted so that a2 steps at most " +
                            fmt(options.maxA2Step / kDeg, 2) + " deg between path points");
   }
 }
@@ -465,8 +466,7 @@ void RobotKinematicsPass::setConfiguration(MotionPathSpan& span) {
       high[j] = std::max(high[j], result_.points[k].joints[j]);
     }
   }
-  span.configuration =
-      configurationOfRange(low, high, result_.points[span.begin].configuration);
+  span.configuration = configurationOfRange(low, high, result_.points[span.begin].configuration);
   for (std::size_t k = span.begin; k < span.end; ++k) {
     MotionPoint& m = result_.points[k];
     if (isWithinConfiguration(m.joints, span.configuration)) continue;

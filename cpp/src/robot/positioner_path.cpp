@@ -439,7 +439,8 @@ void planPathAngles(const PositionerDescription& pos, const Vec3& gravity, doubl
                     const MotionOptions& options) {
   computeExactAngles(pos, gravity, samples, refA1, refA2, haveRef, options);
   double holdA2 = haveRef ? refA2 : options.initialA2;
-  if (!pos.rotation.endless) holdA2 = std::clamp(holdA2, pos.rotation.limit.min, pos.rotation.limit.max);
+  if (!pos.rotation.endless)
+    holdA2 = std::clamp(holdA2, pos.rotation.limit.min, pos.rotation.limit.max);
   // a2 through the tube; where it still steps more than maxA2Step, insert points with their own
   // exact alignment and choose again (a few rounds), then split what remains evenly.
   for (int round = 0;; ++round) {

@@ -23,9 +23,9 @@ struct AngleSample {
   bool inserted = false;
   double arc = 0.0;  // mm along the path from its first point
   GravityAlignment align;
-  bool band = false;    // V within the near-singular band of the rotation axis
-  bool fixed = false;   // no exact alignment within the limits: angles of least residual kept
-  double exactA2 = 0.0;  // a2 of an exact alignment, continuous along the path
+  bool band = false;          // V within the near-singular band of the rotation axis
+  bool fixed = false;         // no exact alignment within the limits: angles of least residual kept
+  double exactA2 = 0.0;       // a2 of an exact alignment, continuous along the path
   double a1 = 0.0, a2 = 0.0;  // chosen
   std::uint32_t flags = 0;
 };

@@ -55,8 +55,7 @@ MoveTime computeMoveTime(const MotionPoint& a, const MotionPoint& b, const Cell&
     t.length = partLength;
     t.nominal = partLength / cell.process.weldSpeed;
   } else {
-    const double worldLength =
-        (b.toolInWorld.translation() - a.toolInWorld.translation()).norm();
+    const double worldLength = (b.toolInWorld.translation() - a.toolInWorld.translation()).norm();
     t.length = std::max(partLength, worldLength);
     t.nominal = t.length / cell.process.travelSpeed;
   }
@@ -95,25 +94,24 @@ void recordReduction(const MotionPlan& motion, std::size_t i, double speed, int 
       r.axis = std::string(axisName(axis));
     }
   } else {
-    out.push_back({b.layer, b.path, motion.points[i - 1].index, b.index, speed,
-                   std::string(axisName(axis))});
+    out.push_back(
+        {b.layer, b.path, motion.points[i - 1].index, b.index, speed, std::string(axisName(axis))});
   }
   lastReduced = i;
 }
 
-std::string summariseReductions(const std::vector<SpeedReduction>& reductions,
-                                std::size_t moves, double weldSpeed) {
+std::string summariseReductions(const std::vector<SpeedReduction>& reductions, std::size_t moves,
+                                double weldSpeed) {
   std::vector<const SpeedReduction*> lowest;
   for (const SpeedReduction& r : reductions) lowest.push_back(&r);
   const std::size_t examples = std::min<std::size_t>(3, lowest.size());
-  std::partial_sort(lowest.begin(), lowest.begin() + static_cast<long>(examples), lowest.end(),
-                    [](const SpeedReduction* a, const SpeedReduction* b) {
-                      return a->minSpeed < b->minSpeed;
-                    });
-  std::string text = "weld speed reduced below " + fmt(weldSpeed, 2) +
-                     " mm/s to keep every axis within its speed limit: " +
-                     std::to_string(reductions.size()) + " stretch(es), " +
-                     std::to_string(moves) + " weld move(s); lowest e.g. ";
+  std::partial_sort(
+      lowest.begin(), lowest.begin() + static_cast<long>(examples), lowest.end(),
+      [](const SpeedReduction* a, const SpeedReduction* b) { return a->minSpeed < b->minSpeed; });
+  std::string text =
+      "weld speed reduced below " + fmt(weldSpeed, 2) +
+      " mm/s to keep every axis within its speed limit: " + std::to_string(reductions.size()) +
+      " stretch(es), " + std::to_string(moves) + " weld move(s); lowest e.g. ";
   for (std::size_t k = 0; k < examples; ++k) {
     const SpeedReduction& r = *lowest[k];
     text += (k ? "; " : "") + std::string("layer ") + std::to_string(r.layer) + " path " +
@@ -160,9 +158,9 @@ void setEstimates(MotionPlan& motion, const ProcessDescription& process,
 
 std::string_view axisName(int axis) {
   static constexpr std::string_view kNames[] = {
-      "robot joint 1",        "robot joint 2",           "robot joint 3",
-      "robot joint 4",        "robot joint 5",           "robot joint 6",
-      "positioner tilt (a1)", "positioner rotation (a2)", "weld speed"};
+      "robot joint 1", "robot joint 2", "robot joint 3",        "robot joint 4",
+      "robot joint 5", "robot joint 6", "positioner tilt (a1)", "positioner rotation (a2)",
+      "weld speed"};
   return kNames[std::clamp(axis, 0, kNominal)];
 }
 
@@ -201,7 +199,8 @@ void parameteriseTime(MotionPlan& motion, const Cell& cell, const TimingOptions&
     time += dwell[i - 1] + move.seconds;
     b.time = time;
     const double nominalSpeed = b.arcOn ? cell.process.weldSpeed : cell.process.travelSpeed;
-    b.speed = move.seconds > 0.0 ? std::min(nominalSpeed, move.length / move.seconds) : nominalSpeed;
+    b.speed =
+        move.seconds > 0.0 ? std::min(nominalSpeed, move.length / move.seconds) : nominalSpeed;
     const std::size_t layer =
         std::min(static_cast<std::size_t>(std::max(b.layer, 0)), layerCount ? layerCount - 1 : 0);
     if (b.arcOn) {

@@ -293,10 +293,10 @@ TEST(Motion, WorldPosesAndRobotJoints) {
       const Pose viaTable = computeTableInWorld(cell.positioner, m.a1, m.a2) * m.toolInTable;
       EXPECT_TRUE(viaTable.isApprox(m.toolInWorld, 1e-12));
       // the round torch's x axis fixed in the world within the weld (toolAlongTravel off)
-      EXPECT_LT((m.toolInWorld.linear().col(0) -
-                 motion.points[span.begin].toolInWorld.linear().col(0))
-                    .norm(),
-                1e-12);
+      EXPECT_LT(
+          (m.toolInWorld.linear().col(0) - motion.points[span.begin].toolInWorld.linear().col(0))
+              .norm(),
+          1e-12);
       // robot joints reproduce the TCP pose, within limits
       const Pose tcp = computeFlangePose(cell.robot, m.joints) * cell.tool.tcp;
       EXPECT_LT((tcp.translation() - m.toolInRobotBase.translation()).norm(), 1e-6);
@@ -304,6 +304,10 @@ TEST(Motion, WorldPosesAndRobotJoints) {
                 1e-9);
       for (int j = 0; j < 6; ++j) EXPECT_TRUE(cell.robot.joints[j].contains(m.joints[j]));
       EXPECT_FALSE(m.flags & kMotionRobotLimit);
+      // the weld's configuration holds every point: J4 sits on 0 (vertical torch) and J6 is
+      // centred in a quadrant away from +-180 deg
+      EXPECT_TRUE(isWithinConfiguration(m.joints, span.configuration)) << k;
+      EXPECT_GT(std::abs(std::abs(std::remainder(m.joints[5], 2 * kPi)) - kPi), 30 * kDeg);
       // within a path the joints move continuously (no 2*pi jumps)
       if (k > span.begin) {
         for (int j = 0; j < 6; ++j) {

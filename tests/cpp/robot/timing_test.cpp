@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <iostream>
 #include <map>
 #include <string>
 
@@ -147,8 +146,7 @@ const Plan& modelPlan(const std::string& name) {
   const TriMesh model = readMesh(testing::modelPath(name));
   if (name == "custom_base_geom_to_slice.obj") {
     // the curved example of the issue at L = 1 mm (issue: 0.5 mm)
-    const std::string start =
-        "mesh:" + testing::modelPath("custom_base_surface.obj").string();
+    const std::string start = "mesh:" + testing::modelPath("custom_base_surface.obj").string();
     options.layerJob.start = loadStartSurface(parseStartSurfaceSpec(start));
     options.layerJob.capHoles = true;
     options.layerJob.layers.layerThickness = 1.5;
@@ -249,11 +247,6 @@ TEST_P(CellCanRunIt, AxisSpeedsGravityA2StepsAndConfigurations) {
   const MotionPlan motion = planMotion(plan, cell, options);
   expectCellCanRunIt(motion, cell, options);
   EXPECT_EQ(motion.paths.size(), plan.pathCount());
-  for (const std::string& w : motion.warnings) std::cout << "warning: " << w << "\n";
-  for (const std::string& n : motion.notes) std::cout << "note: " << n << "\n";
-  std::cout << "points " << motion.points.size() << " total " << motion.total.totalTime
-            << " s, arc " << motion.total.arcTime << " s, speed reductions "
-            << motion.speedReductions.size() << "\n";
 }
 
 INSTANTIATE_TEST_SUITE_P(IssueModels, CellCanRunIt,
