@@ -460,6 +460,22 @@ TEST(Motion, BadInputNamesTheProblem) {
   MotionOptions options;
   options.maxA2Step = 0.0;
   EXPECT_THROW(planMotion(linePlan({Vec3(0, 0, -1), Vec3(0, 0, -1)}), cell, options), InvalidInput);
+  for (double band : {0.0, 50 * kDeg}) {
+    MotionOptions bad;
+    bad.nearSingularBand = band;
+    try {
+      planMotion(linePlan({Vec3(0, 0, -1), Vec3(0, 0, -1)}), cell, bad);
+      ADD_FAILURE() << band;
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find("near-singular band must be in (0, 45) degrees"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  MotionOptions negativeMerge;
+  negativeMerge.mergeTolerance = -0.1;
+  EXPECT_THROW(planMotion(linePlan({Vec3(0, 0, -1), Vec3(0, 0, -1)}), cell, negativeMerge),
+               InvalidInput);
   Cell bad = cell;
   bad.process.wireDiameter = 0.0;
   EXPECT_THROW(planMotion(linePlan({Vec3(0, 0, -1), Vec3(0, 0, -1)}), bad), InvalidInput);

@@ -99,6 +99,38 @@ TEST(Timing, SlowAxisReducesTheWeldSpeedAndIsNamed) {
   EXPECT_NEAR(motion.points[10].time - motion.points[0].time, 10 / cell.process.weldSpeed, 1e-9);
 }
 
+TEST(Timing, OptionOffKeepsNominalTimes) {
+  const Cell cell = defaultCell();
+  // V tilted 20 deg and turning about the rotation axis by 4 deg per 0.1 mm: a2 limits the
+  // weld speed unless time parameterisation is off
+  Plan plan;
+  PlanLayer layer;
+  PlanPath path;
+  for (int i = 0; i < 40; ++i) {
+    PathPoint p;
+    p.position = Vec3(0.1 * i, 0.0, 0.0);
+    const double phi = 4.0 * kDeg * i;
+    p.deposition = Vec3(std::sin(20 * kDeg) * std::cos(phi), std::sin(20 * kDeg) * std::sin(phi),
+                        -std::cos(20 * kDeg));
+    p.normal = -p.deposition;
+    path.points.push_back(p);
+  }
+  layer.paths.push_back(path);
+  plan.layers.push_back(layer);
+  const MotionPlan limited = planMotion(plan, cell);
+  ASSERT_FALSE(limited.speedReductions.empty());
+  EXPECT_EQ(limited.speedReductions[0].axis, "positioner rotation (a2)");
+  MotionOptions off;
+  off.timeParameterise = false;
+  const MotionPlan nominal = planMotion(plan, cell, off);
+  EXPECT_TRUE(nominal.speedReductions.empty());
+  EXPECT_NEAR(nominal.total.arcTime, 3.9 / cell.process.weldSpeed, 1e-9);
+  EXPECT_GT(limited.total.arcTime, nominal.total.arcTime);
+  // a2 turns 156 deg at 180 deg/s at least
+  EXPECT_GE(limited.total.arcTime,
+            156 * kDeg / cell.positioner.rotation.limit.maxSpeed * (1 - 1e-9));
+}
+
 TEST(Timing, AxisNames) {
   EXPECT_EQ(axisName(0), "robot joint 1");
   EXPECT_EQ(axisName(5), "robot joint 6");
