@@ -13,9 +13,9 @@
 // planned duration, writer_support.hpp); every other move (welds and the arc-off retract,
 // travel and approach moves) `L P[k] v mm/sec CNT100` between weld points and FINE elsewhere
 // (arc start/end, arc-off corners, which must not be rounded towards the part), speed in mm/sec
-// or cm/min (whole numbers, a reduced weld speed rounded down; mm/min is written as cm/min). Arc: `Arc Start[n]` after a
-// path's first point and `Arc End[m]` after its last (n, m = the cell's arc condition numbers);
-// dwell `WAIT t(sec)`. Cost: O(points), about 250 bytes per point.
+// or cm/min (whole numbers, a reduced weld speed rounded down; mm/min is written as cm/min). Arc:
+// `Arc Start[n]` after a path's first point and `Arc End[m]` after its last (n, m = the cell's arc
+// condition numbers); dwell `WAIT t(sec)`. Cost: O(points), about 250 bytes per point.
 #pragma once
 
 #include "curvedslicer/export/exporter.hpp"
