@@ -551,8 +551,9 @@ inline void expectStates(const StatedConfiguration& stated, const RobotConfigura
 }
 
 /// Empty if `stated` is the configuration of `p`'s solution (IK branch exactly) up to joints
-/// lying within `band` (rad) of a boundary: each stated field must be the value of that field
-/// for some angle within ±band of the point's joint. Else what differs.
+/// lying within `band` (rad) of a boundary: each stated field of joints 1, 4, 5 (sign) and 6 must
+/// be the value of that field for some angle within ±band of the point's joint. Else what
+/// differs.
 inline std::string inconsistencyWithJoints(const StatedConfiguration& stated, const MotionPoint& p,
                                            double band) {
   if ((stated.branch & stated.branchMask) != (p.configuration & stated.branchMask)) {
@@ -571,7 +572,11 @@ inline std::string inconsistencyWithJoints(const StatedConfiguration& stated, co
       ok = ok && *stated.turn[j] >= static_cast<int>(std::floor((lo + 180.0) / 360.0)) &&
            *stated.turn[j] <= static_cast<int>(std::floor((hi + 180.0) / 360.0));
     }
-    if (stated.negative[j]) ok = ok && (*stated.negative[j] ? lo < 0.0 : hi >= 0.0);
+    // The signs of joints 2 and 3 (KUKA T bits 1, 2) follow from the pose and the branch; they
+    // change along a weld as the arm reaches and are no configuration choice.
+    if (stated.negative[j] && j != 1 && j != 2) {
+      ok = ok && (*stated.negative[j] ? lo < 0.0 : hi >= 0.0);
+    }
     if (stated.beyond180[j]) {
       ok = ok && (*stated.beyond180[j] ? std::abs(deg) + bandDeg >= 180.0
                                        : std::abs(deg) - bandDeg < 180.0);
