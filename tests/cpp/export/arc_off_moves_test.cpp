@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "curvedslicer/core/error.hpp"
 #include "curvedslicer/export/exporter.hpp"
 #include "export_test_support.hpp"
 #include "program_readers.hpp"
@@ -152,6 +153,25 @@ TEST(ArcOffMoves, NeutralFilesNameEveryPointsKindAndTime) {
     EXPECT_EQ(strictDouble(row[time], lines[i + 1]), motion.points[i].time);
     EXPECT_EQ(doc["points"][i][kind].get<std::string>(), toString(motion.points[i].kind));
     EXPECT_EQ(doc["points"][i][time].get<double>(), motion.points[i].time);
+  }
+}
+
+TEST(ArcOffMoves, AnArcOffPointBeyondAJointLimitIsNamedByItsKind) {
+  const Cell cell = defaultCell();
+  MotionPlan motion = makeNoisyMotion();
+  motion.points.back().joints[4] = cell.robot.joints[4].max + 0.1;  // the final home pose
+  for (ExportFormat format : {ExportFormat::Jbi, ExportFormat::Krl, ExportFormat::Rapid,
+                              ExportFormat::Ls, ExportFormat::Gcode}) {
+    try {
+      exportProgram(motion, cell, format);
+      ADD_FAILURE() << toString(format) << ": a home pose beyond joint 5's limit was exported";
+    } catch (const InvalidInput& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("motion point " + std::to_string(motion.points.size() - 1) +
+                             " (layer 0, path 1, home move) crosses the limit of robot joint 5"),
+                std::string::npos)
+          << message;
+    }
   }
 }
 
