@@ -249,6 +249,11 @@ ExportResult JbiWriter::write(const MotionPlan& motion, const Cell& cell,
   ExportResult result;
   result.format = ExportFormat::Jbi;
   const PointConfigurations configurations(motion);
+  if (ex.positionType != PositionType::Pulse) {  // pulses state joints, no configuration
+    if (std::string mismatch = describeBranchMismatches(motion); !mismatch.empty()) {
+      result.warnings.push_back(std::move(mismatch));
+    }
+  }
   if (jobs.size() > 1) {
     ProgramText text(ex.lineEnding);
     text.line("/JOB");

@@ -102,6 +102,9 @@ ExportResult KrlWriter::write(const MotionPlan& motion, const Cell& cell,
   ExportResult result;
   result.format = ExportFormat::Krl;
   const PointConfigurations configurations(motion);
+  if (std::string mismatch = describeBranchMismatches(motion); !mismatch.empty()) {
+    result.warnings.push_back(std::move(mismatch));
+  }
   double lastSpeed = -1.0;
   const std::size_t count = motion.points.size();
   for (std::size_t i = 0; i < count; ++i) {

@@ -103,6 +103,9 @@ ExportResult LsWriter::write(const MotionPlan& motion, const Cell& cell,
   ExportResult result;
   result.format = ExportFormat::Ls;
   const PointConfigurations configurations(motion);
+  if (std::string mismatch = describeBranchMismatches(motion); !mismatch.empty()) {
+    result.warnings.push_back(std::move(mismatch));
+  }
   for (std::size_t i = 0; i < count; ++i) {
     const MotionPoint& p = motion.points[i];
     std::string& b = mn.buffer();

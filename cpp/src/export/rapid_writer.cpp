@@ -95,6 +95,9 @@ ExportResult RapidWriter::write(const MotionPlan& motion, const Cell& cell,
   ExportResult result;
   result.format = ExportFormat::Rapid;
   const PointConfigurations configurations(motion);
+  if (std::string mismatch = describeBranchMismatches(motion); !mismatch.empty()) {
+    result.warnings.push_back(std::move(mismatch));
+  }
   const std::size_t count = motion.points.size();
   for (std::size_t i = 0; i < count; ++i) {
     reportEvery(progress, i, count);

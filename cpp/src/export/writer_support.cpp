@@ -32,6 +32,27 @@ std::vector<int> mapPointsToSpans(const MotionPlan& motion) {
   return spans;
 }
 
+std::string describeBranchMismatches(const MotionPlan& motion) {
+  std::size_t count = 0;
+  std::string first;
+  for (const MotionPathSpan& span : motion.paths) {
+    for (std::size_t i = span.begin; i < span.end && i < motion.points.size(); ++i) {
+      const MotionPoint& p = motion.points[i];
+      if (p.configuration == span.configuration.branch) continue;
+      if (count++ == 0) {
+        first = "layer " + std::to_string(p.layer) + " path " + std::to_string(p.path) + " point " +
+                std::to_string(p.index) + " has IK branch " + std::to_string(p.configuration) +
+                ", its weld states " + std::to_string(span.configuration.branch);
+      }
+    }
+  }
+  if (count == 0) return {};
+  return std::to_string(count) +
+         " weld point(s) lie in another IK branch than the configuration the program states for "
+         "their weld, e.g. " +
+         first + "; the controller may refuse or flip there: re-plan the motion";
+}
+
 double jointSpeedPercent(const MotionPlan& motion, const Cell& cell, std::size_t i) {
   if (i == 0) return kUnplannedJointSpeedPercent;
   const MotionPoint& from = motion.points[i - 1];

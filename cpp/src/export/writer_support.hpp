@@ -174,6 +174,11 @@ inline bool speedReduced(const MotionPoint& p) {
 /// @throws InvalidInput for a span outside the points or two spans claiming one point.
 std::vector<int> mapPointsToSpans(const MotionPlan& motion);
 
+/// Empty, or a warning when weld points lie in another IK branch (MotionPoint::configuration)
+/// than their weld's stated configuration (MotionPathSpan::configuration.branch): the program
+/// would then state a configuration the robot is not in. Names how many points and the first.
+std::string describeBranchMismatches(const MotionPlan& motion);
+
 /// The robot configuration the program states at each point: within a weld always the weld's
 /// (MotionPathSpan::configuration, chosen by planMotion with hysteresis, constant from the path
 /// start to the path end); at arc-off points the configuration of the point's own joints

@@ -84,5 +84,23 @@ TEST(ConfigurationBits, SplitJbiKeepsThemAcrossSubJobs) {
   expectConstantWithinWelds(program, "split jbi");
 }
 
+TEST(ConfigurationBits, AWeldPointInAnotherBranchIsWarnedAbout) {
+  const Cell cell = defaultCell();
+  MotionPlan motion = makeNoisyMotion();
+  for (ExportFormat format : kRobotFormats) {
+    EXPECT_TRUE(exportProgram(motion, cell, format).warnings.empty()) << toString(format);
+  }
+  motion.points[motion.paths[0].begin + 3].configuration = 4;  // a wrist flip inside weld 0
+  for (ExportFormat format : kRobotFormats) {
+    const std::vector<std::string> warnings = exportProgram(motion, cell, format).warnings;
+    ASSERT_EQ(warnings.size(), 1u) << toString(format);
+    EXPECT_NE(warnings[0].find("1 weld point(s) lie in another IK branch"), std::string::npos)
+        << warnings[0];
+    EXPECT_NE(warnings[0].find("layer 0 path 0 point 3 has IK branch 4, its weld states 0"),
+              std::string::npos)
+        << warnings[0];
+  }
+}
+
 }  // namespace
 }  // namespace curvedslicer

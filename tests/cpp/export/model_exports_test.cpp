@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "common/test_paths.hpp"
 #include "curvedslicer/export/exporter.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
 #include "curvedslicer/pipeline/option_parsing.hpp"
@@ -20,7 +21,6 @@
 #include "export_test_support.hpp"
 #include "program_readers.hpp"
 #include "synthetic_motion.hpp"
-#include "common/test_paths.hpp"
 
 namespace curvedslicer {
 namespace {
