@@ -4,6 +4,7 @@
 // reduced one written as reduced, never rounded up), and the neutral files name each point's kind.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -154,6 +155,41 @@ TEST(ArcOffMoves, NeutralFilesNameEveryPointsKindAndTime) {
     EXPECT_EQ(doc["points"][i][kind].get<std::string>(), toString(motion.points[i].kind));
     EXPECT_EQ(doc["points"][i][time].get<double>(), motion.points[i].time);
   }
+}
+
+TEST(ArcOffMoves, HomeJointSpeedKeepsThePlannedDuration) {
+  const Cell cell = defaultCell();
+  const MotionPlan motion = makeNoisyMotion();
+  const MotionPoint& from = motion.points[motion.points.size() - 2];
+  const MotionPoint& home = motion.points.back();
+  ASSERT_EQ(home.kind, MoveKind::Home);
+  // The slowest joint speed (percent of every axis's maximum) that still ends on time.
+  const double duration = home.time - from.time;
+  double fraction = 0.0;
+  for (int j = 0; j < 6; ++j) {
+    fraction = std::max(fraction, std::abs(home.joints[j] - from.joints[j]) / duration /
+                                      cell.robot.joints[j].maxSpeed);
+  }
+  fraction = std::max(fraction,
+                      std::abs(home.a1 - from.a1) / duration / cell.positioner.tilt.limit.maxSpeed);
+  fraction = std::max(
+      fraction, std::abs(home.a2 - from.a2) / duration / cell.positioner.rotation.limit.maxSpeed);
+  ASSERT_GT(fraction, 0.01);
+  ASSERT_LT(fraction, 1.0);
+  char percent[32];
+  std::snprintf(percent, sizeof percent, "%.2f", std::ceil(fraction * 1e4 - 1e-9) / 100.0);
+  const std::string jbi = exportProgram(motion, cell, ExportFormat::Jbi).files[0].text;
+  EXPECT_NE(jbi.find("MOVJ C00000 VJ=10.00 +MOVJ EC00000 VJ=10.00"), std::string::npos)
+      << "the first move starts from an unknown pose: 10 %";
+  const std::string last = "VJ=" + std::string(percent) + " +MOVJ EC";
+  EXPECT_NE(jbi.find(last), std::string::npos) << last << " in\n" << jbi;
+  const std::string krl = exportProgram(motion, cell, ExportFormat::Krl).files[0].text;
+  EXPECT_NE(krl.find("$VEL_AXIS[5]=" + std::string(percent)), std::string::npos) << krl;
+  const std::string ls = exportProgram(motion, cell, ExportFormat::Ls).files[0].text;
+  const std::string j = "J P[" + std::to_string(motion.points.size()) + "] " +
+                        std::to_string(static_cast<int>(std::round(std::stod(percent)))) +
+                        "% FINE ;";
+  EXPECT_NE(ls.find(j), std::string::npos) << j;
 }
 
 TEST(ArcOffMoves, AnArcOffPointBeyondAJointLimitIsNamedByItsKind) {
