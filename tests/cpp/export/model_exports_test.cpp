@@ -108,10 +108,7 @@ TEST(ModelExports, CurvedExampleStatesOneConfigurationPerWeld) {
   c.pointSpacing = 5.0;
   const MotionPlan motion = planModelMotion(c, cell);
   ASSERT_GT(motion.paths.size(), 100u);
-  if (!plannerSetsConfigurations(motion)) {
-    GTEST_SKIP() << "depends on H3 of issue 14: planMotion does not fill "
-                    "MotionPathSpan::configuration yet";
-  }
+  ASSERT_TRUE(plannerSetsConfigurations(motion));
   expectConfigurationsPerWeld(motion, cell);
 }
 
@@ -125,10 +122,7 @@ TEST(ModelExports, CylinderStatesOneConfigurationPerWeld) {
   c.pointSpacing = 10.0;
   const MotionPlan motion = planModelMotion(c, cell);
   ASSERT_GT(motion.paths.size(), 100u);
-  if (!plannerSetsConfigurations(motion)) {
-    GTEST_SKIP() << "depends on H3 of issue 14: planMotion does not fill "
-                    "MotionPathSpan::configuration yet";
-  }
+  ASSERT_TRUE(plannerSetsConfigurations(motion));
   expectConfigurationsPerWeld(motion, cell);
 }
 
