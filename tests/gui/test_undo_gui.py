@@ -6,6 +6,7 @@ and redone, then twice undone and redone. After each step the events
 are processed (the view provider restyles from the event loop) and the Report view and the
 log must hold no "Traceback" and no Python error. Exits with os._exit."""
 
+import ctypes
 import os
 import re
 import sys
@@ -155,4 +156,6 @@ else:
     print("failures: %s" % failures)
 sys.stdout.flush()
 sys.stderr.flush()
+# FreeCAD 1.1's GUI sends print() to a buffered C stdout that os._exit would discard.
+ctypes.CDLL(None).fflush(None)
 os._exit(0 if not failures else 1)

@@ -7,6 +7,7 @@ value of every group (paths, robot, thin wall) and refuses a missing or broken c
 face not on the wall surface with their messages, leaving the Job unchanged. Exits with
 os._exit."""
 
+import ctypes
 import os
 import sys
 import traceback
@@ -332,4 +333,6 @@ else:
     print("failures: %s" % failures)
 sys.stdout.flush()
 sys.stderr.flush()
+# FreeCAD 1.1's GUI sends print() to a buffered C stdout that os._exit would discard.
+ctypes.CDLL(None).fflush(None)
 os._exit(0 if not failures else 1)
