@@ -77,5 +77,28 @@ class PackageMetadata(unittest.TestCase):
         self.assertTrue(workbench.supportsCurrentFreeCAD())
         self.assertTrue(re.match(r"^\d+\.\d+", workbench.FreeCADMin), workbench.FreeCADMin)
 
+    def test_addon_manager_reads_it(self):
+        """FreeCAD 1.x's Addon Manager parses package.xml with its own pure-Python reader (it
+        prints "Invalid version" and substitutes 0.0.0 for a version it cannot parse)."""
+        try:
+            import addonmanager_metadata
+        except ImportError:
+            self.skipTest("this FreeCAD has no addonmanager_metadata (0.20)")
+        import contextlib
+        import io
+
+        printed = io.StringIO()
+        with contextlib.redirect_stdout(printed):
+            metadata = addonmanager_metadata.MetadataReader.from_file(PACKAGE_XML)
+        self.assertEqual(printed.getvalue(), "")
+        self.assertEqual(metadata.name, "CurvedSlicer")
+        self.assertEqual(str(metadata.version).strip(), package.__version__)
+        workbench = metadata.content["workbench"][0]
+        self.assertIn(workbench.classname, registered_workbench_classes())
+        running = addonmanager_metadata.Version(from_list=FreeCAD.Version()[:3])
+        self.assertLessEqual(workbench.freecadmin, running)
+        python = addonmanager_metadata.Version(from_list=sys.version_info[:3])
+        self.assertLessEqual(workbench.pythonmin, python)
+
 
 cs_testing.main(__name__)
