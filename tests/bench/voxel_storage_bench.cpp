@@ -206,7 +206,8 @@ class NeighbourCollector {
 };
 
 /// Search parameters without sorting: nanoflann 1.5 replaced SearchParams(checks, eps, sorted)
-/// by SearchParameters(eps, sorted).
+/// by SearchParameters(eps, sorted). NANOFLANN_VERSION is 0x142 for 1.4.2, 0x150 for 1.5.0 and
+/// 0x010C01 for 1.12.1 (the later encoding compares larger too).
 inline auto unsortedSearch() {
 #if NANOFLANN_VERSION >= 0x150
   return nanoflann::SearchParameters(0.0f, false);
