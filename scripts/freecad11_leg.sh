@@ -44,9 +44,15 @@ fi
 
 root="$(realpath -m "$root")"
 case "$root/" in
-  "$repo"/* | /work/wt-*/*) die "chroot folder inside a source tree: $root; set CURVEDSLICER_SID_ROOT outside it" ;;
+  "$repo"/*) die "chroot folder inside the source tree: $root; set CURVEDSLICER_SID_ROOT outside it" ;;
   / | /srv/ | /var/ | /tmp/) die "chroot folder is a system folder: $root; choose a folder of its own" ;;
 esac
+existing="$root"
+while [[ ! -d "$existing" ]]; do existing="$(dirname "$existing")"; done
+if command -v git >/dev/null 2>&1 &&
+   tree="$(git -C "$existing" rev-parse --show-toplevel 2>/dev/null)"; then
+  die "chroot folder inside the git work tree $tree: $root; set CURVEDSLICER_SID_ROOT outside it"
+fi
 
 mirror="${CURVEDSLICER_SID_MIRROR:-}"
 if [[ -z "$mirror" ]]; then
@@ -98,6 +104,9 @@ in_chroot() {
 
 # ---- 1. the chroot ----------------------------------------------------------------------------
 t0=$(date +%s)
+if grep -q " $root/" /proc/mounts; then
+  die "file systems are still mounted under $root (a run killed without clean-up?); unmount them first"
+fi
 ready="$root/.curvedslicer-base-ready"
 if [[ "${CURVEDSLICER_SID_FRESH:-0}" == 1 && -e "$root" ]]; then
   log "CURVEDSLICER_SID_FRESH=1: deleting $root"

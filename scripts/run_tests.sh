@@ -74,7 +74,8 @@ results+=("$fuzz_status")
 details+=("3 readers x 60 s, log: $logs/fuzz.log ($(($(date +%s) - fuzz_start)) s)")
 
 # The FreeCAD and GUI tests again on FreeCAD 1.1 (Qt6/PySide6), in a Debian sid chroot
-# (scripts/freecad11_leg.sh: created on the first run, ~20 min, reused after). Needs root or sudo;
+# (scripts/freecad11_leg.sh: the chroot is created on the first run, 12-16 min on 2 cores with
+# 1.25 GB of packages; later runs rebuild what changed and test, 20-100 s). Needs root or sudo;
 # CURVEDSLICER_SKIP_FREECAD11=1 leaves it out (reported as SKIP).
 fc11_start=$(date +%s)
 if [[ "${CURVEDSLICER_SKIP_FREECAD11:-0}" == 1 ]]; then
