@@ -44,8 +44,10 @@ fi
 
 root="$(realpath -m "$root")"
 case "$root/" in
-  "$repo"/*) die "chroot folder inside the source tree: $root; set CURVEDSLICER_SID_ROOT outside it" ;;
-  / | /srv/ | /var/ | /tmp/) die "chroot folder is a system folder: $root; choose a folder of its own" ;;
+  "$repo"/*)
+    die "chroot folder inside the source tree: $root; set CURVEDSLICER_SID_ROOT outside it" ;;
+  / | /srv/ | /var/ | /tmp/)
+    die "chroot folder is a system folder: $root; choose a folder of its own" ;;
 esac
 existing="$root"
 while [[ ! -d "$existing" ]]; do existing="$(dirname "$existing")"; done
@@ -83,7 +85,7 @@ mount_in_chroot() {  # mount_in_chroot TARGET MOUNT-ARGS...
   local target="$root/$1"
   shift
   mkdir -p "$target"
-  mountpoint -q "$target" && die "$target is already mounted (a run killed without clean-up?); unmount it first"
+  mountpoint -q "$target" && die "$target is already mounted; unmount it first"
   mount "$@" "$target"
   mounted+=("$target")
 }
@@ -105,7 +107,7 @@ in_chroot() {
 # ---- 1. the chroot ----------------------------------------------------------------------------
 t0=$(date +%s)
 if grep -q " $root/" /proc/mounts; then
-  die "file systems are still mounted under $root (a run killed without clean-up?); unmount them first"
+  die "file systems still mounted under $root (a run killed without clean-up?); unmount them"
 fi
 ready="$root/.curvedslicer-base-ready"
 if [[ "${CURVEDSLICER_SID_FRESH:-0}" == 1 && -e "$root" ]]; then
