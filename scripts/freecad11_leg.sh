@@ -168,5 +168,6 @@ status=0
 in_chroot ctest --test-dir "$work/build" -L '^(freecad|gui)$' --output-on-failure -j "$jobs" \
   --timeout 1200 || status=$?
 t4=$(date +%s)
-log "times: chroot $((t1 - t0)) s, packages $((t2 - t1)) s, build $((t3 - t2)) s, tests $((t4 - t3)) s, total $((t4 - t0)) s"
+log "times: chroot $((t1 - t0)) s, packages $((t2 - t1)) s, build $((t3 - t2)) s," \
+  "tests $((t4 - t3)) s, total $((t4 - t0)) s"
 exit "$status"
