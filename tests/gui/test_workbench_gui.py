@@ -7,6 +7,7 @@ value of every group (paths, robot, thin wall) and refuses a missing or broken c
 face not on the wall surface with their messages, leaving the Job unchanged. Exits with
 os._exit."""
 
+import ctypes
 import os
 import sys
 import traceback
@@ -182,9 +183,12 @@ def run():
                 "doc = FreeCAD.newDocument('Headless')\n"
                 "box = doc.addObject('Part::Box', 'Box')\ndoc.recompute()\n"
                 "job = api.make_job(doc, box, layer_thickness=3.0, voxel_size=1.0)\n"
-                "api.run(job, progress=False)\ndoc.saveAs(%r)\nsys.exit(0)\n" % path)
-    subprocess.run([os.environ.get("CURVEDSLICER_FREECADCMD", "freecadcmd"), script],
-                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=120)
+                # closed before exit: freecadcmd 1.1 crashes at exit with Mesh features open
+                "api.run(job, progress=False)\ndoc.saveAs(%r)\nFreeCAD.closeDocument(doc.Name)\n"
+                "sys.exit(0)\n" % path)
+    made = subprocess.run([os.environ.get("CURVEDSLICER_FREECADCMD", "freecadcmd"), script],
+                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=120)
+    check(made.returncode == 0, "the headless freecadcmd exits 0 (code %d)" % made.returncode)
     reopened = FreeCAD.openDocument(path)
     process_events()
     job2 = reopened.getObject("Job")
@@ -332,4 +336,6 @@ else:
     print("failures: %s" % failures)
 sys.stdout.flush()
 sys.stderr.flush()
+# FreeCAD 1.1's GUI sends print() to a buffered C stdout that os._exit would discard.
+ctypes.CDLL(None).fflush(None)
 os._exit(0 if not failures else 1)
