@@ -21,24 +21,18 @@ add_custom_target(curvedslicer_workbench ALL DEPENDS ${workbench_stamp} _curveds
 
 # ---- install into the user's Mod folder -------------------------------------------------------
 # `cmake --install <build> --component workbench` installs only the workbench. Destination,
-# decided at install time: CURVEDSLICER_FREECAD_MOD_DIR if set at configure time,
-# else $FREECAD_USER_HOME/Mod, else ~/.local/share/FreeCAD/Mod (FreeCAD 0.20 on Linux).
+# decided at install time (cmake/install_workbench.cmake): CURVEDSLICER_FREECAD_MOD_DIR if set at
+# configure time, else the user Mod folder FreeCAD names (getUserAppDataDir()/Mod: 0.20 and 1.0
+# ~/.local/share/FreeCAD/Mod, 1.1 ~/.local/share/FreeCAD/v1-1/Mod, or $FREECAD_USER_HOME/Mod).
 set(CURVEDSLICER_FREECAD_MOD_DIR "" CACHE PATH
     "FreeCAD Mod folder to install the workbench into (empty: the user's, at install time)")
+find_program(FREECADCMD_EXECUTABLE NAMES freecadcmd FreeCADCmd)
 install(CODE "
-  set(mod_dir \"${CURVEDSLICER_FREECAD_MOD_DIR}\")
-  if(NOT mod_dir)
-    if(DEFINED ENV{FREECAD_USER_HOME} AND NOT \"\$ENV{FREECAD_USER_HOME}\" STREQUAL \"\")
-      set(mod_dir \"\$ENV{FREECAD_USER_HOME}/Mod\")
-    else()
-      set(mod_dir \"\$ENV{HOME}/.local/share/FreeCAD/Mod\")
-    endif()
-  endif()
-  message(STATUS \"Installing the CurvedSlicer workbench into \${mod_dir}/CurvedSlicer\")
-  file(INSTALL \"${workbench_source}/\" DESTINATION \"\${mod_dir}/CurvedSlicer\"
-       PATTERN __pycache__ EXCLUDE)
-  file(INSTALL \"$<TARGET_FILE:_curvedslicer>\"
-       DESTINATION \"\${mod_dir}/CurvedSlicer/freecad/curvedslicer\")
+  set(WORKBENCH_SOURCE \"${workbench_source}\")
+  set(WORKBENCH_MODULE \"$<TARGET_FILE:_curvedslicer>\")
+  set(MOD_DIR \"${CURVEDSLICER_FREECAD_MOD_DIR}\")
+  set(FREECADCMD \"${FREECADCMD_EXECUTABLE}\")
+  include(\"${PROJECT_SOURCE_DIR}/cmake/install_workbench.cmake\")
 " COMPONENT workbench)
 
 # ---- tests ----------------------------------------------------------------------------------
@@ -46,7 +40,6 @@ install(CODE "
 # build-tree workbench), so tests never touch the real user configuration and can run in
 # parallel. The driver fails on a non-zero exit, a missing success marker or any "Traceback".
 if(CURVEDSLICER_BUILD_TESTS)
-  find_program(FREECADCMD_EXECUTABLE freecadcmd)
   find_program(FREECAD_EXECUTABLE freecad)
   find_program(XVFB_RUN_EXECUTABLE xvfb-run)
   set(driver ${PROJECT_SOURCE_DIR}/tests/freecad/run_in_freecad.py)
@@ -62,6 +55,14 @@ if(CURVEDSLICER_BUILD_TESTS)
       set_tests_properties(freecad_${test_name} PROPERTIES LABELS freecad TIMEOUT 900
                            ENVIRONMENT "OMP_NUM_THREADS=2")
     endforeach()
+    # The install rule: a fresh HOME, `cmake --install`, then FreeCAD loads the installed copy.
+    add_test(NAME freecad_install_rule
+             COMMAND ${Python3_EXECUTABLE} ${PROJECT_SOURCE_DIR}/tests/freecad/install_check.py
+                     --cmake ${CMAKE_COMMAND} --build ${CMAKE_BINARY_DIR}
+                     --freecadcmd ${FREECADCMD_EXECUTABLE}
+                     --home ${CMAKE_BINARY_DIR}/freecad-test-homes/install_rule)
+    set_tests_properties(freecad_install_rule PROPERTIES LABELS freecad TIMEOUT 300
+                         PASS_REGULAR_EXPRESSION "CURVEDSLICER-TESTS-OK")
   else()
     message(STATUS "freecadcmd not found: FreeCAD headless tests skipped")
   endif()

@@ -2,7 +2,9 @@
 # Builds and runs every test twice: a Release build (build/; GoogleTest suites plus the FreeCAD
 # workbench tests under freecadcmd and xvfb-run) and an AddressSanitizer +
 # UndefinedBehaviorSanitizer build (build-asan/; benchmarks, Python module and FreeCAD tests off);
-# then the libFuzzer targets of the file readers for 60 s each (build-fuzz/, tests/fuzz/). Prints a summary and exits non-zero if any build or test failed. Run scripts/setup.sh first for
+# then the libFuzzer targets of the file readers for 60 s each (build-fuzz/, tests/fuzz/); then the
+# FreeCAD and GUI tests on FreeCAD 1.1 in a Debian sid chroot (scripts/freecad11_leg.sh). Prints a
+# summary and exits non-zero if any build or test failed. Run scripts/setup.sh first for
 # the dependencies. CURVEDSLICER_BUILD_DIR / CURVEDSLICER_ASAN_BUILD_DIR override the two build
 # folders.
 set -uo pipefail
@@ -70,6 +72,31 @@ fi
 names+=(fuzz)
 results+=("$fuzz_status")
 details+=("3 readers x 60 s, log: $logs/fuzz.log ($(($(date +%s) - fuzz_start)) s)")
+
+# The FreeCAD and GUI tests again on FreeCAD 1.1 (Qt6/PySide6), in a Debian sid chroot
+# (scripts/freecad11_leg.sh: the chroot is created on the first run, 12-16 min on 2 cores with
+# 1.25 GB of packages; later runs rebuild what changed and test, 20-100 s). Needs root or sudo;
+# CURVEDSLICER_SKIP_FREECAD11=1 leaves it out (reported as SKIP).
+fc11_start=$(date +%s)
+if [[ "${CURVEDSLICER_SKIP_FREECAD11:-0}" == 1 ]]; then
+  fc11_status=SKIP
+  fc11_detail="CURVEDSLICER_SKIP_FREECAD11=1"
+else
+  echo "=== freecad11: FreeCAD + GUI tests on FreeCAD 1.1 (sid chroot) ==="
+  if bash "$repo/scripts/freecad11_leg.sh" >"$logs/freecad11.log" 2>&1; then
+    fc11_status=PASS
+  else
+    fc11_status=FAIL
+    failed=1
+    tail -n 60 "$logs/freecad11.log"
+  fi
+  fc11_detail="$(grep -E 'tests passed' "$logs/freecad11.log" | tail -n 1)"
+  [[ -n "$fc11_detail" ]] || fc11_detail="no test summary"
+  fc11_detail="$fc11_detail, log: $logs/freecad11.log"
+fi
+names+=(freecad11)
+results+=("$fc11_status")
+details+=("$fc11_detail ($(($(date +%s) - fc11_start)) s)")
 
 echo
 echo "================ test summary ================"

@@ -293,9 +293,9 @@ void bindMotionOptions(py::module_& m) {
   OptionsClass<O> c(m, "MotionOptions",
                     "Positioner angles and robot joints (robot/motion.hpp planMotion, paper eq. "
                     "16).");
-  c.value("singular_zone", member(&O::singularZone), "rad: V within this of the rotation axis")
-      .value("max_singular_a2_step", member(&O::maxSingularA2Step),
-             "rad per point: a2 change limit in and around the singular zone")
+  c.value("near_singular_band", member(&O::nearSingularBand),
+          "rad: V this close to the rotation axis gets a blended a2; outside, V stays this close "
+          "to gravity")
       .value("initial_a2", member(&O::initialA2), "rad, a2 when the first points are singular")
       .value("prefer_positive_tilt", member(&O::preferPositiveTilt), "a1 >= 0 if feasible")
       .value("smoothing_length", member(&O::smoothingLength),

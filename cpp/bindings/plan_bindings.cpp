@@ -16,6 +16,7 @@
 #include "curvedslicer/export/exporter.hpp"
 #include "curvedslicer/plan/plan_io.hpp"
 #include "curvedslicer/robot/cell.hpp"
+#include "curvedslicer/robot/configuration.hpp"
 #include "curvedslicer/robot/motion.hpp"
 #include "curvedslicer/robot/positioner.hpp"
 
@@ -50,6 +51,57 @@ py::dict estimateDict(const MotionEstimate& e) {
   return d;
 }
 
+py::dict configurationDict(const RobotConfiguration& c) {
+  py::dict d;
+  d["branch"] = c.branch;
+  d["quadrant"] = c.quadrant;
+  d["turn"] = c.turn;
+  d["negative"] = c.negative;
+  d["beyond180"] = c.beyond180;
+  return d;
+}
+
+py::list pathSpanList(const std::vector<MotionPathSpan>& spans) {
+  py::list out;
+  for (const MotionPathSpan& s : spans) {
+    py::dict d;
+    d["layer"] = s.layer;
+    d["path"] = s.path;
+    d["begin"] = s.begin;
+    d["end"] = s.end;
+    d["configuration"] = configurationDict(s.configuration);
+    out.append(d);
+  }
+  return out;
+}
+
+py::list speedReductionList(const std::vector<SpeedReduction>& reductions) {
+  py::list out;
+  for (const SpeedReduction& r : reductions) {
+    py::dict d;
+    d["layer"] = r.layer;
+    d["path"] = r.path;
+    d["first_index"] = r.firstIndex;
+    d["last_index"] = r.lastIndex;
+    d["min_speed"] = r.minSpeed;
+    d["axis"] = r.axis;
+    out.append(d);
+  }
+  return out;
+}
+
+py::list collisionList(const std::vector<CollisionReport>& collisions) {
+  py::list out;
+  for (const CollisionReport& c : collisions) {
+    py::dict d;
+    d["point"] = c.point;
+    d["what"] = c.what;
+    d["depth"] = c.depth;
+    out.append(d);
+  }
+  return out;
+}
+
 // Motion points as columns: ints (n,) and vectors (n, 3), so 10^5 points stay cheap.
 // Options arrive by value: the call runs without the GIL, so it must not share them with Python.
 py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
@@ -59,8 +111,9 @@ py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
   const MotionPlan motion = runWithProgress(
       progress, [&](Progress p) { return planMotion(plan, cell, options, std::move(p)); });
   const auto n = static_cast<py::ssize_t>(motion.points.size());
-  py::array_t<std::int32_t> layer(n), path(n), index(n), flags(n);
-  py::array_t<double> a1(n), a2(n), residual(n), speed(n);
+  py::array_t<std::int32_t> layer(n), path(n), index(n), flags(n), kind(n);
+  py::array_t<double> a1(n), a2(n), residual(n), speed(n), time(n);
+  py::array_t<double> joints({n, py::ssize_t{6}});
   py::array_t<bool> arcOn(n), pathStart(n), pathEnd(n);
   py::array_t<double> position({n, py::ssize_t{3}}), deposition({n, py::ssize_t{3}}),
       used({n, py::ssize_t{3}}), normal({n, py::ssize_t{3}});
@@ -74,6 +127,10 @@ py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
     a2.mutable_at(i) = p.a2;
     residual.mutable_at(i) = p.residual;
     speed.mutable_at(i) = p.speed;
+    time.mutable_at(i) = p.time;
+    kind.mutable_at(i) = static_cast<std::int32_t>(p.kind);
+    for (py::ssize_t k = 0; k < 6; ++k)
+      joints.mutable_at(i, k) = p.joints[static_cast<std::size_t>(k)];
     arcOn.mutable_at(i) = p.arcOn;
     pathStart.mutable_at(i) = p.pathStart;
     pathEnd.mutable_at(i) = p.pathEnd;
@@ -93,6 +150,10 @@ py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
   d["a2"] = a2;
   d["residual"] = residual;
   d["speed"] = speed;
+  d["time"] = time;
+  d["kind"] = kind;
+  d["kind_names"] = py::make_tuple("path", "retract", "travel", "approach", "home");
+  d["joints"] = joints;
   d["arc_on"] = arcOn;
   d["path_start"] = pathStart;
   d["path_end"] = pathEnd;
@@ -106,7 +167,11 @@ py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
   d["limited_points"] = motion.limitedPoints;
   d["total"] = estimateDict(motion.total);
   d["table_to_part"] = poseMatrix(motion.tableToPart);  // the placement used (4x4, mm)
+  d["near_singular_band"] = motion.nearSingularBand;
   d["notes"] = motion.notes;
+  d["paths"] = pathSpanList(motion.paths);
+  d["speed_reductions"] = speedReductionList(motion.speedReductions);
+  d["collisions"] = collisionList(motion.collisions);
   return d;
 }
 
@@ -254,11 +319,17 @@ void registerPlanBindings(py::module_& m) {
         "Positioner angles and robot joints per path point (robot/motion.hpp planMotion, paper "
         "eq. 16) with options: MotionOptions (unreachable='warn' keeps unreachable points with "
         "a warning instead of raising InvalidInput; tool_along_travel: tool x along the travel "
-        "direction, else a fixed world x). Returns columns over the motion points: layer, path, "
-        "index, a1, a2 (rad), residual (rad), speed, arc_on, path_start, path_end, flags, "
-        "position/normal/deposition/used_deposition (n,3) in the part frame; warnings, "
-        "max_residual, singular_points, limited_points, total (estimates), table_to_part (4x4 "
-        "mm: the part placement used, MotionOptions.placement), notes.",
+        "direction, else a fixed world x, turned about the torch axis per path so joint 6 stays "
+        "away from +-180 deg). Returns columns over the motion points: layer, path, index, kind "
+        "(codes into kind_names: path, retract, travel, approach, home), a1, a2 (rad), joints "
+        "(n,6, rad), residual (rad), speed (mm/s of the arriving move), time (s from the start, "
+        "axis speed limits respected), arc_on, path_start, path_end, flags, "
+        "position/normal/deposition/used_deposition (n,3) in the part frame; warnings, notes, "
+        "max_residual, singular_points, limited_points, near_singular_band (rad), paths "
+        "(layer, path, begin, end, configuration), speed_reductions (layer, path, first_index, "
+        "last_index, min_speed, axis), collisions (point, what, depth), total (estimates; "
+        "total_time_s = the last point's time plus the dwell after it), table_to_part (4x4 mm: the "
+        "part placement used, MotionOptions.placement).",
         py::arg("plan_json"), py::arg("cell_json"), py::kw_only(),
         py::arg("options") = MotionOptions{}, py::arg("progress") = py::none());
 

@@ -108,4 +108,8 @@ except Exception:
     traceback.print_exc()
     code = 1
 sys.stdout.flush()
+# freecadcmd 1.1 crashes at exit (in FreeCAD's Mesh module) while a document holding Mesh features
+# is open; the document is saved already.
+for name in list(FreeCAD.listDocuments()):
+    FreeCAD.closeDocument(name)
 sys.exit(code)

@@ -180,9 +180,12 @@ struct CentreCloud {
 using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, CentreCloud>,
                                                    CentreCloud, 3, std::uint32_t>;
 
-/// Collects the points within the radius (reused between searches, no sorting).
+/// Collects the points within the radius (reused between searches, no sorting). The result-set
+/// interface of nanoflann's findNeighbors (1.5+ also needs the two types and sort()).
 class NeighbourCollector {
  public:
+  using DistanceType = float;
+  using IndexType = std::uint32_t;
   explicit NeighbourCollector(float radiusSquared) : radiusSquared_(radiusSquared) {
     found_.reserve(32);
   }
@@ -194,12 +197,24 @@ class NeighbourCollector {
     if (dist < radiusSquared_) found_.push_back(index);
     return true;
   }
+  void sort() {}  // the caller needs no order
   const std::vector<std::uint32_t>& found() const { return found_; }
 
  private:
   float radiusSquared_;
   std::vector<std::uint32_t> found_;
 };
+
+/// Search parameters without sorting: nanoflann 1.5 replaced SearchParams(checks, eps, sorted)
+/// by SearchParameters(eps, sorted). NANOFLANN_VERSION is 0x142 for 1.4.2, 0x150 for 1.5.0 and
+/// 0x010C01 for 1.12.1 (the later encoding compares larger too).
+inline auto unsortedSearch() {
+#if NANOFLANN_VERSION >= 0x150
+  return nanoflann::SearchParameters(0.0f, false);
+#else
+  return nanoflann::SearchParams(32, 0.0f, false);
+#endif
+}
 
 struct KdStorage {
   CentreCloud cloud;
@@ -221,7 +236,7 @@ struct KdStorage {
   void searchRadius(const Vec3i& c, NeighbourCollector& collector, Checksum& out) const {
     const auto q = centre(c);
     collector.init();
-    tree->findNeighbors(collector, q.data(), nanoflann::SearchParams(32, 0.0f, false));
+    tree->findNeighbors(collector, q.data(), unsortedSearch());
     for (std::uint32_t idx : collector.found()) {
       if (cloud.points[idx] == q) continue;  // the voxel itself
       ++out.found;

@@ -35,7 +35,8 @@ class DocumentTestCase(unittest.TestCase):
 
 
 def run_in_new_process(code, timeout=120):
-    """Runs `code` in a fresh freecadcmd; the code must print one line 'RESULT <json>'.
+    """Runs `code` in a fresh freecadcmd; the code must print one line 'RESULT <json>' and the
+    process must exit 0 (no crash at exit either).
 
     Returns the decoded JSON."""
     script = tmp_path("subprocess_%d.py" % abs(hash(code)))
@@ -44,21 +45,35 @@ def run_in_new_process(code, timeout=120):
         for line in code.splitlines():
             f.write("    " + line + "\n")
         f.write("except Exception as e:\n    print('RESULT ' + json.dumps({'error': repr(e)}))\n"
-                "sys.stdout.flush()\nsys.exit(0)\n")
+                "sys.stdout.flush()\n"
+                # as close_all_documents(): freecadcmd 1.1 crashes at exit otherwise
+                "import FreeCAD\nfor name in list(FreeCAD.listDocuments()):\n"
+                "    FreeCAD.closeDocument(name)\nsys.exit(0)\n")
     freecadcmd = os.environ.get("CURVEDSLICER_FREECADCMD", "freecadcmd")
     run = subprocess.run([freecadcmd, script], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                          timeout=timeout, env=dict(os.environ))
     out = run.stdout.decode("utf-8", "replace").replace("\r", "\n")
+    if run.returncode != 0:
+        raise AssertionError("the subprocess exited with %d:\n%s" % (run.returncode, out[-3000:]))
     for line in out.splitlines():
         if line.startswith("RESULT "):
             return json.loads(line[len("RESULT "):])
     raise AssertionError("the subprocess printed no RESULT line:\n" + out[-3000:])
 
 
+def close_all_documents():
+    """Closes every open document: freecadcmd 1.1 crashes at exit (in FreeCAD's Mesh module) when
+    a document holding a Mesh feature is still open."""
+    for name in list(FreeCAD.listDocuments()):
+        FreeCAD.closeDocument(name)
+
+
 def main(module_name):
-    """Runs the TestCases of `module_name` and exits 0 (printing the marker) or 1."""
+    """Runs the TestCases of `module_name`, closes the documents they left open and exits 0
+    (printing the marker) or 1."""
     suite = unittest.defaultTestLoader.loadTestsFromModule(sys.modules[module_name])
     result = unittest.TextTestRunner(stream=sys.stdout, verbosity=2).run(suite)
+    close_all_documents()
     sys.stdout.flush()
     if result.wasSuccessful():
         print(MARKER)

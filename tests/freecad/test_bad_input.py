@@ -108,7 +108,7 @@ class TestBadInput(cs_testing.DocumentTestCase):
         with self.assertRaises(InvalidInput):
             api.run(box)
 
-    def test_errors_during_recompute_go_to_status_not_to_a_traceback(self):
+    def test_errors_during_recompute_go_to_status_and_the_error_state(self):
         plane = self.doc.addObject("Part::Plane", "Plane")
         plane.Length = plane.Width = 10
         box = self.box(10, 10, 10)
@@ -117,6 +117,39 @@ class TestBadInput(cs_testing.DocumentTestCase):
         self.doc.recompute()
         self.assertTrue(job.Status.startswith("InvalidInput: not a solid"), job.Status)
         self.assertEqual(job.LayerCount, 0)
+        self.assertIn("Invalid", job.State)  # FreeCAD's error state
+        job.Solid = box
+        self.doc.recompute()
+        self.assertEqual(job.State, ["Up-to-date"])
+        self.assertEqual(job.LayerCount, 4)  # at 2, 4, 6 and 8 mm of the 10 mm box
+
+    def test_a_failed_run_puts_the_job_in_the_error_state_and_a_good_run_clears_it(self):
+        box = self.box(10, 10, 10)
+        job = api.make_job(self.doc, box, layer_thickness=2.0, voxel_size=1.0)
+        job.LayerThickness = 0
+        with self.assertRaises(InvalidInput):
+            api.run(job, progress=False)
+        self.assertIn("Invalid", job.State)
+        self.assertEqual(job.LayerCount, 0)
+        job.LayerThickness = 2.0
+        api.run(job, progress=False)
+        self.assertEqual(job.State, ["Up-to-date"])
+        self.assertEqual(job.LayerCount, 4)  # at 2, 4, 6 and 8 mm of the 10 mm box
+
+    def test_a_recompute_with_fewer_layers_leaves_no_unused_features(self):
+        box = self.box(10, 10, 12)
+        job = api.make_job(self.doc, box, layer_thickness=2.0, voxel_size=1.0)
+        self.doc.recompute()
+        self.assertEqual(job.LayerCount, 5)
+        self.assertEqual(len(api.layers(job)), 5)
+        job.LayerThickness = 5.0
+        self.doc.recompute()  # a plain recompute (Std_Refresh), not api.recompute
+        self.assertEqual(job.LayerCount, 2)  # at 5 and 10 mm
+        self.assertEqual(len(api.layers(job)), 2)
+        self.assertEqual(len(api.path_features(job)), job.PlanLayerCount)
+        unused = [o.Label for o in self.doc.Objects if "LayerIndex" in o.PropertiesList
+                  and o.LayerIndex == 0]
+        self.assertEqual(unused, [])
 
 
 cs_testing.main(__name__)

@@ -6,6 +6,7 @@ and redone, then twice undone and redone. After each step the events
 are processed (the view provider restyles from the event loop) and the Report view and the
 log must hold no "Traceback" and no Python error. Exits with os._exit."""
 
+import ctypes
 import os
 import re
 import sys
@@ -52,6 +53,17 @@ def problems(text):
             if any(m in line for m in markers) and not OWN_LINES.match(line)]
 
 
+def activate_view(doc):
+    """Makes the document's 3D view the main window's active view, as the user's click on it
+    would: under Xvfb without a window manager, FreeCAD 1.1 leaves its Start page active, and
+    Std_Undo/Std_Redo (which ask the active view) stay disabled."""
+    mdi = FreeCADGui.getMainWindow().findChild(QtGui.QMdiArea)
+    for window in mdi.subWindowList() if mdi is not None else []:
+        if window.windowTitle().startswith(doc.Label + " :"):
+            mdi.setActiveSubWindow(window)
+    process_events()
+
+
 def step(what, action, report):
     """Runs `action`, processes events, and checks the Report view gained no error lines."""
     before = report.toPlainText() if report is not None else ""
@@ -84,6 +96,8 @@ def run():
     job = api.make_job(doc, box, start=(box, ["Face5"]), layer_thickness=3.0, voxel_size=1.0)
     doc.commitTransaction()
     process_events()
+    activate_view(doc)
+    check(FreeCADGui.Command.get("Std_Undo").isActive(), "Std_Undo is active")
 
     def run_job():
         check(job_commands.run_selected_job(job), "run from the GUI completed")
@@ -155,4 +169,6 @@ else:
     print("failures: %s" % failures)
 sys.stdout.flush()
 sys.stderr.flush()
+# FreeCAD 1.1's GUI sends print() to a buffered C stdout that os._exit would discard.
+ctypes.CDLL(None).fflush(None)
 os._exit(0 if not failures else 1)

@@ -185,12 +185,15 @@ namespace {
 [[noreturn]] void throwLimit(const MotionPoint& p, std::size_t i, const std::string& joint,
                              double angle, const JointLimit& limit) {
   const double beyond = angle < limit.min ? limit.min - angle : angle - limit.max;
+  // Path points by their plan index; arc-off points (index -1) by their kind and the path.
+  const std::string point = p.kind == MoveKind::Path ? "point " + std::to_string(p.index)
+                                                     : std::string(toString(p.kind)) + " move";
   throw InvalidInput(
       "motion point " + std::to_string(i) + " (layer " + std::to_string(p.layer) + ", path " +
-      std::to_string(p.path) + ", point " + std::to_string(p.index) + ") crosses the limit of " +
-      joint + ": " + formatFixed(angle * kRadToDeg, 3) + " deg outside [" +
-      formatFixed(limit.min * kRadToDeg, 3) + ", " + formatFixed(limit.max * kRadToDeg, 3) +
-      "] deg by " + formatFixed(beyond * kRadToDeg, 3) +
+      std::to_string(p.path) + ", " + point + ") crosses the limit of " + joint + ": " +
+      formatFixed(angle * kRadToDeg, 3) + " deg outside [" + formatFixed(limit.min * kRadToDeg, 3) +
+      ", " + formatFixed(limit.max * kRadToDeg, 3) + "] deg by " +
+      formatFixed(beyond * kRadToDeg, 3) +
       " deg; re-plan the motion for this cell, change the part's place on the table, or widen "
       "the limit in the cell if the machine allows it");
 }

@@ -70,7 +70,8 @@ ExportResult GcodeWriter::write(const MotionPlan& motion, const Cell& cell,
     const Vec3 xyz =
         machine ? Vec3(computePartInPositionerBase(pos, p.a1, p.a2) * p.position) : p.position;
     std::string& b = text.buffer();
-    b += i == 0 ? "G0 X" : "G1 X";
+    const bool rapid = isJointMove(motion, i);  // first move and home: G0
+    b += rapid ? "G0 X" : "G1 X";
     appendFixed(b, xyz.x(), 4);
     b += " Y";
     appendFixed(b, xyz.y(), 4);
@@ -80,9 +81,9 @@ ExportResult GcodeWriter::write(const MotionPlan& motion, const Cell& cell,
     appendFixed(b, tiltDegrees(cell, p.a1), 5);
     b += " C";
     appendFixed(b, rotationDegrees(cell, p.a2), 5);
-    if (i > 0) {
+    if (!rapid) {
       b += " F";
-      appendFixed(b, p.speed * 60.0, 1);
+      appendSpeed(b, p.speed * 60.0, 1, speedReduced(p));
     }
     text.endLine();
     ++result.motionCount;

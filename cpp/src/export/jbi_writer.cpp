@@ -15,8 +15,6 @@ namespace {
 
 using namespace export_detail;
 
-constexpr double kApproachJointSpeedPercent = 10.0;  // first, unplanned move to the start
-
 struct JobPlan {
   std::string name;
   IndexRange points;
@@ -33,14 +31,13 @@ std::size_t instructionLines(const MotionPlan& motion, const Cell& cell, std::si
   return lines;
 }
 
-/// ///RCONF: wrist flip, elbow down, back, then R, T, S at or beyond 180°, padded with zeros to
-/// 8 fields (NX100) or 24 (DX100 and later, names longer than 8 characters).
-std::string rconfLine(const Cell& cell, const MotionPoint& p) {
+/// ///RCONF: wrist flip, elbow down, back, then R (joint 4), T (joint 6), S (joint 1) at or beyond
+/// 180°, padded with zeros to 8 fields (NX100) or 24 (DX100 and later, names longer than 8
+/// characters). `c` is the point's configuration (its weld's within a weld).
+std::string rconfLine(const Cell& cell, const RobotConfiguration& c) {
   const int fields = cell.exportOptions.maxNameLength > 8 ? 24 : 8;
-  const auto beyond180 = [&](int joint) { return std::abs(p.joints[joint]) * kRadToDeg >= 180.0; };
-  const int values[6] = {(p.configuration & 4) ? 1 : 0, (p.configuration & 2) ? 1 : 0,
-                         (p.configuration & 1) ? 1 : 0, beyond180(3) ? 1 : 0,
-                         beyond180(5) ? 1 : 0,          beyond180(0) ? 1 : 0};
+  const int values[6] = {(c.branch & 4) ? 1 : 0, (c.branch & 2) ? 1 : 0, (c.branch & 1) ? 1 : 0,
+                         c.beyond180[3] ? 1 : 0, c.beyond180[5] ? 1 : 0, c.beyond180[0] ? 1 : 0};
   std::string line = "///RCONF ";
   for (int k = 0; k < fields; ++k) {
     if (k > 0) line += ',';
@@ -80,7 +77,8 @@ std::string arcOffLine(const Cell& cell) {
 /// One job file holding the points `range` (absolute indices into motion.points).
 ExportFile writeJob(const MotionPlan& motion, const Cell& cell, const ExportOptions& options,
                     const std::string& name, IndexRange range, const Progress& progress,
-                    std::size_t& motionCount, std::size_t& arcCount) {
+                    const PointConfigurations& configurations, std::size_t& motionCount,
+                    std::size_t& arcCount) {
   const ExportDescription& ex = cell.exportOptions;
   const bool pulse = ex.positionType == PositionType::Pulse;
   const std::size_t n = range.size();
@@ -101,7 +99,7 @@ ExportFile writeJob(const MotionPlan& motion, const Cell& cell, const ExportOpti
   for (std::size_t k = 0; k < n; ++k) {
     const MotionPoint& p = motion.points[range.begin + k];
     if (!pulse) {
-      std::string rconf = rconfLine(cell, p);
+      std::string rconf = rconfLine(cell, configurations.at(range.begin + k));
       if (rconf != lastRconf) {
         text.line(rconf);
         lastRconf = std::move(rconf);
@@ -150,20 +148,21 @@ ExportFile writeJob(const MotionPlan& motion, const Cell& cell, const ExportOpti
     const std::size_t i = range.begin + k;
     const MotionPoint& p = motion.points[i];
     std::string& b = text.buffer();
-    if (i == 0) {
+    if (isJointMove(motion, i)) {
+      const double percent = jointSpeedPercent(motion, cell, i);
       b += "MOVJ ";
       appendIndex(b, "C", k);
       b += " VJ=";
-      appendFixed(b, kApproachJointSpeedPercent, 2);
+      appendFixed(b, percent, 2);
       b += " +MOVJ ";
       appendIndex(b, "EC", k);
       b += " VJ=";
-      appendFixed(b, kApproachJointSpeedPercent, 2);
+      appendFixed(b, percent, 2);
     } else {
       b += ex.coordinated ? "SMOVL " : "MOVL ";
       appendIndex(b, "C", k);
       b += " V=";
-      appendFixed(b, controllerSpeed(cell, p.speed), speedDigits);
+      appendSpeed(b, controllerSpeed(cell, p.speed), speedDigits, speedReduced(p));
       b += " +MOVJ ";
       appendIndex(b, "EC", k);
     }
@@ -222,7 +221,7 @@ ExportResult JbiWriter::write(const MotionPlan& motion, const Cell& cell,
   std::size_t total = 2;  // NOP, END
   for (std::size_t i = 0; i < count; ++i) {
     costs[i] = instructionLines(motion, cell, i);
-    breaks[i] = motion.points[i].pathStart;
+    breaks[i] = !motion.points[i].arcOn;  // an arc-off move: a path start, retract, travel, …
     total += costs[i];
   }
   const std::size_t limit = static_cast<std::size_t>(ex.maxLinesPerJob);
@@ -249,6 +248,12 @@ ExportResult JbiWriter::write(const MotionPlan& motion, const Cell& cell,
   // ---- write ---------------------------------------------------------------------------------
   ExportResult result;
   result.format = ExportFormat::Jbi;
+  const PointConfigurations configurations(motion);
+  if (ex.positionType != PositionType::Pulse) {  // pulses state joints, no configuration
+    if (std::string mismatch = describeBranchMismatches(motion); !mismatch.empty()) {
+      result.warnings.push_back(std::move(mismatch));
+    }
+  }
   if (jobs.size() > 1) {
     ProgramText text(ex.lineEnding);
     text.line("/JOB");
@@ -274,9 +279,9 @@ ExportResult JbiWriter::write(const MotionPlan& motion, const Cell& cell,
   }
   for (const JobPlan& job : jobs) {
     result.files.push_back(writeJob(motion, cell, options, job.name, job.points, progress,
-                                    result.motionCount, result.arcCount));
+                                    configurations, result.motionCount, result.arcCount));
     const MotionPoint& last = motion.points[job.points.end - 1];
-    if (job.points.end < count && !last.pathEnd && jobs.size() > 1) {
+    if (job.points.end < count && motion.points[job.points.end].arcOn && jobs.size() > 1) {
       result.warnings.push_back("path " + std::to_string(last.path) + " of layer " +
                                 std::to_string(last.layer) +
                                 " is longer than a job and continues in the next job");

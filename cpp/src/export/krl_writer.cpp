@@ -35,6 +35,45 @@ void appendExternal(std::string& b, const Cell& cell, const MotionPoint& p) {
   b += '}';
 }
 
+/// ",S s,T t" of an E6POS: S bit 0 = back (over the shoulder), bit 1 = elbow down, bit 2 = joint
+/// 5 negative; T bit k = joint k+1 negative; from the point's configuration (its weld's).
+void appendStatusTurn(std::string& b, const RobotConfiguration& c) {
+  int s = 0, t = 0;
+  if (c.branch & 1) s |= 1;
+  if (c.branch & 2) s |= 2;
+  if (c.negative[4]) s |= 4;
+  for (int j = 0; j < 6; ++j) {
+    if (c.negative[j]) t |= 1 << j;
+  }
+  b += ",S ";
+  appendInt(b, s);
+  b += ",T ";
+  appendInt(b, t);
+}
+
+/// An E6AXIS aggregate {A1 … A6, E1, E2} (deg, controller convention) of a joint move.
+void appendE6Axis(std::string& b, const Cell& cell, const MotionPoint& p) {
+  for (int j = 0; j < 6; ++j) {
+    b += j == 0 ? "{A" : ",A";
+    appendInt(b, j + 1);
+    b += ' ';
+    appendFixed(b, p.joints[j] * kRadToDeg, 4);
+  }
+  appendExternal(b, cell, p);
+}
+
+/// $VEL_AXIS / $VEL_EXTAX lines setting every axis to `percent` of its maximum (a planned PTP).
+void writeAxisSpeeds(ProgramText& text, double percent) {
+  for (int j = 1; j <= 8; ++j) {
+    std::string& b = text.buffer();
+    b += j <= 6 ? "$VEL_AXIS[" : "$VEL_EXTAX[";
+    appendInt(b, j <= 6 ? j : j - 6);
+    b += "]=";
+    appendFixed(b, percent, 2);
+    text.endLine();
+  }
+}
+
 }  // namespace
 
 ExportResult KrlWriter::write(const MotionPlan& motion, const Cell& cell,
@@ -62,31 +101,34 @@ ExportResult KrlWriter::write(const MotionPlan& motion, const Cell& cell,
   }
   ExportResult result;
   result.format = ExportFormat::Krl;
+  const PointConfigurations configurations(motion);
+  if (std::string mismatch = describeBranchMismatches(motion); !mismatch.empty()) {
+    result.warnings.push_back(std::move(mismatch));
+  }
   double lastSpeed = -1.0;
   const std::size_t count = motion.points.size();
   for (std::size_t i = 0; i < count; ++i) {
     reportEvery(progress, i, count);
     const MotionPoint& p = motion.points[i];
     const Pose& tcp = coordinated ? p.toolInTable : p.toolInWorld;
-    if (i == 0) {
+    if (p.kind == MoveKind::Home) {
+      if (i > 0) writeAxisSpeeds(text, jointSpeedPercent(motion, cell, i));
+      std::string& b = text.buffer();
+      b += "PTP ";
+      appendE6Axis(b, cell, p);
+      text.endLine();
+    } else if (i == 0) {
       std::string& b = text.buffer();
       b += "PTP ";
       appendE6Pos(b, cell, p, tcp);
-      int s = 0, t = 0;
-      if (p.configuration & 1) s |= 1;
-      if (p.configuration & 2) s |= 2;
-      if (p.joints[4] < 0.0) s |= 4;
-      for (int j = 0; j < 6; ++j) {
-        if (p.joints[j] < 0.0) t |= 1 << j;
-      }
-      b += ",S " + std::to_string(s) + ",T " + std::to_string(t);
+      appendStatusTurn(b, configurations.at(i));
       appendExternal(b, cell, p);
       text.endLine();
     } else {
       if (p.speed != lastSpeed) {
         std::string& v = text.buffer();
         v += "$VEL.CP=";
-        appendFixed(v, p.speed / 1000.0, 5);
+        appendSpeed(v, p.speed / 1000.0, 5, speedReduced(p));
         text.endLine();
         lastSpeed = p.speed;
       }
@@ -96,8 +138,9 @@ ExportResult KrlWriter::write(const MotionPlan& motion, const Cell& cell,
       std::string& b = text.buffer();
       b += "LIN ";
       appendE6Pos(b, cell, p, tcp);
+      appendStatusTurn(b, configurations.at(i));
       appendExternal(b, cell, p);
-      if (!p.pathEnd && !p.pathStart) b += " C_DIS";
+      if (p.kind == MoveKind::Path && !p.pathEnd && !p.pathStart) b += " C_DIS";
       text.endLine();
     }
     ++result.motionCount;

@@ -17,10 +17,10 @@ constexpr const char* kColumns[] = {
     "layer",  "path",       "index",    "x_mm",   "y_mm",         "z_mm",   "nx",
     "ny",     "nz",         "vx",       "vy",     "vz",           "a1_deg", "a2_deg",
     "j1_deg", "j2_deg",     "j3_deg",   "j4_deg", "j5_deg",       "j6_deg", "speed_mm_s",
-    "arc_on", "path_start", "path_end", "time_s", "residual_deg", "flags"};
+    "arc_on", "path_start", "path_end", "time_s", "residual_deg", "flags",  "kind"};
 
-/// Appends one row of values separated by `sep`.
-void appendRow(std::string& b, const MotionPoint& p, double time, char sep) {
+/// Appends one row of values separated by `sep`; the kind as a bare word (CSV) or a JSON string.
+void appendRow(std::string& b, const MotionPoint& p, char sep, bool json) {
   b += std::to_string(p.layer);
   b += sep;
   b += std::to_string(p.path);
@@ -46,11 +46,15 @@ void appendRow(std::string& b, const MotionPoint& p, double time, char sep) {
   b += sep;
   b += p.pathEnd ? '1' : '0';
   b += sep;
-  appendShortest(b, time);
+  appendShortest(b, p.time);
   b += sep;
   appendShortest(b, p.residual * kRadToDeg);
   b += sep;
   b += std::to_string(p.flags);
+  b += sep;
+  if (json) b += '"';
+  b += toString(p.kind);
+  if (json) b += '"';
 }
 
 }  // namespace
@@ -63,7 +67,7 @@ ExportResult NeutralWriter::write(const MotionPlan& motion, const Cell& cell,
   if (json) {
     text.line("{");
     text.line("  \"format\": \"curvedslicer-motion\",");
-    text.line("  \"version\": 1,");
+    text.line("  \"version\": 2,");
     text.line("  \"cell\": " + nlohmann::json(cell.name).dump() + ",");
     std::string& c = text.buffer();
     c += "  \"columns\": [";
@@ -88,20 +92,15 @@ ExportResult NeutralWriter::write(const MotionPlan& motion, const Cell& cell,
   }
   ExportResult result;
   result.format = format_;
-  double time = 0.0;
   const std::size_t count = motion.points.size();
   for (std::size_t i = 0; i < count; ++i) {
     reportEvery(progress, i, count);
     const MotionPoint& p = motion.points[i];
-    if (i > 0 && p.speed > 0.0) {
-      time += (p.position - motion.points[i - 1].position).norm() / p.speed;
-    }
     std::string& b = text.buffer();
     if (json) b += "    [";
-    appendRow(b, p, time, ',');
+    appendRow(b, p, ',', json);
     if (json) b += i + 1 < count ? "]," : "]";
     text.endLine();
-    time += dwellAfter(motion, cell, i);
     ++result.motionCount;
     if (p.pathStart) ++result.arcCount;
   }

@@ -14,12 +14,19 @@ namespace {
 
 using namespace export_detail;
 
-/// Quadrant of a joint angle as ABB counts it: floor(angle / 90°).
-int quadrant(double angle) {
-  return static_cast<int>(std::floor(angle * kRadToDeg / 90.0));
+/// eax_a (tilt), eax_b (rotation) in controller degrees, the unused four as 9E9.
+void appendExternal(std::string& b, const Cell& cell, const MotionPoint& p) {
+  appendFixed(b, tiltDegrees(cell, p.a1), 4);
+  b += ',';
+  appendFixed(b, rotationDegrees(cell, p.a2), 4);
+  b += ",9E9,9E9,9E9,9E9";
 }
 
-void appendRobtarget(std::string& b, const Cell& cell, const MotionPoint& p, const Pose& tcp) {
+/// An inline robtarget [[x,y,z],[q1..q4],[cf1,cf4,cf6,cfx],[eax_a,eax_b,9E9,9E9,9E9,9E9]]; the
+/// confdata from the point's configuration (its weld's within a weld): the quadrants of joints
+/// 1, 4 and 6 and the IK branch bits.
+void appendRobtarget(std::string& b, const Cell& cell, const MotionPoint& p, const Pose& tcp,
+                     const RobotConfiguration& c) {
   const Vec3 t = tcp.translation();
   Eigen::Quaterniond q(tcp.rotation());
   if (q.w() < 0.0) q.coeffs() = -q.coeffs();  // one sign for the same rotation
@@ -28,13 +35,31 @@ void appendRobtarget(std::string& b, const Cell& cell, const MotionPoint& p, con
   b += "],[";
   appendList(b, {q.w(), q.x(), q.y(), q.z()}, 8);
   b += "],[";
-  b += std::to_string(quadrant(p.joints[0])) + "," + std::to_string(quadrant(p.joints[3])) + "," +
-       std::to_string(quadrant(p.joints[5])) + "," + std::to_string(p.configuration);
+  b += std::to_string(c.quadrant[0]) + "," + std::to_string(c.quadrant[3]) + "," +
+       std::to_string(c.quadrant[5]) + "," + std::to_string(c.branch);
   b += "],[";
-  appendFixed(b, tiltDegrees(cell, p.a1), 4);
-  b += ',';
-  appendFixed(b, rotationDegrees(cell, p.a2), 4);
-  b += ",9E9,9E9,9E9,9E9]]";
+  appendExternal(b, cell, p);
+  b += "]]";
+}
+
+/// An inline jointtarget [[j1..j6],[eax_a,eax_b,9E9,9E9,9E9,9E9]] (deg, controller convention).
+void appendJointtarget(std::string& b, const Cell& cell, const MotionPoint& p) {
+  b += "[[";
+  for (int j = 0; j < 6; ++j) {
+    if (j > 0) b += ',';
+    appendFixed(b, p.joints[j] * kRadToDeg, 4);
+  }
+  b += "],[";
+  appendExternal(b, cell, p);
+  b += "]]";
+}
+
+/// Inline speeddata [v_tcp,500,5000,1000]: TCP speed (mm/s; a reduced weld speed rounded down),
+/// orientation (deg/s), linear and rotating external axes.
+void appendSpeeddata(std::string& b, const MotionPoint& p) {
+  b += '[';
+  appendSpeed(b, p.speed, 2, speedReduced(p));
+  b += ",500,5000,1000]";
 }
 
 }  // namespace
@@ -62,22 +87,39 @@ ExportResult RapidWriter::write(const MotionPlan& motion, const Cell& cell,
     text.line("  ! positions: TCP in the world frame");
   }
   text.line("  PROC main()");
+  // Configuration monitoring (see rapid_writer.hpp): joint moves go to the stated configuration,
+  // linear moves follow the nearest one.
+  text.line("    ConfJ \\On;");
+  text.line("    ConfL \\Off;");
   if (coordinated) text.line("    ActUnit STN1;");
   ExportResult result;
   result.format = ExportFormat::Rapid;
+  const PointConfigurations configurations(motion);
+  if (std::string mismatch = describeBranchMismatches(motion); !mismatch.empty()) {
+    result.warnings.push_back(std::move(mismatch));
+  }
   const std::size_t count = motion.points.size();
   for (std::size_t i = 0; i < count; ++i) {
     reportEvery(progress, i, count);
     const MotionPoint& p = motion.points[i];
     const Pose& tcp = coordinated ? p.toolInTable : p.toolInWorld;
     std::string& b = text.buffer();
-    b += i == 0 ? "    MoveJ " : "    MoveL ";
-    appendRobtarget(b, cell, p, tcp);
-    b += ", [";
-    appendFixed(b, p.speed, 2);
-    b += ",500,5000,1000], ";
-    b += (p.pathStart || p.pathEnd || i == 0) ? "fine" : "z1";
-    b += ", " + tool + " \\WObj:=" + wobj + ";";
+    if (p.kind == MoveKind::Home) {
+      b += "    MoveAbsJ ";
+      appendJointtarget(b, cell, p);
+      b += ", ";
+      appendSpeeddata(b, p);
+      b += ", fine, " + tool + ";";
+    } else {
+      b += i == 0 ? "    MoveJ " : "    MoveL ";
+      appendRobtarget(b, cell, p, tcp, configurations.at(i));
+      b += ", ";
+      appendSpeeddata(b, p);
+      b += ", ";
+      const bool weldInterior = p.kind == MoveKind::Path && !p.pathStart && !p.pathEnd;
+      b += (weldInterior && i > 0) ? "z1" : "fine";
+      b += ", " + tool + " \\WObj:=" + wobj + ";";
+    }
     text.endLine();
     ++result.motionCount;
     if (p.pathStart) {

@@ -1,19 +1,23 @@
 // Internal helpers shared by the program writers: units, controller angles, names, the walk over
-// the motion points with progress, and where arc-on segments, dwells and layers begin and end.
+// the motion points with progress, where arc-on segments, dwells and layers begin and end, which
+// moves are joint moves, and the robot configuration each point states (one per weld).
 #pragma once
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstddef>
 #include <initializer_list>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/core/progress.hpp"
 #include "curvedslicer/export/exporter.hpp"
 #include "curvedslicer/export/program_text.hpp"
 #include "curvedslicer/robot/cell.hpp"
+#include "curvedslicer/robot/configuration.hpp"
 #include "curvedslicer/robot/motion.hpp"
 
 namespace curvedslicer::export_detail {
@@ -125,5 +129,77 @@ inline double tiltFromDegrees(const Cell& cell, double degrees) {
 inline double rotationFromDegrees(const Cell& cell, double degrees) {
   return cell.positioner.rotation.sign * degrees / kRadToDeg;
 }
+
+/// Joint speed (percent of every axis's maximum) of a joint move whose duration is not planned:
+/// the program's first move, from wherever the robot stands.
+inline constexpr double kUnplannedJointSpeedPercent = 10.0;
+
+/// True if the move arriving at point i is a joint move (MOVJ / PTP / MoveAbsJ / J / G0): the
+/// program's first move (from an unknown pose) and every move to the cell's home pose. Every
+/// other move is linear: welds at the weld speed, retract / travel / approach and the move onto
+/// a path start at the travel speed (MotionPoint::speed).
+inline bool isJointMove(const MotionPlan& motion, std::size_t i) {
+  return i == 0 || motion.points[i].kind == MoveKind::Home;
+}
+
+/// Joint speed (percent) of the joint move arriving at point i: the slowest that still takes no
+/// longer than the planned duration (MotionPoint::time difference minus the dwell in between),
+/// i.e. 100 · max over the 6 robot joints and both positioner axes of |Δq| / (duration · max
+/// speed), rounded up to 0.01 % and kept within [1, 100]; kUnplannedJointSpeedPercent for the
+/// first move and where the plan has no positive duration (times not parameterised).
+double jointSpeedPercent(const MotionPlan& motion, const Cell& cell, std::size_t i);
+
+/// Decimals of a speed in the cell's unit: 1 for mm/s, 0 for per-minute units (speedDecimals).
+/// Appends `mmPerSecond` in the controller's unit with `decimals` decimals: rounded to nearest,
+/// except where the planner lowered the weld speed (kMotionSpeedReduced): rounded down, so a
+/// reduced speed is written as reduced and no axis is asked for more than its limit; never below
+/// one unit of the last decimal.
+inline void appendSpeed(std::string& out, double value, int decimals, bool reduced) {
+  if (reduced) {
+    const double scale = std::pow(10.0, decimals);
+    const double down = std::floor(value * scale + 1e-9) / scale;
+    value = std::max(down, 1.0 / scale);
+  }
+  appendFixed(out, value, decimals);
+}
+
+/// True if the planner lowered the weld speed of the move arriving at `p`.
+inline bool speedReduced(const MotionPoint& p) {
+  return (p.flags & kMotionSpeedReduced) != 0u;
+}
+
+/// For every motion point, the MotionPlan::paths index of the weld it belongs to (the points of a
+/// MotionPathSpan from its first point, the path start, to its end), or -1 for arc-off points
+/// (retract, travel, approach, home). Cost: O(points).
+/// @throws InvalidInput for a span outside the points or two spans claiming one point.
+std::vector<int> mapPointsToSpans(const MotionPlan& motion);
+
+/// Empty, or a warning when weld points lie in another IK branch (MotionPoint::configuration)
+/// than their weld's stated configuration (MotionPathSpan::configuration.branch): the program
+/// would then state a configuration the robot is not in. Names how many points and the first.
+std::string describeBranchMismatches(const MotionPlan& motion);
+
+/// The robot configuration the program states at each point: within a weld always the weld's
+/// (MotionPathSpan::configuration, chosen by planMotion with hysteresis, constant from the path
+/// start to the path end); at arc-off points the configuration of the point's own joints
+/// (configurationOf(joints, MotionPoint::configuration)). Never a per-point recomputation inside
+/// a weld, so rounding noise (J4 at ±1e-16°, J6 near -180°) cannot flip a bit there.
+class PointConfigurations {
+ public:
+  explicit PointConfigurations(const MotionPlan& motion)
+      : motion_(motion), spans_(mapPointsToSpans(motion)) {}
+  RobotConfiguration at(std::size_t i) const {
+    const int span = spans_[i];
+    if (span >= 0) return motion_.paths[static_cast<std::size_t>(span)].configuration;
+    const MotionPoint& p = motion_.points[i];
+    return configurationOf(p.joints, p.configuration);
+  }
+  /// MotionPlan::paths index of point i's weld, or -1.
+  int spanOf(std::size_t i) const { return spans_[i]; }
+
+ private:
+  const MotionPlan& motion_;
+  std::vector<int> spans_;
+};
 
 }  // namespace curvedslicer::export_detail

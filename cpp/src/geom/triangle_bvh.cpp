@@ -2,9 +2,16 @@
 #include "curvedslicer/geom/triangle_bvh.hpp"
 #include "curvedslicer/mesh/mesh_repair.hpp"
 
+#include <CGAL/version.h>
+// CGAL 6 renamed the AABB traits and primitive to their _3 names (the old headers are deprecated).
+#if CGAL_VERSION_MAJOR >= 6
+#include <CGAL/AABB_traits_3.h>
+#include <CGAL/AABB_triangle_primitive_3.h>
+#else
 #include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
+#endif
+#include <CGAL/AABB_tree.h>
 #include <CGAL/Simple_cartesian.h>
 
 #include <algorithm>
@@ -15,6 +22,7 @@
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
+#include <variant>
 #include <vector>
 
 #include "curvedslicer/core/error.hpp"
@@ -26,9 +34,25 @@ using K = CGAL::Simple_cartesian<double>;
 using CgalPoint = K::Point_3;
 using CgalTriangle = K::Triangle_3;
 using TriangleIterator = std::vector<CgalTriangle>::const_iterator;
+#if CGAL_VERSION_MAJOR >= 6
+using Primitive = CGAL::AABB_triangle_primitive_3<K, TriangleIterator>;
+using Traits = CGAL::AABB_traits_3<K, Primitive>;
+#else
 using Primitive = CGAL::AABB_triangle_primitive<K, TriangleIterator>;
 using Traits = CGAL::AABB_traits<K, Primitive>;
+#endif
 using Tree = CGAL::AABB_tree<Traits>;
+
+/// The alternative T of an intersection result, or null: CGAL 6 returns std::variant, CGAL 5 a
+/// boost::variant.
+template <class T, class Variant>
+const T* alternativeOf(const Variant& result) {
+#if CGAL_VERSION_MAJOR >= 6
+  return std::get_if<T>(&result);
+#else
+  return boost::get<T>(&result);
+#endif
+}
 
 CgalPoint toCgal(const Vec3& p) {
   return CgalPoint(p.x(), p.y(), p.z());
@@ -300,10 +324,10 @@ std::optional<RayHit> TriangleBvh::firstRayHit(const Vec3& origin, const Vec3& d
   RayHit result;
   result.triangle = impl_->original[impl_->primitiveIndex(hit->second)];
   auto paramOf = [&](const CgalPoint& q) { return (fromCgal(q) - origin).dot(direction) / d2; };
-  if (const CgalPoint* q = boost::get<CgalPoint>(&hit->first)) {
+  if (const CgalPoint* q = alternativeOf<CgalPoint>(hit->first)) {
     result.point = fromCgal(*q);
     result.t = paramOf(*q);
-  } else if (const K::Segment_3* s = boost::get<K::Segment_3>(&hit->first)) {
+  } else if (const K::Segment_3* s = alternativeOf<K::Segment_3>(hit->first)) {
     // Ray in the triangle's plane: the entry point is the segment end nearer the origin.
     const double t0 = paramOf(s->source()), t1 = paramOf(s->target());
     result.point = fromCgal(t0 <= t1 ? s->source() : s->target());

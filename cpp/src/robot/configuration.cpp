@@ -18,4 +18,31 @@ RobotConfiguration configurationOf(const JointVector& joints, int branch) {
   return c;
 }
 
+namespace {
+constexpr double kQuarter = 3.14159265358979323846 / 2.0;
+}
+
+RobotConfiguration configurationOfRange(const JointVector& minJoints, const JointVector& maxJoints,
+                                        int branch, double tolerance) {
+  JointVector centre{};
+  for (int j = 0; j < 6; ++j) {
+    double quadrant = std::floor((minJoints[j] + tolerance) / kQuarter);
+    if (maxJoints[j] > (quadrant + 1.0) * kQuarter + tolerance) {
+      // a real crossing: the quadrant of the middle of the range
+      quadrant = std::floor(0.5 * (minJoints[j] + maxJoints[j]) / kQuarter);
+    }
+    centre[j] = (quadrant + 0.5) * kQuarter;
+  }
+  return configurationOf(centre, branch);
+}
+
+bool isWithinConfiguration(const JointVector& joints, const RobotConfiguration& configuration,
+                           double tolerance) {
+  for (int j = 0; j < 6; ++j) {
+    const double low = configuration.quadrant[j] * kQuarter;
+    if (joints[j] < low - tolerance || joints[j] > low + kQuarter + tolerance) return false;
+  }
+  return true;
+}
+
 }  // namespace curvedslicer

@@ -11,6 +11,8 @@
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/robot/positioner.hpp"
 #include "curvedslicer/robot/robot_kinematics.hpp"
+#include "curvedslicer/robot/timing.hpp"
+#include "positioner_path.hpp"
 
 namespace curvedslicer {
 
@@ -67,262 +69,6 @@ std::string pointName(const MotionPoint& p) {
          fmt(p.position.y(), 2) + ", " + fmt(p.position.z(), 2) + " mm)";
 }
 
-double angleBetween(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
-}
-
-/// a + 2πk nearest `reference` within [limit.min, limit.max] (endless: no range); false if no
-/// shift fits (then the nearest to the range).
-bool fitRotation(double& a, const PositionerAxis& axis, double reference) {
-  a = unwrapNear(a, reference);
-  if (axis.endless) return true;
-  double best = a;
-  double bestCost = kInf;
-  bool found = false;
-  for (int k = -3; k <= 3; ++k) {
-    const double c = a + k * kTwoPi;
-    const bool inside = axis.limit.contains(c);
-    const double cost =
-        inside ? std::abs(c - reference) : 1e6 + std::max(axis.limit.min - c, c - axis.limit.max);
-    if (cost < bestCost) {
-      bestCost = cost;
-      best = c;
-      found = inside;
-    }
-  }
-  a = best;
-  return found;
-}
-
-double clampTilt(double a1, const PositionerAxis& tilt, bool& clamped) {
-  const double c = std::clamp(a1, tilt.limit.min, tilt.limit.max);
-  clamped = c != a1;
-  return c;
-}
-
-/// Per-path working data of the angle phase.
-struct AngleSample {
-  Vec3 v;  // V used (part frame)
-  bool singular = false;
-  GravityAlignment align;
-  double a1 = 0.0, a2 = 0.0;  // chosen
-  std::uint32_t flags = 0;
-};
-
-/// Chooses, for a non-singular point, the branch and unwrapping nearest the reference within
-/// the positioner limits, or the feasible pose of least residual.
-void chooseAngles(const PositionerDescription& pos, const Vec3& gravity, AngleSample& s,
-                  double refA1, double refA2, bool haveRef, const MotionOptions& options) {
-  double bestCost = kInf;
-  bool bestFeasible = false;
-  for (int b = 0; b < 2; ++b) {
-    double a1 = s.align.branches[b].a1;
-    double a2 = s.align.branches[b].a2;
-    const bool rotOk = fitRotation(a2, pos.rotation, refA2);
-    const bool tiltOk = pos.tilt.limit.contains(a1) && s.align.feasible;
-    const bool feasible = rotOk && tiltOk;
-    double cost = haveRef ? std::abs(a1 - refA1) + std::abs(a2 - refA2)
-                          : std::abs(a2 - refA2) +
-                                ((options.preferPositiveTilt == (a1 >= 0.0)) ? 0.0 : 100.0);
-    if (!feasible) cost += 1e6;
-    if (cost < bestCost) {
-      bestCost = cost;
-      bestFeasible = feasible;
-      s.a1 = a1;
-      s.a2 = a2;
-    }
-  }
-  if (bestFeasible) return;
-  // No exact alignment within the limits: the feasible pose of least residual among tilt at
-  // a limit (with the best rotation) and rotation at a limit (with the best tilt).
-  double bestResidual = kInf;
-  double bestA1 = s.a1, bestA2 = s.a2;
-  std::uint32_t bestFlags = 0;
-  auto consider = [&](double a1, double a2, std::uint32_t flags) {
-    bool clamped = false;
-    a1 = clampTilt(a1, pos.tilt, clamped);
-    if (clamped) flags |= kMotionTiltLimited;
-    if (!fitRotation(a2, pos.rotation, refA2)) {
-      a2 = std::clamp(a2, pos.rotation.limit.min, pos.rotation.limit.max);
-      flags |= kMotionRotationLimited;
-    }
-    const double r = computeGravityResidual(pos, s.v, gravity, a1, a2);
-    const double cost = r + 1e-6 * (std::abs(a1 - refA1) + std::abs(a2 - refA2));
-    if (cost < bestResidual) {
-      bestResidual = cost;
-      bestA1 = a1;
-      bestA2 = a2;
-      bestFlags = flags;
-    }
-  };
-  for (double a1 : {pos.tilt.limit.min, pos.tilt.limit.max}) {
-    consider(a1, optimalRotationForTilt(pos, s.v, gravity, a1), kMotionTiltLimited);
-  }
-  if (!pos.rotation.endless) {
-    for (double a2 : {pos.rotation.limit.min, pos.rotation.limit.max}) {
-      double a1 = optimalTiltForRotation(pos, s.v, gravity, a2);
-      consider(a1, a2, kMotionRotationLimited);
-    }
-  }
-  for (int b = 0; b < 2; ++b) {
-    consider(s.align.branches[b].a1, s.align.branches[b].a2, 0);
-  }
-  s.a1 = bestA1;
-  s.a2 = bestA2;
-  s.flags |= bestFlags;
-}
-
-/// Tilt for a prescribed rotation (singular zone, rate-limited window), clamped to its limits.
-void tiltForRotation(const PositionerDescription& pos, const Vec3& gravity, AngleSample& s,
-                     double refA1) {
-  double a1 = unwrapNear(optimalTiltForRotation(pos, s.v, gravity, s.a2), refA1);
-  bool clamped = false;
-  if (!pos.tilt.limit.contains(a1)) {
-    // try the other unwrapping before clamping
-    const double other = a1 + (a1 > 0 ? -kTwoPi : kTwoPi);
-    if (pos.tilt.limit.contains(other)) a1 = other;
-  }
-  a1 = clampTilt(a1, pos.tilt, clamped);
-  if (clamped) s.flags |= kMotionTiltLimited;
-  s.a1 = a1;
-}
-
-/// Gaussian smoothing of V along the path (arc length), bounded deviation.
-std::vector<Vec3> smoothDepositions(const std::vector<const PathPoint*>& pts, bool closed,
-                                    const MotionOptions& options) {
-  const std::size_t n = pts.size();
-  std::vector<Vec3> out(n);
-  for (std::size_t i = 0; i < n; ++i) out[i] = pts[i]->deposition.normalized();
-  if (options.smoothingLength <= 0.0 || n < 3) return out;
-  std::vector<double> s(n, 0.0);
-  for (std::size_t i = 1; i < n; ++i) {
-    s[i] = s[i - 1] + (pts[i]->position - pts[i - 1]->position).norm();
-  }
-  const double total = closed ? s[n - 1] + (pts[0]->position - pts[n - 1]->position).norm() : 0.0;
-  const double sigma = options.smoothingLength;
-  const double reach = 3.0 * sigma;
-  std::vector<Vec3> original = out;
-  auto distance = [&](std::size_t a, std::size_t b) {
-    const double d = std::abs(s[a] - s[b]);
-    return closed ? std::min(d, total - d) : d;
-  };
-  for (std::size_t i = 0; i < n; ++i) {
-    // neighbours within 3 sigma, walking outwards in both directions (wrapping when closed)
-    Vec3 sum = original[i];
-    for (int direction : {-1, 1}) {
-      for (std::size_t step = 1; step < n; ++step) {
-        const long long raw = static_cast<long long>(i) + direction * static_cast<long long>(step);
-        if (!closed && (raw < 0 || raw >= static_cast<long long>(n))) break;
-        const std::size_t j =
-            static_cast<std::size_t>((raw % static_cast<long long>(n) + static_cast<long long>(n)) %
-                                     static_cast<long long>(n));
-        if (closed && 2 * step > n) break;  // the other direction covers the rest
-        const double d = distance(i, j);
-        if (d > reach) break;
-        sum += std::exp(-0.5 * d * d / (sigma * sigma)) * original[j];
-      }
-    }
-    if (sum.norm() < 1e-12) continue;
-    Vec3 smoothed = sum.normalized();
-    const double deviation = angleBetween(smoothed, original[i]);
-    if (deviation > options.maxSmoothingDeviation) {
-      // turn the original towards the smoothed direction by exactly the bound
-      const Vec3 axis = original[i].cross(smoothed).normalized();
-      smoothed = Eigen::AngleAxisd(options.maxSmoothingDeviation, axis) * original[i];
-    }
-    out[i] = smoothed;
-  }
-  return out;
-}
-
-/// Positioner angles along one path (points already include a closing point if closed).
-/// `refA1/refA2/haveRef`: the end of the previous path.
-void planPathAngles(const PositionerDescription& pos, const Vec3& gravity,
-                    std::vector<AngleSample>& samples, double& refA1, double& refA2, bool& haveRef,
-                    const MotionOptions& options) {
-  const std::size_t n = samples.size();
-  const double limit = options.maxSingularA2Step;
-  // Exact choices (branch + unwrapping) for non-singular points, nearest the previous choice.
-  double rA1 = refA1, rA2 = haveRef ? refA2 : options.initialA2;
-  bool have = haveRef;
-  for (std::size_t i = 0; i < n; ++i) {
-    AngleSample& s = samples[i];
-    if (s.singular) continue;
-    chooseAngles(pos, gravity, s, rA1, rA2, have, options);
-    rA1 = s.a1;
-    rA2 = s.a2;
-    have = true;
-  }
-  // Windows around singular runs: a2 follows a ramp (or is held) with at most `limit` per
-  // point; the window grows over neighbouring points whose exact a2 moves faster than that.
-  std::size_t minLo = 0;  // the right boundary of the previous window stays fixed
-  std::size_t i = 0;
-  while (i < n) {
-    if (!samples[i].singular) {
-      ++i;
-      continue;
-    }
-    std::size_t lo = std::max(i, minLo), hi = i;
-    while (hi < n && samples[hi].singular) ++hi;
-    auto growLeft = [&] {
-      if (lo <= minLo) return false;
-      --lo;
-      return true;
-    };
-    auto growRight = [&] {
-      if (hi >= n) return false;
-      ++hi;
-      while (hi < n && samples[hi].singular) ++hi;  // merge the next singular run
-      return true;
-    };
-    for (bool changed = true; changed;) {
-      changed = false;
-      if (lo >= 2 && lo > minLo && std::abs(samples[lo - 1].a2 - samples[lo - 2].a2) > limit) {
-        changed = growLeft() || changed;
-      }
-      if (hi + 1 < n && !samples[hi + 1].singular &&
-          std::abs(samples[hi + 1].a2 - samples[hi].a2) > limit) {
-        changed = growRight() || changed;
-      }
-      if (lo > 0 && hi < n &&
-          std::abs(samples[hi].a2 - samples[lo - 1].a2) >
-              static_cast<double>(hi - lo + 1) * limit) {
-        const bool left = growLeft();
-        const bool right = growRight();
-        changed = left || right || changed;
-      }
-    }
-    // Values in [lo, hi): a linear ramp between the exact values at lo-1 and hi, or held.
-    const bool hasLeft = lo > 0, hasRight = hi < n;
-    const double left = hasLeft ? samples[lo - 1].a2 : 0.0;
-    const double right = hasRight ? samples[hi].a2 : 0.0;
-    for (std::size_t k = lo; k < hi; ++k) {
-      AngleSample& s = samples[k];
-      if (hasLeft && hasRight) {
-        const double t = static_cast<double>(k - lo + 1) / static_cast<double>(hi - lo + 1);
-        s.a2 = left + (right - left) * t;
-      } else if (hasLeft) {
-        s.a2 = left;
-      } else if (hasRight) {
-        s.a2 = right;
-      } else {
-        s.a2 = haveRef ? refA2 : options.initialA2;
-        if (!pos.rotation.endless) {
-          s.a2 = std::clamp(s.a2, pos.rotation.limit.min, pos.rotation.limit.max);
-        }
-      }
-      const double a1Reference = k > 0 ? samples[k - 1].a1 : (haveRef ? refA1 : 0.0);
-      tiltForRotation(pos, gravity, s, s.singular ? a1Reference : s.a1);
-      if (!s.singular) s.flags |= kMotionA2RateLimited;
-    }
-    minLo = hi + 1;
-    i = hi;
-  }
-  refA1 = samples.back().a1;
-  refA2 = samples.back().a2;
-  haveRef = true;
-}
-
 /// Tool x axis: travel direction (world) made orthogonal to the torch axis z.
 Vec3 toolXAxis(const Vec3& travelWorld, const Vec3& z, const Vec3& previous) {
   Vec3 x = travelWorld - z * z.dot(travelWorld);
@@ -335,13 +81,17 @@ Vec3 toolXAxis(const Vec3& travelWorld, const Vec3& z, const Vec3& previous) {
 }
 
 void validateInputs(const Plan& plan, const MotionOptions& options) {
-  if (!(options.singularZone >= 0.0 && options.singularZone < kPi / 2)) {
-    throw InvalidInput("singular zone must be in [0, 90) degrees: " +
-                       fmt(options.singularZone / kDeg) + " deg; use e.g. 2 degrees");
+  if (!(options.nearSingularBand > 0.0 && options.nearSingularBand < kPi / 4)) {
+    throw InvalidInput("near-singular band must be in (0, 45) degrees: " +
+                       fmt(options.nearSingularBand / kDeg) + " deg; use e.g. 3 degrees");
   }
-  if (!(options.maxSingularA2Step > 0.0)) {
-    throw InvalidInput("maximum a2 step in the singular zone must be positive: " +
-                       fmt(options.maxSingularA2Step / kDeg) + " deg; use e.g. 2 degrees");
+  if (!(options.maxA2Step > 0.0) || !std::isfinite(options.maxA2Step)) {
+    throw InvalidInput("maximum a2 step between path points must be positive: " +
+                       fmt(options.maxA2Step / kDeg) + " deg; use e.g. 5 degrees");
+  }
+  if (!(options.mergeTolerance >= 0.0) || !std::isfinite(options.mergeTolerance)) {
+    throw InvalidInput("merge tolerance must be zero or positive: " +
+                       fmt(options.mergeTolerance, 4) + " mm; use e.g. 0.01 mm");
   }
   if (!(options.smoothingLength >= 0.0) || !std::isfinite(options.smoothingLength)) {
     throw InvalidInput("smoothing length must be zero or positive: " +
@@ -484,52 +234,29 @@ namespace {
 
 // ---- positioner angles --------------------------------------------------------------------
 
-/// The path's points as welded (a closed path ends on point 0 again) with their deposition
-/// directions after smoothing, aligned with gravity.
-std::vector<AngleSample> sampleDepositions(const PlanPath& path, const PositionerDescription& pos,
-                                           const Vec3& gravity, const MotionOptions& options,
-                                           std::vector<const PathPoint*>& pts) {
-  for (const PathPoint& pt : path.points) pts.push_back(&pt);
-  std::vector<Vec3> used = smoothDepositions(pts, path.closed, options);
-  if (path.closed) {  // the closing weld move ends on point 0 again
-    pts.push_back(&path.points.front());
-    used.push_back(used.front());
-  }
-  std::vector<AngleSample> samples(pts.size());
-  for (std::size_t k = 0; k < pts.size(); ++k) {
-    AngleSample& s = samples[k];
-    s.v = used[k];
-    s.align = alignWithGravity(pos, s.v, gravity);
-    s.singular = s.align.axisAngle < options.singularZone;
-    if (s.singular) s.flags |= kMotionSingular;
-    if (angleBetween(s.v, pts[k]->deposition.normalized()) > 1e-12) s.flags |= kMotionSmoothed;
-  }
-  return samples;
-}
-
 /// Appends one path's motion points (part frame, positioner angles, residuals) to `result`.
-void appendPathPoints(int l, int p, const std::vector<const PathPoint*>& pts,
-                      const std::vector<AngleSample>& samples, const Cell& cell,
-                      const Vec3& gravity, const MotionOptions& options, MotionPlan& result,
-                      WarningLog& warnings) {
-  for (std::size_t k = 0; k < pts.size(); ++k) {
+void appendPathPoints(int l, int p, const std::vector<detail::AngleSample>& samples,
+                      const Cell& cell, const Vec3& gravity, const MotionOptions& options,
+                      MotionPlan& result, WarningLog& warnings) {
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    const detail::AngleSample& s = samples[k];
     MotionPoint m;
     m.layer = l;
     m.path = p;
-    m.index = static_cast<int>(k);
-    m.position = pts[k]->position;
-    m.normal = pts[k]->normal;
-    m.deposition = pts[k]->deposition.normalized();
-    m.usedDeposition = samples[k].v;
-    m.a1 = samples[k].a1;
-    m.a2 = samples[k].a2;
-    m.flags = samples[k].flags;
+    m.index = s.index;
+    m.position = s.position;
+    m.normal = s.normal;
+    m.deposition = s.deposition;
+    m.usedDeposition = s.v;
+    m.a1 = s.a1;
+    m.a2 = s.a2;
+    m.flags = s.flags;
     m.residual = computeGravityResidual(cell.positioner, m.deposition, gravity, m.a1, m.a2);
     m.pathStart = k == 0;
-    m.pathEnd = k + 1 == pts.size();
+    m.pathEnd = k + 1 == samples.size();
     m.arcOn = k > 0;
     m.speed = k > 0 ? cell.process.weldSpeed : cell.process.travelSpeed;
-    if (m.flags & kMotionSingular) {
+    if (m.flags & kMotionNearSingular) {
       ++result.singularPoints;
     } else {
       result.maxResidual = std::max(result.maxResidual, m.residual);
@@ -539,7 +266,7 @@ void appendPathPoints(int l, int p, const std::vector<const PathPoint*>& pts,
       warnings.add("positioner limit: deposition direction cannot be turned onto gravity",
                    pointName(m) + " residual " + fmt(m.residual / kDeg, 2) + " deg");
     } else if ((m.flags & kMotionA2RateLimited) && m.residual > options.residualWarning) {
-      warnings.add("a2 rate limit near the singular zone leaves a residual above " +
+      warnings.add("a2 blended near the rotation axis leaves a residual above " +
                        fmt(options.residualWarning / kDeg, 2) + " deg",
                    pointName(m) + " residual " + fmt(m.residual / kDeg, 2) + " deg");
     }
@@ -547,29 +274,42 @@ void appendPathPoints(int l, int p, const std::vector<const PathPoint*>& pts,
   }
 }
 
-/// Positioner angles (eq. 16) along every path, continuous from one path to the next.
+/// Positioner angles (eq. 16) along every path, continuous from one path to the next. a2 is
+/// blended at a rate of at most a quarter of the rotation's speed limit at weld speed (rad/mm).
 void planPositionerAngles(const Plan& plan, const Cell& cell, const Vec3& gravity,
                           const MotionOptions& options, const Progress& progress,
                           MotionPlan& result, WarningLog& warnings) {
   progress.report(0.0, "positioner angles");
   const std::size_t pathTotal = std::max<std::size_t>(1, plan.pathCount());
-  std::size_t pathsDone = 0;
+  const double a2Rate = 0.25 * cell.positioner.rotation.limit.maxSpeed / cell.process.weldSpeed;
+  std::size_t pathsDone = 0, merged = 0, inserted = 0;
   double refA1 = 0.0, refA2 = options.initialA2;
   bool haveRef = false;
   for (std::size_t l = 0; l < plan.layers.size(); ++l) {
     for (std::size_t p = 0; p < plan.layers[l].paths.size(); ++p) {
-      std::vector<const PathPoint*> pts;
-      std::vector<AngleSample> samples =
-          sampleDepositions(plan.layers[l].paths[p], cell.positioner, gravity, options, pts);
-      planPathAngles(cell.positioner, gravity, samples, refA1, refA2, haveRef, options);
-      MotionPathSpan span{static_cast<int>(l), static_cast<int>(p), result.points.size(), 0};
-      appendPathPoints(static_cast<int>(l), static_cast<int>(p), pts, samples, cell, gravity,
-                       options, result, warnings);
+      std::vector<detail::AngleSample> samples = detail::sampleDepositions(
+          plan.layers[l].paths[p], cell.positioner, gravity, options, merged);
+      detail::planPathAngles(cell.positioner, gravity, a2Rate, samples, refA1, refA2, haveRef,
+                             options);
+      for (const auto& s : samples) inserted += s.inserted ? 1 : 0;
+      MotionPathSpan span{static_cast<int>(l), static_cast<int>(p), result.points.size(), 0, {}};
+      appendPathPoints(static_cast<int>(l), static_cast<int>(p), samples, cell, gravity, options,
+                       result, warnings);
       span.end = result.points.size();
       result.paths.push_back(span);
       progress.report(static_cast<double>(++pathsDone) / static_cast<double>(pathTotal),
                       "positioner angles");
     }
+  }
+  if (merged > 0) {
+    result.notes.push_back(std::to_string(merged) + " path point(s) closer than " +
+                           fmt(options.mergeTolerance, 4) +
+                           " mm to the previous one merged (the first kept)");
+  }
+  if (inserted > 0) {
+    result.notes.push_back(std::to_string(inserted) +
+                           " point(s) inserted so that a2 steps at most " +
+                           fmt(options.maxA2Step / kDeg, 2) + " deg between path points");
   }
 }
 
@@ -593,8 +333,10 @@ class RobotKinematicsPass {
   void run(const Progress& progress);
 
  private:
-  void setToolPoses(const MotionPathSpan& span);
+  void setToolPoses(const MotionPathSpan& span, double roll);
   void solvePath(const MotionPathSpan& span);
+  double centringRoll(const MotionPathSpan& span) const;
+  void setConfiguration(MotionPathSpan& span);
   std::size_t solvePathJoints(const MotionPathSpan& span, const JointVector& start, bool haveStart);
   IkSolution chooseSolution(const IkResult& ik, const JointVector& reference, bool pathStart,
                             int pathConfiguration, bool& inside) const;
@@ -619,10 +361,24 @@ class RobotKinematicsPass {
 
 void RobotKinematicsPass::run(const Progress& progress) {
   progress.report(0.0, "robot kinematics");
+  double roll = 0.0;
   for (std::size_t s = 0; s < result_.paths.size(); ++s) {
-    const MotionPathSpan& span = result_.paths[s];
-    setToolPoses(span);
+    MotionPathSpan& span = result_.paths[s];
+    const Vec3 startX = previousX_;
+    setToolPoses(span, roll);
     solvePath(span);
+    if (!options_.toolAlongTravel) {
+      // the torch is round: turn the fixed tool x about the torch axis so that joint 6 sits
+      // in the middle of a quadrant away from ±180° (and its config bits stay put)
+      const double centred = roll + centringRoll(span);
+      if (std::abs(centred - roll) > 1e-9) {
+        roll = centred;
+        previousX_ = startX;
+        setToolPoses(span, roll);
+        solvePath(span);
+      }
+    }
+    setConfiguration(span);
     recordFailures(span);
     previousJoints_ = result_.points[span.end - 1].joints;
     haveJoints_ = true;
@@ -632,9 +388,11 @@ void RobotKinematicsPass::run(const Progress& progress) {
   reportFailures();
 }
 
-/// TCP poses (independent of the robot joints).
-void RobotKinematicsPass::setToolPoses(const MotionPathSpan& span) {
+/// TCP poses (independent of the robot joints). `roll` (rad) turns the fixed world tool x
+/// about gravity (toolAlongTravel off).
+void RobotKinematicsPass::setToolPoses(const MotionPathSpan& span, double roll) {
   const PositionerDescription& pos = cell_.positioner;
+  const Vec3 fixedX = Eigen::AngleAxisd(roll, gravity_) * Vec3::UnitX();
   for (std::size_t k = span.begin; k < span.end; ++k) {
     MotionPoint& m = result_.points[k];
     const Pose partInWorld = computePartInWorld(pos, m.a1, m.a2);
@@ -643,7 +401,7 @@ void RobotKinematicsPass::setToolPoses(const MotionPathSpan& span) {
     const Vec3 next = k + 1 < span.end ? result_.points[k + 1].position : m.position;
     const Vec3 prev = k > span.begin ? result_.points[k - 1].position : m.position;
     Vec3 travel = partInWorld.linear() * (next - prev);
-    if (!options_.toolAlongTravel) travel = Vec3::UnitX();
+    if (!options_.toolAlongTravel) travel = fixedX;
     const Vec3 z = gravity_;
     const Vec3 x = toolXAxis(travel, z, previousX_);
     previousX_ = x;
@@ -655,6 +413,75 @@ void RobotKinematicsPass::setToolPoses(const MotionPathSpan& span) {
     m.toolInRobotBase = baseInverse_ * m.toolInWorld;
     m.toolInTable = computeTableInWorld(pos, m.a1, m.a2).inverse() * m.toolInWorld;
     m.toolInPart = partInWorld.inverse() * m.toolInWorld;
+  }
+}
+
+/// The extra tool roll (rad) that moves the middle of joint 6's range along the path to the
+/// nearest of ±45° + 360°k inside its limits; 0 when joint 6 does not follow the roll (a bent
+/// torch) or the path has unreachable points. dJ6/droll is measured at the path's first point.
+double RobotKinematicsPass::centringRoll(const MotionPathSpan& span) const {
+  double low = kInf, high = -kInf;
+  for (std::size_t k = span.begin; k < span.end; ++k) {
+    const MotionPoint& m = result_.points[k];
+    if (m.flags & kMotionRobotLimit) return 0.0;
+    low = std::min(low, m.joints[5]);
+    high = std::max(high, m.joints[5]);
+  }
+  const MotionPoint& first = result_.points[span.begin];
+  constexpr double kProbe = 0.1;
+  Pose turned = first.toolInRobotBase;
+  turned.linear() = first.toolInRobotBase.linear() * Eigen::AngleAxisd(kProbe, Vec3::UnitZ());
+  const IkResult ik = solveInverseKinematics(cell_.robot, turned * tcpInverse_, first.joints[3]);
+  double slope = 0.0;
+  for (const IkSolution& sol : ik.solutions) {
+    if (sol.configuration != first.configuration) continue;
+    slope = (unwrapNear(sol.joints[5], first.joints[5]) - first.joints[5]) / kProbe;
+  }
+  if (!(std::abs(std::abs(slope) - 1.0) < 0.2)) return 0.0;
+  const JointLimit& limit = cell_.robot.joints[5];
+  const double middle = 0.5 * (low + high), half = 0.5 * (high - low);
+  double best = middle, bestDistance = kInf;
+  for (int k = -2; k <= 2; ++k) {
+    for (double centre : {-kPi / 4, kPi / 4}) {
+      const double target = centre + k * kTwoPi;
+      if (target - half < limit.min || target + half > limit.max) continue;
+      if (std::abs(target - middle) < bestDistance) {
+        bestDistance = std::abs(target - middle);
+        best = target;
+      }
+    }
+  }
+  return (best - middle) / (slope > 0 ? 1.0 : -1.0);
+}
+
+/// The weld's configuration from its joint ranges with hysteresis; points outside its region
+/// (a joint really crossing a boundary) are flagged and warned about.
+void RobotKinematicsPass::setConfiguration(MotionPathSpan& span) {
+  JointVector low, high;
+  low.fill(kInf);
+  high.fill(-kInf);
+  for (std::size_t k = span.begin; k < span.end; ++k) {
+    for (int j = 0; j < 6; ++j) {
+      low[j] = std::min(low[j], result_.points[k].joints[j]);
+      high[j] = std::max(high[j], result_.points[k].joints[j]);
+    }
+  }
+  span.configuration = configurationOfRange(low, high, result_.points[span.begin].configuration);
+  for (std::size_t k = span.begin; k < span.end; ++k) {
+    MotionPoint& m = result_.points[k];
+    if (isWithinConfiguration(m.joints, span.configuration)) continue;
+    m.flags |= kMotionConfigurationChange;
+    for (int j = 0; j < 6; ++j) {
+      const double quadrantLow = span.configuration.quadrant[j] * kPi / 2;
+      if (m.joints[j] < quadrantLow - kConfigurationTolerance ||
+          m.joints[j] > quadrantLow + kPi / 2 + kConfigurationTolerance) {
+        warnings_.add("joint " + std::to_string(j + 1) +
+                          " really passes a multiple of 90 deg within a weld (the weld's "
+                          "configuration keeps the quadrant of the middle of its range; ABB cf / "
+                          "KUKA sign bits of these points differ from it)",
+                      pointName(m));
+      }
+    }
   }
 }
 
@@ -773,8 +600,9 @@ IkSolution RobotKinematicsPass::chooseSolution(const IkResult& ik, const JointVe
 void RobotKinematicsPass::recordFailures(const MotionPathSpan& span) {
   for (std::size_t k = span.begin; k < span.end; ++k) {
     const MotionPoint& m = result_.points[k];
-    if (m.flags & kMotionConfigurationChange) {
-      warnings_.add("robot configuration changes within a path (joint limits)", pointName(m));
+    if ((m.flags & kMotionConfigurationChange) && m.configuration != span.configuration.branch) {
+      warnings_.add("robot configuration (IK branch) changes within a weld (joint limits)",
+                    pointName(m));
     }
     if (!(m.flags & kMotionRobotLimit)) continue;
     ++failureCount_;
@@ -811,31 +639,6 @@ void RobotKinematicsPass::reportFailures() const {
 
 // ---- estimates ----------------------------------------------------------------------------
 
-/// Process estimates per layer, the travel time refined with the positioner motion between
-/// paths.
-void estimateMotion(const Plan& plan, const Cell& cell, MotionPlan& result) {
-  const PositionerDescription& pos = cell.positioner;
-  result.total = estimatePlan(plan, cell.process, &result.layers);
-  MotionEstimate refinedTotal;
-  std::vector<double> travelTime(plan.layers.size(), 0.0);
-  for (std::size_t s = 0; s < result.paths.size(); ++s) {
-    if (s == 0) continue;
-    const MotionPoint& from = result.points[result.paths[s - 1].end - 1];
-    const MotionPoint& to = result.points[result.paths[s].begin];
-    const double distance = (to.position - from.position).norm();
-    const double t = std::max({distance / cell.process.travelSpeed,
-                               std::abs(to.a1 - from.a1) / pos.tilt.limit.maxSpeed,
-                               std::abs(to.a2 - from.a2) / pos.rotation.limit.maxSpeed});
-    travelTime[static_cast<std::size_t>(to.layer)] += t;
-  }
-  for (std::size_t l = 0; l < result.layers.size(); ++l) {
-    result.layers[l].travelTime = travelTime[l];
-    finishEstimate(result.layers[l], cell.process);
-    addEstimates(refinedTotal, result.layers[l]);
-  }
-  result.total = refinedTotal;
-}
-
 }  // namespace
 
 MotionPlan planMotion(const Plan& plan, const Cell& givenCell, const MotionOptions& options,
@@ -856,9 +659,12 @@ MotionPlan planMotion(const Plan& plan, const Cell& givenCell, const MotionOptio
   WarningLog warnings;
   planPositionerAngles(plan, cell, gravity, options, progress.sub(0.0, 0.4), result, warnings);
   RobotKinematicsPass(cell, gravity, options, result, warnings).run(progress.sub(0.4, 0.95));
+  result.nearSingularBand = options.nearSingularBand;
   progress.report(0.95, "estimates");
-  estimateMotion(plan, cell, result);
   warnings.flush(result.warnings);
+  // time parameterisation (after the travel moves): times, speeds, estimates
+  result.total = estimatePlan(plan, cell.process, &result.layers);
+  parameteriseTime(result, cell, TimingOptions{options.timeParameterise});
   progress.report(1.0, "estimates");
   return result;
 }

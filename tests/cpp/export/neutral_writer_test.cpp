@@ -18,7 +18,8 @@ namespace {
 
 using namespace testing;
 
-void expectRow(const std::vector<double>& v, const MotionPoint& p) {
+/// `v`: the 27 numeric columns; `kind`: the 28th.
+void expectRow(const std::vector<double>& v, const std::string& kind, const MotionPoint& p) {
   ASSERT_EQ(v.size(), 27u);
   EXPECT_EQ(v[0], p.layer);
   EXPECT_EQ(v[1], p.path);
@@ -35,7 +36,10 @@ void expectRow(const std::vector<double>& v, const MotionPoint& p) {
   EXPECT_EQ(v[21], p.arcOn ? 1 : 0);
   EXPECT_EQ(v[22], p.pathStart ? 1 : 0);
   EXPECT_EQ(v[23], p.pathEnd ? 1 : 0);
+  EXPECT_EQ(v[24], p.time);
+  EXPECT_EQ(v[25], p.residual * (180.0 / kPiT));
   EXPECT_EQ(v[26], p.flags);
+  EXPECT_EQ(kind, toString(p.kind));
 }
 
 TEST(NeutralWriter, CsvRowsReadBackExactly) {
@@ -49,14 +53,17 @@ TEST(NeutralWriter, CsvRowsReadBackExactly) {
   ASSERT_EQ(lines.size(), motion.points.size() + 1);
   EXPECT_EQ(lines[0].rfind("layer,path,index,x_mm,y_mm,z_mm,nx,ny,nz,vx,vy,vz,a1_deg,a2_deg", 0),
             0u);
-  double lastTime = -1.0;
+  EXPECT_EQ(lines[0].substr(lines[0].rfind(",time_s")), ",time_s,residual_deg,flags,kind");
   for (std::size_t i = 0; i < motion.points.size(); ++i) {
+    std::vector<std::string> fields = splitFields(lines[i + 1], ',');
+    ASSERT_EQ(fields.size(), 28u);
     std::vector<double> v;
-    for (const auto& f : splitFields(lines[i + 1], ','))
-      v.push_back(std::strtod(f.c_str(), nullptr));
-    expectRow(v, motion.points[i]);
-    EXPECT_GE(v[24], lastTime);
-    lastTime = v[24];
+    for (std::size_t k = 0; k + 1 < fields.size(); ++k) {
+      char* end = nullptr;
+      v.push_back(std::strtod(fields[k].c_str(), &end));
+      EXPECT_EQ(*end, '\0') << "not a number: " << fields[k];
+    }
+    expectRow(v, fields.back(), motion.points[i]);
   }
 }
 
@@ -66,13 +73,18 @@ TEST(NeutralWriter, JsonHoldsTheSameRowsAndJointNames) {
   const ExportResult result = NeutralWriter(ExportFormat::Json).write(motion, cell, {}, {});
   const auto doc = nlohmann::json::parse(result.files[0].text);
   EXPECT_EQ(doc.at("format"), "curvedslicer-motion");
-  EXPECT_EQ(doc.at("version"), 1);
+  EXPECT_EQ(doc.at("version"), 2);
   EXPECT_EQ(doc.at("cell"), cell.name);
-  EXPECT_EQ(doc.at("columns").size(), 27u);
+  EXPECT_EQ(doc.at("columns").size(), 28u);
+  EXPECT_EQ(doc.at("columns").back(), "kind");
   EXPECT_EQ(doc.at("joint_names").size(), 8u);
   ASSERT_EQ(doc.at("points").size(), motion.points.size());
   for (std::size_t i = 0; i < motion.points.size(); ++i) {
-    expectRow(doc.at("points")[i].get<std::vector<double>>(), motion.points[i]);
+    const auto& row = doc.at("points")[i];
+    ASSERT_EQ(row.size(), 28u);
+    std::vector<double> v;
+    for (std::size_t k = 0; k + 1 < row.size(); ++k) v.push_back(row[k].get<double>());
+    expectRow(v, row.back().get<std::string>(), motion.points[i]);
   }
   EXPECT_THROW(NeutralWriter(ExportFormat::Json).write(MotionPlan{}, cell, {}, {}), InvalidInput);
 }

@@ -49,38 +49,69 @@ std::vector<Vec3> sweep(double offset, double span, int count) {
   return dirs;
 }
 
-TEST(Motion, SingularZoneBoundsTheA2Step) {
+TEST(Motion, NearSingularBandBoundsTheA2StepAndTheResidual) {
   const Cell cell = defaultCell();
-  for (double stepDeg : {2.0, 0.5}) {
-    for (double offsetDeg : {0.0, 0.3, 1.0, 1.9}) {
+  for (double stepDeg : {5.0, 2.5, 1.0}) {
+    for (double offsetDeg : {0.0, 0.3, 1.9, 2.9, 3.5, 5.0, 8.0}) {
       for (int count : {41, 401}) {
         SCOPED_TRACE(std::to_string(stepDeg) + " " + std::to_string(offsetDeg) + " " +
                      std::to_string(count));
         MotionOptions options;
-        options.maxSingularA2Step = stepDeg * kDeg;
+        options.maxA2Step = stepDeg * kDeg;
         const Plan plan = linePlan(sweep(offsetDeg * kDeg, 30 * kDeg, count));
         const MotionPlan motion = planMotion(plan, cell, options);
-        ASSERT_EQ(motion.points.size(), static_cast<std::size_t>(count));
-        EXPECT_GT(motion.singularPoints, 0u);
-        for (std::size_t i = 1; i < motion.points.size(); ++i) {
-          EXPECT_LE(std::abs(motion.points[i].a2 - motion.points[i - 1].a2),
-                    options.maxSingularA2Step * (1 + 1e-12))
-              << "point " << i;
+        ASSERT_GE(motion.points.size(), static_cast<std::size_t>(count));
+        EXPECT_EQ(motion.nearSingularBand, options.nearSingularBand);
+        if (offsetDeg < 3.0) {
+          EXPECT_GT(motion.singularPoints, 0u);
         }
-        for (const MotionPoint& m : motion.points) {
-          if (!(m.flags & (kMotionSingular | kMotionA2RateLimited))) {
-            EXPECT_LT(m.residual, 1e-9);
-          } else {
-            // held / interpolated a2 with the tilt re-optimised: never worse than not tilting
-            // at all, i.e. at most the angle between V and the rotation axis
-            const double axisAngle =
-                alignWithGravity(cell.positioner, m.deposition, cell.gravity).axisAngle;
-            EXPECT_LE(m.residual, axisAngle + 1e-9);
+        int previousIndex = -1;
+        for (std::size_t i = 0; i < motion.points.size(); ++i) {
+          const MotionPoint& m = motion.points[i];
+          if (i > 0) {
+            EXPECT_LE(std::abs(m.a2 - motion.points[i - 1].a2), options.maxA2Step * (1 + 1e-12))
+                << "point " << i;
           }
+          // inserted points carry the index of the plan point before them
+          if (m.flags & kMotionInserted) {  // NOLINT(bugprone-branch-clone)
+            EXPECT_EQ(m.index, previousIndex);
+          } else {
+            EXPECT_EQ(m.index, previousIndex + 1);
+            previousIndex = m.index;
+          }
+          // V within the band angle of gravity everywhere (inside the band: by the tilt alone)
+          EXPECT_LE(m.residual, options.nearSingularBand + 1e-9) << "point " << i;
+          if (!(m.flags & (kMotionNearSingular | kMotionA2RateLimited))) {
+            EXPECT_LT(m.residual, 1e-9);
+          }
+          const double axisAngle =
+              alignWithGravity(cell.positioner, m.deposition, cell.gravity).axisAngle;
+          EXPECT_EQ(axisAngle < options.nearSingularBand, (m.flags & kMotionNearSingular) != 0);
         }
+        EXPECT_EQ(previousIndex, count - 1);
       }
     }
   }
+}
+
+TEST(Motion, NearDuplicatePointsAreMerged) {
+  const Cell cell = defaultCell();
+  Plan plan = linePlan(sweep(20 * kDeg, 1 * kDeg, 5));
+  PlanPath& path = plan.layers[0].paths[0];
+  PathPoint duplicate = path.points[2];
+  duplicate.position.x() += 0.0014;  // the near-duplicates
+  path.points.insert(path.points.begin() + 3, duplicate);
+  const MotionPlan motion = planMotion(plan, cell);
+  ASSERT_EQ(motion.points.size(), 5u);
+  EXPECT_EQ(motion.points[3].index, 4);  // plan point 3 (the duplicate) merged into point 2
+  // (after the note of the placement rule, which rests the line on the table)
+  ASSERT_EQ(motion.notes.size(), 2u);
+  EXPECT_NE(motion.notes[0].find("part placement rest"), std::string::npos) << motion.notes[0];
+  EXPECT_NE(motion.notes[1].find("1 path point(s) closer than 0.0100 mm"), std::string::npos)
+      << motion.notes[1];
+  MotionOptions keep;
+  keep.mergeTolerance = 0.0;
+  EXPECT_EQ(planMotion(plan, cell, keep).points.size(), 6u);
 }
 
 TEST(Motion, PassingThroughTheAxisKeepsA2AndTurnsTheTiltSmoothly) {
@@ -209,7 +240,8 @@ TEST(Motion, SmoothingStaysWithinItsBound) {
   }
 }
 
-/// Two layers of rings around the table centre with V tilted outwards by up to 40 degrees.
+/// Two layers of rings around the table centre with V tilted outwards by up to 40 degrees; 90
+/// points per ring, so a2 steps 4 degrees (below maxA2Step: no points inserted).
 Plan ringPlan() {
   Plan plan;
   for (int l = 0; l < 2; ++l) {
@@ -222,8 +254,8 @@ Plan ringPlan() {
       path.closed = true;
       const double radius = 30.0 + 10.0 * r;
       const double tilt = (10.0 + 15.0 * r) * kDeg;
-      for (int i = 0; i < 60; ++i) {
-        const double phi = 2 * kPi * i / 60;
+      for (int i = 0; i < 90; ++i) {
+        const double phi = 2 * kPi * i / 90;
         PathPoint p;
         p.position = Vec3(radius * std::cos(phi), radius * std::sin(phi), 2.0 * l);
         p.deposition =
@@ -250,7 +282,7 @@ TEST(Motion, WorldPosesAndRobotJoints) {
     EXPECT_TRUE(motion.points[span.begin].pathStart);
     EXPECT_FALSE(motion.points[span.begin].arcOn);
     EXPECT_TRUE(motion.points[span.end - 1].pathEnd);
-    EXPECT_EQ(motion.points[span.end - 1].index, 60);  // closing point repeats point 0
+    EXPECT_EQ(motion.points[span.end - 1].index, 90);  // closing point repeats point 0
     for (std::size_t k = span.begin; k < span.end; ++k) {
       const MotionPoint& m = motion.points[k];
       EXPECT_EQ(m.configuration, configuration);
@@ -262,12 +294,11 @@ TEST(Motion, WorldPosesAndRobotJoints) {
       EXPECT_LT((m.toolInPart.translation() - m.position).norm(), 1e-9);
       const Pose viaTable = computeTableInWorld(cell.positioner, m.a1, m.a2) * m.toolInTable;
       EXPECT_TRUE(viaTable.isApprox(m.toolInWorld, 1e-12));
-      // tool x along the travel direction
-      if (k + 1 < span.end) {
-        const Vec3 next =
-            computePartInWorld(cell.positioner, m.a1, m.a2) * motion.points[k + 1].position;
-        EXPECT_GT(m.toolInWorld.linear().col(0).dot(next - world), 0.0);
-      }
+      // the round torch's x axis fixed in the world within the weld (toolAlongTravel off)
+      EXPECT_LT(
+          (m.toolInWorld.linear().col(0) - motion.points[span.begin].toolInWorld.linear().col(0))
+              .norm(),
+          1e-12);
       // robot joints reproduce the TCP pose, within limits
       const Pose tcp = computeFlangePose(cell.robot, m.joints) * cell.tool.tcp;
       EXPECT_LT((tcp.translation() - m.toolInRobotBase.translation()).norm(), 1e-6);
@@ -275,6 +306,10 @@ TEST(Motion, WorldPosesAndRobotJoints) {
                 1e-9);
       for (int j = 0; j < 6; ++j) EXPECT_TRUE(cell.robot.joints[j].contains(m.joints[j]));
       EXPECT_FALSE(m.flags & kMotionRobotLimit);
+      // the weld's configuration holds every point: J4 sits on 0 (vertical torch) and J6 is
+      // centred in a quadrant away from +-180 deg
+      EXPECT_TRUE(isWithinConfiguration(m.joints, span.configuration)) << k;
+      EXPECT_GT(std::abs(std::abs(std::remainder(m.joints[5], 2 * kPi)) - kPi), 30 * kDeg);
       // within a path the joints move continuously (no 2*pi jumps)
       if (k > span.begin) {
         for (int j = 0; j < 6; ++j) {
@@ -331,8 +366,8 @@ TEST(Motion, ClosedPathSmoothingWraps) {
     EXPECT_TRUE(first.usedDeposition.isApprox(closing.usedDeposition, 1e-15));
     // a rotationally symmetric ring: smoothing changes every V by the same small angle
     EXPECT_NEAR(angleBetween(first.usedDeposition, first.deposition),
-                angleBetween(motion.points[span.begin + 30].usedDeposition,
-                             motion.points[span.begin + 30].deposition),
+                angleBetween(motion.points[span.begin + 45].usedDeposition,
+                             motion.points[span.begin + 45].deposition),
                 1e-9);
   }
 }
@@ -425,8 +460,24 @@ TEST(Motion, BadInputNamesTheProblem) {
   plan = linePlan({Vec3(0, 0, -1), Vec3(0, 0, 0)});
   EXPECT_THROW(planMotion(plan, cell), InvalidInput);
   MotionOptions options;
-  options.maxSingularA2Step = 0.0;
+  options.maxA2Step = 0.0;
   EXPECT_THROW(planMotion(linePlan({Vec3(0, 0, -1), Vec3(0, 0, -1)}), cell, options), InvalidInput);
+  for (double band : {0.0, 50 * kDeg}) {
+    MotionOptions bad;
+    bad.nearSingularBand = band;
+    try {
+      planMotion(linePlan({Vec3(0, 0, -1), Vec3(0, 0, -1)}), cell, bad);
+      ADD_FAILURE() << band;
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find("near-singular band must be in (0, 45) degrees"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  MotionOptions negativeMerge;
+  negativeMerge.mergeTolerance = -0.1;
+  EXPECT_THROW(planMotion(linePlan({Vec3(0, 0, -1), Vec3(0, 0, -1)}), cell, negativeMerge),
+               InvalidInput);
   Cell bad = cell;
   bad.process.wireDiameter = 0.0;
   EXPECT_THROW(planMotion(linePlan({Vec3(0, 0, -1), Vec3(0, 0, -1)}), bad), InvalidInput);

@@ -192,8 +192,15 @@ def run(job, progress=None, force=False):
         progress = None
     try:
         ran = stages.update_job(job, progress=progress, force=force, prune=True)
+    except CurvedSlicerError as error:
+        hooks.close_progress(owned)
+        owned = None
+        if not isinstance(error, Cancelled):
+            job_module.mark_failed(job, error)  # FreeCAD's error state, message in the tree
+        raise
     finally:
         hooks.close_progress(owned)
+    job_module.clear_failed(job)
     job.purgeTouched()
     return ran
 

@@ -14,6 +14,9 @@ class CurvedSlicerWorkbench(FreeCADGui.Workbench):
         from freecad.curvedslicer.commands import job_commands
         from freecad.curvedslicer.taskpanels.preferences_page import PreferencesPage
 
+        from freecad.curvedslicer import ICON_DIR
+
+        FreeCADGui.addIconPath(ICON_DIR)  # preferences-curvedslicer.svg: the page's icon
         names = job_commands.register()
         self.appendToolbar("CurvedSlicer", names[:4])
         self.appendMenu("CurvedSlicer", names)

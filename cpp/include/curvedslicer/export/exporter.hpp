@@ -11,6 +11,11 @@
 //   csv, json  every motion point with all its data (neutral_writer.hpp)
 // Every writer is a pure function of (MotionPlan, Cell, ExportOptions): the same inputs give
 // byte-identical files (no clock, no locale; the date written into headers is an option).
+// Every writer writes every motion point (MotionPoint::kind): welds, the arc-off retract, travel
+// and approach moves as linear moves at their speed, moves to the home pose as joint moves; the
+// arc goes on after a path's first point and off after its last. Robot configuration bits / turn
+// numbers are the weld's (MotionPathSpan::configuration) on every point of a weld and the
+// point's own (configurationOf) at arc-off points, so they never change between arc on and off.
 //
 // Preconditions: the motion plan was made for the same cell (planMotion). Cost: O(points),
 // about 100–300 bytes of text per point.

@@ -9,9 +9,10 @@
 //            trivial-kinematics controller reproduces the path.
 // The header records the mode, the axis letters and signs, the pivot (tilt axis point and
 // direction, rotation axis point and direction in the positioner base frame) and the table-to-part
-// transform, so the file can be checked without the cell. Moves: first point G0, then G1 with
-// F = speed in mm/min (weld speed relative to the part, travel speed between paths); arc on
-// `M3` after a path's first point, off `M5` after its last; dwell `G4 P<s>`; `M2` at the end.
+// transform, so the file can be checked without the cell. Moves: first point and home G0, the
+// rest (welds and the arc-off retract, travel and approach moves) G1 with F = speed in mm/min
+// (weld speed relative to the part — a reduced one rounded down —, travel speed off the arc); arc
+// on `M3` after a path's first point, off `M5` after its last; dwell `G4 P<s>`; `M2` at the end.
 // Cost: O(points), about 60 bytes per point.
 #pragma once
 

@@ -5,20 +5,26 @@
 //   /JOB  //NAME n  //POS  ///NPOS C,0,EC,0,0,0  ///TOOL t
 //   robot positions C00000… : ///POSTYPE PULSE + ///PULSE (robot pulses from the cell's pulses
 //     per degree) or ///POSTYPE BASE + ///RECTAN + ///RCONF (x, y, z in mm and Rx, Ry, Rz in deg
-//     of the TCP in the robot base frame, R = Rz·Ry·Rx; RCONF from the IK configuration, repeated
-//     whenever it changes); station positions EC00000… always ///POSTYPE PULSE (tilt, rotation
-//     pulses = sign · round(deg · ppd));
+//     of the TCP in the robot base frame, R = Rz·Ry·Rx; RCONF = flip, elbow down, back, R/T/S
+//     at or beyond 180°, repeated whenever it changes: within a weld the weld's configuration
+//     (MotionPathSpan::configuration, constant from ARCON to ARCOF), at arc-off points the one
+//     of the point's joints); station positions EC00000… always ///POSTYPE PULSE (tilt,
+//     rotation pulses = sign · round(deg · ppd));
 //   //INST  ///DATE  ///ATTR SC,RW[,RJ]  ///GROUP1 RB1  ///GROUP2 ST1  NOP … END
 // Instructions per point: the program's first point `MOVJ C VJ=10.00 +MOVJ EC VJ=10.00` (10 % joint
-// speed for the unplanned approach); every further point `SMOVL C V=v +MOVJ EC` when the cell
-// asks for coordinated motion (speed v relative to the part), else `MOVL C V=v +MOVJ EC`; v is
-// the point's speed (weld or travel) in the cell's speed unit. After the first point of a path
-// `ARCON ASF#(n)` (condition file) or `ARCON AC=… AV=… T=…` (direct); after its last point
-// `ARCOF AEF#(n)` or `ARCOF`, then `TIMER T=…` for the path (+ layer) dwell if any.
+// speed for the unplanned move from wherever the robot stands); a move to the cell's home pose
+// `MOVJ C VJ=p +MOVJ EC VJ=p` (p from the planned duration, writer_support.hpp); every further
+// point, welds and the arc-off retract / travel / approach moves alike, `SMOVL C V=v +MOVJ EC`
+// when the cell asks for coordinated motion (speed v relative to the part), else `MOVL C V=v
+// +MOVJ EC`; v is the point's speed (weld, reduced weld — rounded down — or travel) in the cell's
+// speed unit. After the first point of a path `ARCON ASF#(n)` (condition file) or `ARCON AC=…
+// AV=… T=…` (direct); after its last point `ARCOF AEF#(n)` or `ARCOF`, then `TIMER T=…` for the
+// path (+ layer) dwell if any.
 //
 // Splitting: when the instructions (NOP … END inclusive) exceed the cell's maxLinesPerJob, the
-// points are packed into sub-jobs <NAME><k> (k zero-padded) at path boundaries where possible (a
-// path longer than a job continues in the next job with the arc on); each sub-job declares and
+// points are packed into sub-jobs <NAME><k> (k zero-padded), cut before an arc-off move (path
+// start, retract, travel, approach, home) where possible (a path longer than a job continues in
+// the next job with the arc on); each sub-job declares and
 // references only its own positions (numbered from 0); the main job <NAME> is `NOP`, one
 // `CALL JOB:<NAME><k>` per sub-job, `END`. Files: <NAME>.JBI (main) and <NAME><k>.JBI.
 //

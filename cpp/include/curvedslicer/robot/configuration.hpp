@@ -26,4 +26,21 @@ struct RobotConfiguration {
 /// `branch`, as a controller computes it: no hysteresis.
 RobotConfiguration configurationOf(const JointVector& joints, int branch);
 
+/// rad (0.1°): hysteresis of a configuration. Every boundary above (quadrant, turn, sign, ±180°)
+/// is a multiple of 90°, so a configuration is a region of one quadrant per joint; a joint may
+/// lie this far beyond its region's boundaries and still belong to it.
+inline constexpr double kConfigurationTolerance = 0.00174532925199433;
+
+/// The configuration of a weld whose joints range over [minJoints, maxJoints] (per joint, rad):
+/// per joint the quadrant that holds the lowest value once it is raised by `tolerance`, so a
+/// joint on a boundary (J4 at ±1e-16 rad) never decides from rounding noise. All joints of the
+/// weld lie in it (isWithinConfiguration) unless a joint's range really crosses a boundary;
+/// then that joint's quadrant is the one of the middle of its range.
+RobotConfiguration configurationOfRange(const JointVector& minJoints, const JointVector& maxJoints,
+                                        int branch, double tolerance = kConfigurationTolerance);
+
+/// Whether `joints` lie in the quadrants of `configuration`, each widened by `tolerance`.
+bool isWithinConfiguration(const JointVector& joints, const RobotConfiguration& configuration,
+                           double tolerance = kConfigurationTolerance);
+
 }  // namespace curvedslicer

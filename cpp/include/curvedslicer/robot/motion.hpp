@@ -1,25 +1,32 @@
 // Motion planning for a plan in a cell: per path point the positioner angles that turn the
 // deposition direction V onto gravity (paper §3.2, eq. 16), the world pose of the point through
-// the positioner's forward kinematics, a vertical torch pose (tool z along gravity, tool x along
-// the travel direction), the robot joint angles from closed-form inverse kinematics, and the
-// process estimates per layer and in total. This is what the exporters (export/) consume.
+// the positioner's forward kinematics, a vertical torch pose (tool z along gravity, tool x fixed
+// in the world per path or along the travel direction), the robot joint angles from closed-form
+// inverse kinematics, one robot configuration per weld, the time of every point against every
+// axis's speed limit and the process estimates. This is what the exporters (export/) consume.
 //
 // Method (details in docs/METHODS.md, "Positioner and robot"):
 //   1. optional smoothing of V along each path (Gaussian in arc length), bounded so that the
-//      smoothed V stays within `maxSmoothingDeviation` of the original V;
-//   2. eq. 16 in closed form with both branches (positioner.hpp), a2 unwrapped to the value
-//      nearest the previous point, the branch chosen for continuity within joint limits; in the
-//      singular zone (V within `singularZone` of the rotation axis) a2 is interpolated between
-//      the values before and after the zone with at most `maxSingularA2Step` per point and a1
-//      re-optimised for it; where joint limits make gravity alignment impossible, the feasible
-//      pose of least residual and a warning;
+//      smoothed V stays within `maxSmoothingDeviation` of the original V; consecutive points
+//      closer than `mergeTolerance` merged;
+//   2. eq. 16 in closed form with both branches (positioner.hpp), the branch and unwrapping
+//      nearest the previous point within joint limits; a2 then follows its exact value as
+//      closely as a bounded rate allows inside a tube where the compensating tilt keeps V within
+//      `nearSingularBand` (3°) of gravity — any a2 inside the band of that angle around the
+//      rotation axis, a blend of the exact values on both sides as target there; points
+//      inserted where a2 would step more than `maxA2Step`; where joint limits make gravity
+//      alignment impossible, the feasible pose of least residual and a warning;
 //   3. per point the TCP pose in world and in the robot base, inverse kinematics (up to 8
-//      solutions), the configuration of the path's first point kept along the path, joints
-//      continuous along a path; the arc-off move to a path start may turn R or T by a full turn
-//      when that keeps the path inside the joint limits; unreachable points and joint-limit
-//      crossings are named (which point, by how much / which joint).
+//      solutions), the IK branch of the path's first point kept along the path, joints
+//      continuous along a path, the fixed tool x turned about the torch axis so joint 6 sits in
+//      the middle of a quadrant away from ±180°, the weld's configuration with hysteresis
+//      (configuration.hpp); the arc-off move to a path start may turn R or T by a full turn when
+//      that keeps the path inside the joint limits; unreachable points and joint-limit crossings
+//      are named (which point, by how much / which joint);
+//   4. time parameterisation (timing.hpp): each move as slow as its slowest axis requires, the
+//      weld speed reduced only there (MotionPlan::speedReductions), estimates from it.
 // Preconditions: every path has >= 2 points, unit normals and deposition directions. Cost:
-// O(points), a few microseconds per point (IK dominates).
+// O(points), a few microseconds per point (IK, solved twice per path, dominates).
 #pragma once
 
 #include <array>
@@ -40,16 +47,17 @@ namespace curvedslicer {
 
 /// Bits of MotionPoint::flags.
 enum MotionFlag : std::uint32_t {
-  kMotionSingular = 1u << 0,         ///< V inside the singular zone: a2 held / interpolated
+  kMotionSingular = 1u << 0,         ///< V inside the near-singular band (as kMotionNearSingular)
   kMotionTiltLimited = 1u << 1,      ///< a1 clamped to its limit: V not on gravity (see residual)
   kMotionRotationLimited = 1u << 2,  ///< a2 clamped to its limit
-  kMotionA2RateLimited = 1u << 3,    ///< a2 lags its exact value after a singular zone
-  kMotionSmoothed = 1u << 4,         ///< V was smoothed (usedDeposition != deposition)
+  kMotionA2RateLimited = 1u << 3,  ///< outside the band, a2 off its exact value (V within the band
+                                   ///< angle of gravity): blended for a bounded a2 rate
+  kMotionSmoothed = 1u << 4,       ///< V was smoothed (usedDeposition != deposition)
   kMotionConfigurationChange = 1u << 5,  ///< robot configuration differs from the path start
   kMotionWristSingular = 1u << 6,        ///< joint 5 near 0: joints 4/6 split kept continuous
   kMotionRobotLimit = 1u << 7,           ///< no IK solution within the robot's joint limits
-  kMotionSpeedReduced = 1u << 8,  ///< weld speed lowered here so every axis keeps its speed limit
-  kMotionInserted = 1u << 9,      ///< point inserted by the planner (fast positioner turn)
+  kMotionSpeedReduced = 1u << 8,   ///< weld speed lowered here so every axis keeps its speed limit
+  kMotionInserted = 1u << 9,       ///< point inserted by the planner (fast positioner turn)
   kMotionNearSingular = 1u << 10,  ///< V inside the near-singular band (a2 blended, rate bounded)
   kMotionCollision = 1u << 11,     ///< the move arriving here collides (--allow-collisions)
 };
@@ -67,8 +75,8 @@ std::string_view toString(MoveKind kind);
 /// is reached by an arc-off travel move, every further point by a welding move.
 struct MotionPoint {
   MoveKind kind = MoveKind::Path;  ///< arc-off points other than Path have index == -1
-  int layer = 0;  ///< Plan::layers index
-  int path = 0;   ///< index of the path within the layer
+  int layer = 0;                   ///< Plan::layers index
+  int path = 0;                    ///< index of the path within the layer
   int index = 0;  ///< index of the point in the path; a closed path repeats point 0 at the end
                   ///< with index == points.size() (the closing weld move)
   Vec3 position = Vec3::Zero();          ///< mm, part frame
@@ -85,10 +93,10 @@ struct MotionPoint {
   Pose toolInRobotBase = Pose::Identity();  ///< TCP pose in the robot base frame (Cartesian target)
   Pose toolInTable = Pose::Identity();      ///< TCP pose in the positioner table frame
   Pose toolInPart = Pose::Identity();       ///< TCP pose in the part frame
-  double speed = 0.0;  ///< mm/s of the move arriving here: weld speed (relative to the part;
-                       ///< lower where kMotionSpeedReduced) or travel speed for arc-off moves
-  double time = 0.0;   ///< s from the program start to the arrival here (time parameterisation
-                       ///< against every axis's speed limit; dwells included)
+  double speed = 0.0;       ///< mm/s of the move arriving here: weld speed (relative to the part;
+                            ///< lower where kMotionSpeedReduced) or travel speed for arc-off moves
+  double time = 0.0;        ///< s from the program start to the arrival here (time parameterisation
+                            ///< against every axis's speed limit; dwells included)
   bool arcOn = false;       ///< the move arriving at this point is welded
   bool pathStart = false;   ///< first point of a path (ARCON after reaching it)
   bool pathEnd = false;     ///< last point of a path (ARCOF after reaching it)
@@ -110,17 +118,17 @@ struct MotionPathSpan {
 struct SpeedReduction {
   int layer = 0;
   int path = 0;
-  int firstIndex = 0;      ///< path point index where the reduction starts
-  int lastIndex = 0;       ///< path point index where it ends
-  double minSpeed = 0.0;   ///< mm/s, lowest weld speed in the stretch
-  std::string axis;        ///< the limiting axis, e.g. "positioner rotation (a2)" or "robot T"
+  int firstIndex = 0;     ///< path point index where the reduction starts
+  int lastIndex = 0;      ///< path point index where it ends
+  double minSpeed = 0.0;  ///< mm/s, lowest weld speed in the stretch
+  std::string axis;       ///< the limiting axis, e.g. "positioner rotation (a2)" or "robot T"
 };
 
 /// A move that still collides after raising/re-routing (error unless allowCollisions).
 struct CollisionReport {
-  std::size_t point = 0;   ///< MotionPlan::points index of the move's end point
-  std::string what;        ///< e.g. "torch vs deposit of layer 5 path 2"
-  double depth = 0.0;      ///< mm, penetration (or clearance deficit for travel moves)
+  std::size_t point = 0;  ///< MotionPlan::points index of the move's end point
+  std::string what;       ///< e.g. "torch vs deposit of layer 5 path 2"
+  double depth = 0.0;     ///< mm, penetration (or clearance deficit for travel moves)
 };
 
 /// Process estimates (paper §4.1 process parameters from the cell).
@@ -149,11 +157,12 @@ std::string_view toString(UnreachablePolicy policy);
 UnreachablePolicy parseUnreachablePolicy(std::string_view name);
 
 struct MotionOptions {
-  double singularZone = 0.0349065850398866;  ///< rad (2°): V within this of ±rotation axis
-  /// rad (2°) per point: a2 change limit in and around the singular zone. a2 follows a linear
-  /// ramp over a window that covers the zone and the neighbouring points whose exact a2 moves
-  /// faster than this; points outside the zone in that window get kMotionA2RateLimited.
-  double maxSingularA2Step = 0.0349065850398866;
+  /// rad (3°): the near-singular band and the stated gravity tolerance. V within this angle of
+  /// the rotation axis: a2 is blended between its exact values on both sides (rate bounded, see
+  /// docs/METHODS.md) and the tilt compensates, so V is within this angle of gravity anyway;
+  /// outside the band a2 may leave its exact value only as far as the compensating tilt keeps V
+  /// within this angle of gravity. Replaces the former singularZone / maxSingularA2Step.
+  double nearSingularBand = 0.0523598775598299;
   double initialA2 = 0.0;          ///< rad, a2 held when the first points of the plan are singular
   bool preferPositiveTilt = true;  ///< branch at the first point: a1 >= 0 if feasible
   double smoothingLength = 0.0;    ///< mm, Gaussian sigma along the path for V; 0 = no smoothing
@@ -165,12 +174,16 @@ struct MotionOptions {
   UnreachablePolicy unreachable = UnreachablePolicy::Throw;
   double residualWarning = 0.0174532925199433;  ///< rad (1°): warn above this residual
   // ---- motion a cell can run (travel, collisions, speed limits, placement) ----
-  double clearance = 10.0;        ///< mm, travel height above part and deposit (arc-off moves)
-  bool allowCollisions = false;   ///< remaining collisions are warnings instead of errors
-  bool addHome = true;            ///< start and end the program at the cell's home pose
-  double mergeTolerance = 0.01;   ///< mm, consecutive path points closer than this are merged
-  double maxA2Step = 0.0872664625997165;  ///< rad (5°): insert points so a2 never steps more
-  bool timeParameterise = true;   ///< respect every axis's max speed (else nominal speeds only)
+  double clearance = 10.0;       ///< mm, travel height above part and deposit (arc-off moves)
+  bool allowCollisions = false;  ///< remaining collisions are warnings instead of errors
+  bool addHome = true;           ///< start and end the program at the cell's home pose
+  /// mm, consecutive path points closer than this are merged (the first kept; an open path
+  /// keeps its last point); MotionPoint::index still names the plan point
+  double mergeTolerance = 0.01;
+  /// rad (5°): within a path a2 never steps more than this between consecutive points; points
+  /// are inserted on the straight segment (kMotionInserted, index = the plan point before)
+  double maxA2Step = 0.0872664625997165;
+  bool timeParameterise = true;  ///< respect every axis's max speed (else nominal speeds only)
   /// Where the part sits on the table (placement.hpp): Rest (default) lifts the cell's
   /// table_to_part so the lowest bead bottom lies on the table top; Cell keeps it as given.
   /// Either way a weld point below the table or outside the working volume is InvalidInput.
@@ -182,13 +195,13 @@ struct MotionPlan {
   std::vector<MotionPathSpan> paths;   ///< in execution order
   std::vector<MotionEstimate> layers;  ///< per Plan layer
   MotionEstimate total;
-  std::vector<std::string> warnings;  ///< aggregated, readable, at most a few per cause
-  double maxResidual = 0.0;           ///< rad, over points outside the singular zone
-  std::size_t singularPoints = 0;
-  std::size_t limitedPoints = 0;  ///< points with a positioner limit active
+  std::vector<std::string> warnings;            ///< aggregated, readable, at most a few per cause
+  double maxResidual = 0.0;                     ///< rad, over points outside the near-singular band
+  std::size_t singularPoints = 0;               ///< points inside the near-singular band
+  std::size_t limitedPoints = 0;                ///< points with a positioner limit active
   std::vector<SpeedReduction> speedReductions;  ///< where the weld speed drops, and by how much
   std::vector<CollisionReport> collisions;      ///< what remains (only with allowCollisions)
-  double nearSingularBand = 0.0;  ///< rad, V this close to the rotation axis is blended
+  double nearSingularBand = 0.0;        ///< rad, V this close to the rotation axis is blended
   Pose tableToPart = Pose::Identity();  ///< the part placement used (after the placement rule)
   /// e.g. defaults taken for an older cell version (Cell::notes), the placement rest made
   std::vector<std::string> notes;

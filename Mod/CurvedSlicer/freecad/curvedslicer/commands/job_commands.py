@@ -1,8 +1,13 @@
 """Commands: create a Job from the selection, edit it, run it (progress + Cancel), show a layer
-range, export the robot program (file dialog with the format), step and animate the positioner
-poses, and preferences. Document changes go through the macro API
-(api.py) and are echoed with FreeCADGui.doCommand / doCommandSkip so macro recording captures
-them; errors are shown in a message box saying what to do, never as a crash."""
+range, export the robot program (a dialog with file, format, program name and G-code mode; the
+document's folder by default), step and animate the positioner poses, and preferences.
+
+Document changes are made by running the macro API's own lines through FreeCADGui.doCommand
+(after FreeCADGui.addModule("freecad.curvedslicer.api")), so a recorded macro holds exactly the
+calls that ran — ``freecad.curvedslicer.api.run(...)``, ``...export(...)``, ``...set_pose(...)``
+— and replays them; errors are shown in a message box saying what to do, never as a crash."""
+
+import os
 
 import FreeCAD
 import FreeCADGui
@@ -28,13 +33,15 @@ def show_error(title, error):
     return box
 
 
-def _record(line):
-    """Echoes `line` to the console and the macro recorder without running it."""
-    skip = getattr(FreeCADGui, "doCommandSkip", None)
-    if skip is not None:
-        skip(line)
-    else:
-        FreeCADGui.doCommand("# " + line)
+API = "freecad.curvedslicer.api"
+
+
+def do_api(call):
+    """Runs `call` (an expression on freecad.curvedslicer.api, e.g. "run(<job>)") in FreeCAD's
+    console namespace: recorded in the macro as the real line, echoed to the Python console.
+    Exceptions of the call propagate to the caller."""
+    FreeCADGui.addModule(API)
+    FreeCADGui.doCommand("%s.%s" % (API, call))
 
 
 def selected_job():
@@ -103,8 +110,12 @@ class EditJob:
         return selected_job() is not None
 
     def Activated(self):
-        job = selected_job()
-        FreeCADGui.ActiveDocument.setEdit(job.Name)
+        edit_job(selected_job())
+
+
+def edit_job(job):
+    """Opens the Job's task panel, recorded as Gui.getDocument(...).setEdit(...)."""
+    FreeCADGui.doCommand("Gui.getDocument(%r).setEdit(%r)" % (job.Document.Name, job.Name))
 
 
 class RunJob:
@@ -121,18 +132,15 @@ class RunJob:
 
 
 def run_selected_job(job=None):
-    """Runs a Job with the progress dialog; returns True on success (errors shown)."""
-    from .. import api
-
+    """Runs a Job with the progress dialog (recorded as freecad.curvedslicer.api.run); returns
+    True on success (errors shown)."""
     job = job or selected_job()
     if job is None:
         return False
-    FreeCADGui.addModule("freecad.curvedslicer.api")
-    _record("freecad.curvedslicer.api.run(%s)" % _ref(job))
     doc = job.Document
     doc.openTransaction("Run CurvedSlicer Job")
     try:
-        api.run(job)
+        do_api("run(%s)" % _ref(job))
     except Cancelled:
         doc.commitTransaction()
         FreeCAD.Console.PrintWarning("CurvedSlicer: run of %s cancelled; the previous layers are "
@@ -184,12 +192,10 @@ class LayerRangeDialog(QtGui.QDialog):
         self.apply()
 
     def apply(self, *args):
-        from .. import api
-
         first, last = self.first.value(), self.last.value()
         if last < first:
             first, last = last, first
-        api.set_layer_range(self.job, first, last)
+        do_api("set_layer_range(%s, %d, %d)" % (_ref(self.job), first, last))
         self.label.setText("layers %d to %d of %d" % (first, last, self.job.LayerCount))
 
 
@@ -216,40 +222,108 @@ def export_filters():
     return [("%s (*%s)" % (name.upper(), ext), name, ext) for (name, ext) in api.export_formats()]
 
 
-def export_selected_job(job=None, path=None, format=None):
-    """Exports through the macro API (recorded); returns the result dict or None. `path` and
-    `format` skip the dialog (tests)."""
-    from .. import api
+GCODE_MODES = ["tcp", "machine"]  # export/exporter.hpp GcodeMode: Tcp, Machine
 
+
+def default_export_folder(job):
+    """The folder of the Job's document file; the home folder for an unsaved document."""
+    name = job.Document.FileName
+    return os.path.dirname(name) if name else os.path.expanduser("~")
+
+
+class ExportDialog(QtGui.QDialog):
+    """File (Browse… in the document's folder), format, program name and G-code mode of an
+    export; options() gives export_selected_job's keywords."""
+
+    def __init__(self, job, parent=None):
+        super().__init__(parent)
+        self.setObjectName("CurvedSlicerExport")
+        self.setWindowTitle("Export robot program of %s" % job.Label)
+        self.filters = export_filters()
+        form = QtGui.QFormLayout(self)
+        form.setRowWrapPolicy(QtGui.QFormLayout.WrapLongRows)
+        self.format = QtGui.QComboBox()
+        self.format.addItems(["%s (%s)" % (name.upper(), ext) for (_, name, ext) in self.filters])
+        self.format.currentIndexChanged.connect(self._format_changed)
+        form.addRow("Format", self.format)
+        self.path = QtGui.QLineEdit(os.path.join(default_export_folder(job),
+                                                 job.Label + self.filters[0][2]))
+        browse = QtGui.QPushButton("Browse…")
+        browse.clicked.connect(self.browse)
+        row = QtGui.QHBoxLayout()
+        row.addWidget(self.path)
+        row.addWidget(browse)
+        form.addRow("File", row)
+        self.program_name = QtGui.QLineEdit("")
+        self.program_name.setPlaceholderText("the cell's job name")
+        self.program_name.setToolTip("Program / job name in the file; empty = the cell's "
+                                     "(each format cuts it to its controller's limit)")
+        form.addRow("Program name", self.program_name)
+        self.gcode_mode = QtGui.QComboBox()
+        self.gcode_mode.addItems(GCODE_MODES)
+        self.gcode_mode.setToolTip("tcp: part-frame X Y Z with the table angles A C (the "
+                                   "controller does the kinematics); machine: X Y Z through "
+                                   "the table's kinematics")
+        form.addRow("G-code mode", self.gcode_mode)
+        buttons = QtGui.QDialogButtonBox(QtGui.QDialogButtonBox.Ok |
+                                         QtGui.QDialogButtonBox.Cancel)
+        buttons.accepted.connect(self.accept)
+        buttons.rejected.connect(self.reject)
+        form.addRow(buttons)
+        self._format_changed()
+
+    def _format_changed(self, *args):
+        name, ext = self.filters[self.format.currentIndex()][1:]
+        self.gcode_mode.setEnabled(name == "gcode")
+        path = self.path.text()
+        if path:
+            self.path.setText(os.path.splitext(path)[0] + ext)
+
+    def browse(self):
+        _, name, ext = self.filters[self.format.currentIndex()]
+        chosen = QtGui.QFileDialog.getSaveFileName(
+            self, "Export robot program", self.path.text(), "%s (*%s)" % (name.upper(), ext))
+        path = chosen[0] if isinstance(chosen, (tuple, list)) else chosen
+        if path:
+            self.path.setText(path)
+        return path
+
+    def options(self):
+        name = self.filters[self.format.currentIndex()][1]
+        return {"path": self.path.text().strip(), "format": name,
+                "program_name": self.program_name.text().strip(),
+                "gcode_mode": self.gcode_mode.currentText() if name == "gcode" else "tcp"}
+
+
+def export_selected_job(job=None, path=None, format=None, program_name="", gcode_mode="tcp"):
+    """Exports through the macro API, recorded as freecad.curvedslicer.api.export(...); returns
+    {files, motion_count, ...} or None. Without `path` the export dialog asks."""
     job = job or selected_job()
     if job is None:
         return None
-    filters = export_filters()
     if path is None:
-        chosen = QtGui.QFileDialog.getSaveFileName(
-            _main_window(), "Export robot program", job.Label + filters[0][2],
-            ";;".join(f[0] for f in filters))
-        path, selected = chosen if isinstance(chosen, tuple) else (chosen, "")
-        if not path:
+        dialog = ExportDialog(job, _main_window())
+        if not (getattr(dialog, "exec", None) or dialog.exec_)():
             return None
-        format = next((f[1] for f in filters if f[0] == selected), None)
+        options = dialog.options()
+        path, format = options["path"], options["format"]
+        program_name, gcode_mode = options["program_name"], options["gcode_mode"]
     if format is None:
-        format = next((f[1] for f in filters if path.lower().endswith(f[2].lower())), "jbi")
-    _record("from freecad.curvedslicer import api")
-    _record("api.export(%s, %r, format=%r)" % (_ref(job), path, format))
+        format = next((f[1] for f in export_filters() if path.lower().endswith(f[2].lower())),
+                      "jbi")
+    extras = "".join(", %s=%r" % (k, v) for (k, v, default) in (
+        ("program_name", program_name, ""), ("gcode_mode", gcode_mode, "tcp")) if v != default)
     try:
         QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
         try:
-            result = api.export(job, path, format=format)
+            do_api("export(%s, %r, format=%r%s)" % (_ref(job), path, format, extras))
         finally:
             QtGui.QApplication.restoreOverrideCursor()
     except CurvedSlicerError as error:
         show_error("export failed", error)
         return None
-    FreeCAD.Console.PrintMessage(
-        "CurvedSlicer: wrote %s (%d files, %d motions)\n"
-        % (path, len(result["files"]), result["motion_count"]))
-    return result
+    FreeCAD.Console.PrintMessage("CurvedSlicer: wrote %s\n" % path)
+    return {"path": path, "format": format}
 
 
 class StepPose:
@@ -270,8 +344,10 @@ class StepPose:
         count = api.pose_count(job)
         step = max(1, count // 200)
         index = (job.PosePoint + step) % max(count, 1)
-        _record("api.set_pose(%s, %d)" % (_ref(job), index))
-        api.set_pose(job, index)
+        try:
+            do_api("set_pose(%s, %d)" % (_ref(job), index))
+        except CurvedSlicerError as error:
+            show_error("the pose cannot be shown", error)
         FreeCADGui.updateGui()
 
 
@@ -280,6 +356,7 @@ class AnimatePoses:
 
     def __init__(self):
         self.timer = None
+        self.job = None
 
     def GetResources(self):
         return {"Pixmap": icon_path("Layers"), "MenuText": "Animate positioner poses",
@@ -293,8 +370,7 @@ class AnimatePoses:
         from .. import api
 
         if self.timer is not None:
-            self.timer.stop()
-            self.timer = None
+            self.stop()
             return
         job = selected_job()
         count = api.pose_count(job)
@@ -303,21 +379,31 @@ class AnimatePoses:
 
         def tick():
             if job.Document is None or state["index"] >= count:
-                self.timer.stop()
-                self.timer = None
+                self.stop()
                 return
             try:
                 api.set_pose(job, state["index"])
             except CurvedSlicerError as error:
-                self.timer.stop()
-                self.timer = None
+                self.stop()
                 show_error("animation stopped", error)
                 return
             state["index"] += step
 
+        self.job = job
         self.timer = QtCore.QTimer()
         self.timer.timeout.connect(tick)
         self.timer.start(50)
+
+    def stop(self):
+        """Stops the animation; the pose it stopped at is recorded (set_pose) for macros."""
+        self.timer.stop()
+        self.timer = None
+        job, self.job = self.job, None
+        if job is not None and job.Document is not None:
+            try:
+                do_api("set_pose(%s, %d)" % (_ref(job), job.PosePoint))
+            except CurvedSlicerError as error:
+                show_error("the pose cannot be shown", error)
 
 
 class Preferences:
@@ -344,7 +430,16 @@ COMMANDS = {
 }
 
 
+# FreeCADGui.addCommand takes the file name of its Python caller as the command's module, and
+# the macro recorder writes "import <that name>" at the top of every macro that runs the
+# command: called from here, "import job_commands", which fails on replay. The call is made from
+# a frame labelled ".../Mod/CurvedSlicer/FreeCADGui": the macro imports FreeCADGui (always
+# importable in the GUI) and the commands' group stays "CurvedSlicer".
+_ADD_COMMAND = compile("FreeCADGui.addCommand(name, command)", "/Mod/CurvedSlicer/FreeCADGui",
+                       "exec")
+
+
 def register():
     for name, cls in COMMANDS.items():
-        FreeCADGui.addCommand(name, cls())
+        exec(_ADD_COMMAND, {"FreeCADGui": FreeCADGui, "name": name, "command": cls()})
     return list(COMMANDS)

@@ -8,8 +8,10 @@ which calls the stages (stages/: layers, paths, poses; each reruns only when the
 inputs changed). Layers are stored as Mesh features, the plan as its versioned JSON text
 (``PlanJson``), both saved in the .FCStd, so a reopened document needs no recompute and
 re-exports byte-identical programs. Errors of the core or of the input are shown in ``Status``
-(layers) or ``PathsStatus`` (paths, poses) and the Report view without raising out of
-``execute``; the macro API (api.run) raises them. App side: no GUI imports (the view provider is
+(layers) or ``PathsStatus`` (paths, poses) and the Report view, and put the Job in FreeCAD's
+error state (``execute`` raises JobFailed; api.run raises the core's error and marks the Job
+the same way). Result features a recompute emptied are removed once the recompute is over (a
+document observer). App side: no GUI imports (the view provider is
 attached through hooks.py, see docs/WORKBENCH.md).
 """
 
@@ -225,6 +227,7 @@ class JobProxy:
         obj.Proxy = self
         self.Type = JOB_TYPE
         add_missing_properties(obj)
+        install_observer()
 
     # -- persistence (0.20 calls __getstate__/__setstate__, newer versions dumps/loads) --------
     def __getstate__(self):
@@ -240,6 +243,7 @@ class JobProxy:
         """Migrates a Job saved by an older workbench: adds missing properties, bumps the
         schema version. Layers are kept (no recompute)."""
         self.Type = JOB_TYPE
+        install_observer()
         old = obj.SchemaVersion if "SchemaVersion" in obj.PropertiesList else 0
         added = add_missing_properties(obj)
         if "CornerAngle" in added:
@@ -260,14 +264,61 @@ class JobProxy:
 
     def execute(self, obj):
         """Recompute: reruns the layers, the paths and the poses only if their inputs changed.
-        Errors go to Status / PathsStatus (never raised out of a recompute)."""
+        An error is reported in Status / PathsStatus and the Report view (by update_job) and
+        raised as JobFailed, which puts the Job in FreeCAD's error state (the message in the
+        tree's tooltip). A failure of api.run outside a recompute is raised here too
+        (mark_failed), without running anything again."""
+        failure, self.failure = getattr(self, "failure", None), None
+        if failure:
+            raise JobFailed(failure)
         progress = hooks.make_progress()
         try:
             stages.update_job(obj, progress=progress, prune=False)
-        except CurvedSlicerError:
-            pass  # reported by update_job
+        except CurvedSlicerError as error:
+            raise JobFailed("%s: %s" % (type(error).__name__, error)) from None
         finally:
             hooks.close_progress(progress)
+
+
+class JobFailed(Exception):
+    """A Job's recompute failed (raised out of JobProxy.execute: FreeCAD's error state)."""
+
+
+def mark_failed(job, error):
+    """After api.run failed outside a recompute: puts the Job in FreeCAD's error state with the
+    error's message, through a recompute of the Job whose execute raises it (nothing reruns)."""
+    job.Proxy.failure = "%s: %s" % (type(error).__name__, error)
+    job.touch()
+    job.Document.recompute([job])
+    job.Proxy.failure = None
+
+
+def clear_failed(job):
+    """After api.run succeeded: a Job still in the error state of an earlier failure is
+    recomputed (its inputs are unchanged, so nothing reruns) to clear it."""
+    if "Invalid" in job.State:
+        job.touch()
+        job.Document.recompute([job])
+
+
+class _RecomputeObserver:
+    """Removes the result features a recompute emptied (a smaller result: fewer layers, fewer
+    paths) once the document's recompute is over, so no "unused" objects stay in the tree."""
+
+    def slotRecomputedDocument(self, doc):
+        for job in [o for o in doc.Objects if is_job(o)]:
+            stages.prune_unused(job)
+
+
+_observer = None
+
+
+def install_observer():
+    """Registers the recompute observer once per session (on the first Job made or loaded)."""
+    global _observer
+    if _observer is None:
+        _observer = _RecomputeObserver()
+        FreeCAD.addDocumentObserver(_observer)
 
 
 def is_job(obj):

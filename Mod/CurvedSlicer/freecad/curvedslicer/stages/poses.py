@@ -23,6 +23,7 @@ import FreeCAD
 from .. import defaults
 from ..core import InvalidInput, native
 from .features import ensure_group, group_members
+from .pose_placement import part_placement
 
 POSE_PARTS = ["PositionerBase", "PositionerCradle", "PositionerTable", "PosePart"]
 
@@ -213,8 +214,7 @@ def update_poses(job, progress=None):
         if part.LinkedObject != job.Solid:
             part.LinkedObject = job.Solid
         part.LinkTransform = True
-        # The part where the motion placed it: table frame · table_to_part.
-        part.Placement = placement(frames["table"]).multiply(placement(m["table_to_part"]))
+        part.Placement = part_placement(m, frames)
     # Shapes are in the table-zero frame; their placements are the frames that carry them.
     objects["PositionerBase"].Placement = placement(frames["table_zero"])
     objects["PositionerCradle"].Placement = placement(frames["cradle"])
@@ -224,8 +224,7 @@ def update_poses(job, progress=None):
         o.purgeTouched()
     group.purgeTouched()
     v = m["deposition"][index]
-    part_frame = placement(frames["table"]).multiply(placement(m["table_to_part"]))
-    world_v = part_frame.Rotation.multVec(FreeCAD.Vector(*v.tolist()))
+    world_v = part_placement(m, frames).Rotation.multVec(FreeCAD.Vector(*v.tolist()))
     job.PoseCount = count
     job.PoseA1 = math.degrees(a1)
     job.PoseA2 = math.degrees(a2)

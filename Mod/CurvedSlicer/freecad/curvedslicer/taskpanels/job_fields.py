@@ -1,6 +1,8 @@
-"""Editors of the Job task panel (GUI only): length and plain number spin boxes, enumeration
-combo boxes, vectors (three spin boxes), links to another object's faces (object combo box, face
-list, "From selection"), and the checks behind them (face lists, cell files).
+"""Editors of the Job task panel (GUI only): lengths and angles in FreeCAD's own unit-aware
+Gui::QuantitySpinBox ("1 in" is 25.4 mm, "2*0.5 mm" is 1 mm), plain number spin boxes,
+enumeration combo boxes, vectors (three boxes stacked), links to another object's faces (object
+combo box, face list, "From selection"), and the checks behind them (quantities out of range or
+not understood, face lists, cell files).
 
 Every editor reports its value as a plain Python value (float, str, tuple) so the panel can tell
 what the user changed, and formats it as the Python expression a macro assigns to the property.
@@ -18,6 +20,7 @@ from ..core import CurvedSlicerError, native
 
 FACE_NAME = re.compile(r"^Face([1-9][0-9]*)$")
 COORDINATE_LIMIT = 1e6  # mm and direction components the vector editors accept
+QUANTITY_LIMIT = 1e12  # the quantity boxes' own range: wide, the fields check their ranges
 
 
 def mm(quantity):
@@ -44,6 +47,95 @@ def spin(value, minimum, maximum, decimals=3, suffix=" mm", step=0.1):
     box.setSuffix(suffix)
     box.setValue(value)
     return box
+
+
+class QuantityField:
+    """A length (`unit` "mm") or angle ("deg") in a Gui::QuantitySpinBox (FreeCAD's unit-aware
+    spin box: units, arithmetic, the user's unit schema). The box itself accepts any value, so
+    a value out of range stays visible and `problem()` names it ("layer thickness must be
+    positive: 0 mm; ..."); text the box cannot read ("abc", "5 deg" for a length) is a problem
+    too, instead of silently keeping the previous value. `widget` is the QWidget to lay out."""
+
+    def __init__(self, value, unit, what, minimum=None, maximum=None, exclusive_minimum=True,
+                 example="1.5 mm"):
+        self.unit, self.what, self.example = unit, what, example
+        self.minimum, self.maximum = minimum, maximum
+        self.exclusive_minimum = exclusive_minimum
+        self.widget = FreeCADGui.UiLoader().createWidget("Gui::QuantitySpinBox")
+        self.widget.setProperty("unit", unit)
+        self.widget.setProperty("minimum", -QUANTITY_LIMIT)
+        self.widget.setProperty("maximum", QUANTITY_LIMIT)
+        self.widget.setProperty("singleStep", 1.0 if unit == "deg" else 0.1)
+        self.widget.setMinimumWidth(80)
+        # The box's line edit as a child widget (QAbstractSpinBox.lineEdit() is protected).
+        self.edit = self.widget.findChild(QtGui.QLineEdit)
+        self.set_value(value)
+
+    def __getattr__(self, name):  # setEnabled, isEnabled, setToolTip, setFocus, ...
+        return getattr(self.widget, name)
+
+    def text(self):
+        return self.edit.text()
+
+    def set_text(self, text):
+        """Types `text` into the box (as the user would)."""
+        self.edit.setText(text)
+
+    def set_value(self, value):
+        self.widget.setProperty("rawValue", float(value))
+
+    setValue = set_value
+
+    def value(self):
+        """The value in `unit` (mm or degrees) the box holds (its last readable text); a
+        formula typed as "=2*0.5 mm" is evaluated (the box itself reads "=" only when bound to
+        a property)."""
+        if self.text().strip().startswith("="):
+            value, message = self._read()
+            if message is None:
+                return value
+        return float(self.widget.property("rawValue"))
+
+    def on_change(self, slot):
+        self.edit.textChanged.connect(slot)
+
+    def _read(self):
+        """(value in `unit`, None) of the text, or (None, message) when it is not a quantity of
+        this kind."""
+        text = self.text().strip()
+        formula = text[1:].strip() if text.startswith("=") else text
+        dimension = FreeCAD.Units.Length if self.unit == "mm" else FreeCAD.Units.Angle
+        kind = "length" if self.unit == "mm" else "angle"
+        try:
+            q = FreeCAD.Units.Quantity(formula)
+        except (ValueError, ArithmeticError):
+            q = None
+        if q is None or not (q.Unit == dimension or q.Unit == FreeCAD.Units.Unit()):
+            return None, ("%s not understood: %r; enter a %s such as %s" % (
+                self.what, text, kind, self.example))
+        if q.Unit == FreeCAD.Units.Unit():
+            return float(q.Value), None
+        return float(q.getValueAs(self.unit)), None
+
+    def problem(self):
+        """"" or "<what> must be ...: <value>; enter ..." for text that is unreadable or out of
+        range."""
+        value, message = self._read()
+        if message:
+            return message
+        shown = "%g %s" % (value, "°" if self.unit == "deg" else self.unit)
+        low = self.minimum
+        if low is not None and (value <= low if self.exclusive_minimum else value < low):
+            if low == 0:
+                need = "positive" if self.exclusive_minimum else "zero or positive"
+            else:
+                need = "%s %g %s" % ("above" if self.exclusive_minimum else "at least", low,
+                                     self.unit)
+            return "%s must be %s: %s; enter e.g. %s" % (self.what, need, shown, self.example)
+        if self.maximum is not None and value > self.maximum:
+            return "%s too large: %s (at most %g %s); enter e.g. %s" % (
+                self.what, shown, self.maximum, self.unit, self.example)
+        return ""
 
 
 def combo(items, current):
@@ -167,20 +259,24 @@ class ObjectCombo(QtGui.QComboBox):
 
 
 class VectorField(QtGui.QWidget):
-    """Three spin boxes x, y, z: a point in mm (`unit` " mm") or a direction (`unit` "")."""
+    """Three boxes x, y, z stacked (narrow enough for the combo view): a point in mm (`unit`
+    " mm", unit-aware quantity boxes) or a direction (`unit` "", plain spin boxes)."""
 
-    def __init__(self, vector, unit=" mm"):
+    def __init__(self, vector, unit=" mm", what="point"):
         super().__init__()
-        row = QtGui.QHBoxLayout(self)
-        row.setContentsMargins(0, 0, 0, 0)
-        decimals = 3 if unit else 4
+        form = QtGui.QFormLayout(self)
+        form.setContentsMargins(0, 0, 0, 0)
         self.boxes = []
         for axis, v in zip("xyz", (vector.x, vector.y, vector.z)):
-            box = spin(float(v), -COORDINATE_LIMIT, COORDINATE_LIMIT, decimals, unit, 0.1)
-            box.setToolTip(axis)
-            box.setPrefix(axis + " ")
+            if unit:
+                box = QuantityField(float(v), "mm", "%s %s" % (what, axis),
+                                    maximum=COORDINATE_LIMIT, example="12.5 mm")
+                widget = box.widget
+            else:
+                box = widget = spin(float(v), -COORDINATE_LIMIT, COORDINATE_LIMIT, 4, "", 0.1)
+            widget.setToolTip(axis)
             self.boxes.append(box)
-            row.addWidget(box)
+            form.addRow(axis, widget)
 
     def value(self):
         return tuple(b.value() for b in self.boxes)
@@ -188,6 +284,18 @@ class VectorField(QtGui.QWidget):
     def set_value(self, xyz):
         for b, v in zip(self.boxes, xyz):
             b.setValue(float(v))
+
+    def problem(self):
+        """"" or the first coordinate that is not understood or beyond COORDINATE_LIMIT."""
+        for b in self.boxes:
+            if isinstance(b, QuantityField):
+                message = b.problem()
+                if not message and b.value() < -COORDINATE_LIMIT:
+                    message = "%s too small: %g mm (at least %g mm)" % (b.what, b.value(),
+                                                                       -COORDINATE_LIMIT)
+                if message:
+                    return message
+        return ""
 
     def is_zero(self):
         return all(v == 0.0 for v in self.value())

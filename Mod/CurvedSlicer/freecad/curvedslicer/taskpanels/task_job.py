@@ -1,6 +1,11 @@
 """Task panel of a Job: every user-facing Job property, validation, and the voxel/memory
 estimate of a run.
 
+Lengths and angles are FreeCAD's unit-aware Gui::QuantitySpinBox ("1 in" is 25.4 mm, "2*0.5 mm"
+is 1 mm); a value out of range or text that is not a length is named below the tabs while typing
+and refused on OK/Apply/Run (never silently replaced by the previous value). The tabs scroll and
+the form rows wrap, so the panel fits the default width of the combo view.
+
 Four tabs follow the property groups: Model (Solid, PlanKind, the start surface and the thin
 wall), Layers (with the estimate: core planGrid cells and memory against the budget, refreshed on
 demand and after a change of the voxel size, alignment or budget), Paths, Robot (cell file with a
@@ -11,19 +16,20 @@ the initial plane unless InitialPath is Plane).
 OK and Apply first validate what the panel would set (a message "<what>: <value>; <what to do>"
 below the tabs, the tab with the field brought forward, nothing applied), then assign the
 properties the user changed through FreeCADGui.doCommand inside one transaction, so macro
-recording captures them and Undo reverts them. Nothing is computed on apply (Run Job does that).
+recording captures them and Undo reverts them. Nothing is computed on apply; the Run button
+applies, then runs the Job (recorded as freecad.curvedslicer.api.run).
 """
 
 import FreeCADGui
-from PySide import QtGui
+from PySide import QtCore, QtGui
 
 from .. import api, geometry
 from ..core import CurvedSlicerError, InvalidInput
 from ..objects import job as job_module
-from .job_fields import (FileField, LinkSubField, ObjectCombo, VectorField, candidate_objects,
-                         cell_problem, combo, degrees, enum_value, faces_problem, mm, object_ref,
-                         parse_faces, selected_object_and_faces, single_shot_timer, spin,
-                         split_names)
+from .job_fields import (FileField, LinkSubField, ObjectCombo, QuantityField, VectorField,
+                         candidate_objects, cell_problem, combo, degrees, enum_value,
+                         faces_problem, mm, object_ref, parse_faces, selected_object_and_faces,
+                         single_shot_timer, spin, split_names)
 
 LENGTH_LIMIT = 1000.0  # mm, the largest thickness, voxel, spacing the panel accepts
 INT_MAX = 2 ** 31 - 1
@@ -32,7 +38,20 @@ INT_MAX = 2 ** 31 - 1
 def _form(parent):
     form = QtGui.QFormLayout(parent)
     form.setFieldGrowthPolicy(QtGui.QFormLayout.AllNonFixedFieldsGrow)
+    form.setRowWrapPolicy(QtGui.QFormLayout.WrapLongRows)  # labels above fields when narrow
     return form
+
+
+def _scrolled(widget):
+    """`widget` in a frameless scroll area: a tab never forces the combo view wider or
+    taller; what does not fit scrolls."""
+    area = QtGui.QScrollArea()
+    area.setWidgetResizable(True)
+    area.setFrameShape(QtGui.QFrame.NoFrame)
+    area.setHorizontalScrollBarPolicy(QtCore.Qt.ScrollBarAsNeeded)
+    area.setWidget(widget)
+    area.setMinimumHeight(360)  # the combo view is tall: show most of a tab at once
+    return area
 
 
 class TaskPanelJob:
@@ -47,26 +66,35 @@ class TaskPanelJob:
         self.status_label.setWordWrap(True)
         layout.addWidget(self.status_label)
         self.tabs = QtGui.QTabWidget()
-        layout.addWidget(self.tabs)
-        self.tabs.addTab(self._model_tab(job, objects), "Model")
-        self.tabs.addTab(self._layers_tab(job), "Layers")
-        self.tabs.addTab(self._paths_tab(job, objects), "Paths")
-        self.tabs.addTab(self._robot_tab(job), "Robot")
+        self.tabs.setUsesScrollButtons(True)
+        layout.addWidget(self.tabs, 1)
+        self.tabs.addTab(_scrolled(self._model_tab(job, objects)), "Model")
+        self.tabs.addTab(_scrolled(self._layers_tab(job)), "Layers")
+        self.tabs.addTab(_scrolled(self._paths_tab(job, objects)), "Paths")
+        self.tabs.addTab(_scrolled(self._robot_tab(job)), "Robot")
 
         self.error_label = QtGui.QLabel("")
         self.error_label.setObjectName("CurvedSlicerPanelError")
         self.error_label.setWordWrap(True)
         self.error_label.setStyleSheet("color: #b00000")
         layout.addWidget(self.error_label)
+        self.run_button = QtGui.QPushButton("Run")
+        self.run_button.setObjectName("CurvedSlicerPanelRun")
+        self.run_button.setToolTip("Apply the values and compute the layers, paths and poses "
+                                   "(progress with Cancel)")
+        self.run_button.clicked.connect(self.run)
+        layout.addWidget(self.run_button)
 
         self.initial = self.values()
+        for field in self.quantity_fields():
+            field.on_change(self.show_quantity_problem)
         for box in (self.plan_kind, self.start_mode, self.wall_edge, self.initial_path):
             box.currentIndexChanged.connect(self.update_enabled)
         self.solid.currentIndexChanged.connect(self.update_enabled)
         self.update_enabled()
 
         self.timer = single_shot_timer(400, self.update_estimate, self.form)
-        self.voxel_size.valueChanged.connect(self._estimate_soon)
+        self.voxel_size.on_change(self._estimate_soon)
         self.alignment.currentIndexChanged.connect(self._estimate_soon)
         self.memory.valueChanged.connect(self._estimate_soon)
 
@@ -103,7 +131,7 @@ class TaskPanelJob:
         f.addRow("Start faces", row)
         self.start_surface = LinkSubField(objects, job.StartSurface, "start surface")
         f.addRow("Start surface", self.start_surface)
-        self.start_point = VectorField(job.StartPlanePoint, " mm")
+        self.start_point = VectorField(job.StartPlanePoint, " mm", "start plane point")
         f.addRow("Plane point", self.start_point)
         self.start_normal = VectorField(job.StartPlaneNormal, "")
         f.addRow("Plane normal", self.start_normal)
@@ -119,7 +147,7 @@ class TaskPanelJob:
         f.addRow("Start edge", self.wall_edge)
         self.wall_axis = VectorField(job.WallAxis, "")
         f.addRow("Up axis", self.wall_axis)
-        self.wall_point = VectorField(job.WallPoint, " mm")
+        self.wall_point = VectorField(job.WallPoint, " mm", "wall point")
         f.addRow("Point near edge", self.wall_point)
         layout.addWidget(self.wall_group)
         layout.addStretch(1)
@@ -128,12 +156,15 @@ class TaskPanelJob:
     def _layers_tab(self, job):
         tab = QtGui.QWidget()
         f = _form(tab)
-        self.layer_thickness = spin(mm(job.LayerThickness), 0.01, LENGTH_LIMIT)
-        f.addRow("Layer thickness", self.layer_thickness)
-        self.voxel_size = spin(mm(job.VoxelSize), 0.01, LENGTH_LIMIT)
+        self.layer_thickness = QuantityField(mm(job.LayerThickness), "mm", "layer thickness",
+                                             0.0, LENGTH_LIMIT, example="1.5 mm")
+        self.layer_thickness.setToolTip("Layer thickness h (a length: 1.5 mm, 0.06 in, ...)")
+        f.addRow("Layer thickness", self.layer_thickness.widget)
+        self.voxel_size = QuantityField(mm(job.VoxelSize), "mm", "voxel size", 0.0, LENGTH_LIMIT,
+                                        example="0.5 mm")
         self.voxel_size.setToolTip("Voxel edge length; time and memory grow as 1/L^3 (ThinWall: "
                                    "sets the tessellation of the wall surface)")
-        f.addRow("Voxel size", self.voxel_size)
+        f.addRow("Voxel size", self.voxel_size.widget)
         self.method = combo(job_module.METHODS, job.Method)
         f.addRow("Method", self.method)
         self.alignment = combo(job_module.ALIGNMENTS, job.GridAlignment)
@@ -141,9 +172,11 @@ class TaskPanelJob:
         self.cap_holes = QtGui.QCheckBox("Close holes of an open mesh")
         self.cap_holes.setChecked(job.CapHoles)
         f.addRow("", self.cap_holes)
-        self.deflection = spin(mm(job.Deflection), 0.0, 100.0, 4)
-        self.deflection.setSpecialValueText("auto (voxel size / 4)")
-        f.addRow("Tessellation deflection", self.deflection)
+        self.deflection = QuantityField(mm(job.Deflection), "mm", "tessellation deflection",
+                                        0.0, 100.0, exclusive_minimum=False,
+                                        example="0.1 mm (0 = auto)")
+        self.deflection.setToolTip("Chord error of the tessellation; 0 = auto (voxel size / 4)")
+        f.addRow("Tessellation deflection", self.deflection.widget)
         self.memory = spin(float(job.MemoryBudget), 0.0, 1e7, 0, " MB", 100)
         self.memory.setSpecialValueText("auto (80 % of RAM)")
         f.addRow("Memory budget", self.memory)
@@ -159,17 +192,21 @@ class TaskPanelJob:
         tab.setToolTip("Bead paths on every layer (paper 3.1); a change replans the paths "
                        "without rerunning the layers")
         f = _form(tab)
-        self.bead_spacing = spin(mm(job.BeadSpacing), 0.01, LENGTH_LIMIT)
-        f.addRow("Bead spacing", self.bead_spacing)
-        self.point_spacing = spin(mm(job.PointSpacing), 0.01, LENGTH_LIMIT)
-        f.addRow("Point spacing", self.point_spacing)
-        self.fit_tolerance = spin(float(job.FitTolerance), 0.0001, 100.0, 4, " mm", 0.01)
-        f.addRow("Fit tolerance", self.fit_tolerance)
-        self.corner_angle = spin(degrees(job.CornerAngle), 0.1, 180.0, 1, " °", 5.0)
+        self.bead_spacing = QuantityField(mm(job.BeadSpacing), "mm", "bead spacing", 0.0,
+                                          LENGTH_LIMIT, example="3.7 mm")
+        f.addRow("Bead spacing", self.bead_spacing.widget)
+        self.point_spacing = QuantityField(mm(job.PointSpacing), "mm", "point spacing", 0.0,
+                                           LENGTH_LIMIT, example="2 mm")
+        f.addRow("Point spacing", self.point_spacing.widget)
+        self.fit_tolerance = QuantityField(float(job.FitTolerance), "mm", "fit tolerance", 0.0,
+                                           100.0, example="0.05 mm")
+        f.addRow("Fit tolerance", self.fit_tolerance.widget)
+        self.corner_angle = QuantityField(degrees(job.CornerAngle), "deg", "corner angle", 0.0,
+                                          180.0, example="30°")
         self.corner_angle.setToolTip("Where a path turns by more than this within 0.2 mm, the "
                                      "spline fit keeps the raw vertex as an exact corner; 180 "
                                      "keeps none (every path one smooth spline)")
-        f.addRow("Corner angle", self.corner_angle)
+        f.addRow("Corner angle", self.corner_angle.widget)
         self.surface_method = combo(job_module.SURFACE_METHODS, job.SurfaceMethod)
         self.surface_method.setToolTip("Surface geodesic field: Accurate, or Paper (the paper's "
                                        "search, eq. 15)")
@@ -187,7 +224,7 @@ class TaskPanelJob:
                                       "spacing: CentreBead puts one bead on the strip's centre "
                                       "line (reported per layer); Overlap keeps the paths")
         g.addRow("Narrow strips", self.narrow_strips)
-        self.initial_point = VectorField(job.InitialPlanePoint, " mm")
+        self.initial_point = VectorField(job.InitialPlanePoint, " mm", "initial plane point")
         g.addRow("Plane point", self.initial_point)
         self.initial_normal = VectorField(job.InitialPlaneNormal, "")
         g.addRow("Plane normal", self.initial_normal)
@@ -208,35 +245,41 @@ class TaskPanelJob:
         self.cell_status = QtGui.QLabel("")
         self.cell_status.setWordWrap(True)
         f.addRow("", self.cell_status)
-        self.tool_along_travel = QtGui.QCheckBox("Torch x axis along the travel direction")
-        self.tool_along_travel.setToolTip("Off: the torch orientation stays fixed while the "
-                                          "positioner turns the part (no wrist wind-up)")
+        self.tool_along_travel = QtGui.QCheckBox("Torch x along the travel")
+        self.tool_along_travel.setToolTip("Torch x axis along the travel direction. Off: the "
+                                          "torch orientation stays fixed while the positioner "
+                                          "turns the part (no wrist wind-up)")
         self.tool_along_travel.setChecked(job.ToolAlongTravel)
-        f.addRow("Tool orientation", self.tool_along_travel)
+        f.addRow(self.tool_along_travel)
         self.part_placement = combo(job_module.PART_PLACEMENTS, job.PartPlacement)
         self.part_placement.setToolTip("Rest: the part's lowest bead bottom on the table top "
                                        "(the cell's table_to_part rotation and xy); Cell: the "
                                        "cell's table_to_part as given")
-        f.addRow("Part placement", self.part_placement)
-        self.clearance = spin(mm(job.Clearance), 0.0, LENGTH_LIMIT, 2, " mm", 1.0)
+        f.addRow("Placement", self.part_placement)
+        self.clearance = QuantityField(mm(job.Clearance), "mm", "clearance", 0.0, LENGTH_LIMIT,
+                                       exclusive_minimum=False, example="10 mm")
         self.clearance.setToolTip("Arc-off moves travel this high above the part and the "
                                   "deposit (leaving and approaching along the layer normal)")
-        f.addRow("Travel clearance", self.clearance)
-        self.add_home = QtGui.QCheckBox("Start and end at the cell's home pose")
+        f.addRow("Clearance", self.clearance.widget)
+        self.add_home = QtGui.QCheckBox("Start and end at home")
+        self.add_home.setToolTip("Start and end the program at the cell's home pose")
         self.add_home.setChecked(job.AddHome)
-        f.addRow("Home", self.add_home)
-        self.allow_collisions = QtGui.QCheckBox("Allow remaining collisions (warnings)")
-        self.allow_collisions.setToolTip("Off: a collision of torch or positioner with the part "
-                                         "or the deposit after re-routing is an error")
+        f.addRow(self.add_home)
+        self.allow_collisions = QtGui.QCheckBox("Allow collisions")
+        self.allow_collisions.setToolTip("Remaining collisions become warnings. Off: a collision "
+                                         "of torch or positioner with the part or the deposit "
+                                         "after re-routing is an error")
         self.allow_collisions.setChecked(job.AllowCollisions)
-        f.addRow("Collisions", self.allow_collisions)
-        self.merge_tolerance = spin(mm(job.MergeTolerance), 0.0, 100.0, 4, " mm", 0.01)
+        f.addRow(self.allow_collisions)
+        self.merge_tolerance = QuantityField(mm(job.MergeTolerance), "mm", "merge tolerance", 0.0,
+                                             100.0, exclusive_minimum=False, example="0.01 mm")
         self.merge_tolerance.setToolTip("Consecutive path points closer than this are merged")
-        f.addRow("Merge tolerance", self.merge_tolerance)
-        self.max_a2_step = spin(degrees(job.MaxA2Step), 0.1, 180.0, 2, " °", 1.0)
+        f.addRow("Merge tolerance", self.merge_tolerance.widget)
+        self.max_a2_step = QuantityField(degrees(job.MaxA2Step), "deg", "maximum a2 step", 0.0,
+                                         180.0, example="5°")
         self.max_a2_step.setToolTip("Largest turn of the table rotation a2 between consecutive "
                                     "points of a weld; points are inserted where it turns faster")
-        f.addRow("Max a2 step", self.max_a2_step)
+        f.addRow("Max a2 step", self.max_a2_step.widget)
         self.pose_point = QtGui.QSpinBox()
         count = int(job.PoseCount)
         self.pose_point.setRange(0, count - 1 if count > 0 else INT_MAX)
@@ -325,6 +368,32 @@ class TaskPanelJob:
         self.error_label.setText("" if e["fits"] else e["message"])
         return e
 
+    # -- quantities -----------------------------------------------------------------------------
+    def quantity_fields(self):
+        """Every length and angle field of the panel (vector coordinates included)."""
+        fields = [self.layer_thickness, self.voxel_size, self.deflection, self.bead_spacing,
+                  self.point_spacing, self.fit_tolerance, self.corner_angle, self.clearance,
+                  self.merge_tolerance, self.max_a2_step]
+        for vector in (self.start_point, self.wall_point, self.initial_point):
+            fields.extend(vector.boxes)
+        return fields
+
+    def quantity_problems(self):
+        """[(message, widget)] of the enabled length and angle fields whose text is not
+        understood or out of range."""
+        found = []
+        for field in self.quantity_fields():
+            if field.widget.isEnabled():
+                message = field.problem()
+                if message:
+                    found.append((message, field.widget))
+        return found
+
+    def show_quantity_problem(self, *args):
+        """While typing: the first length or angle the panel would refuse, or nothing."""
+        found = self.quantity_problems()
+        self.error_label.setText(found[0][0] if found else "")
+
     # -- values ---------------------------------------------------------------------------------
     def _start_faces_value(self):
         return (self.solid.name(), split_names(self.start_faces.text()))
@@ -386,7 +455,7 @@ class TaskPanelJob:
     # -- validation -----------------------------------------------------------------------------
     def problems(self):
         """[(message, widget)] of what the panel would set wrongly, most basic first."""
-        found = []
+        found = self.quantity_problems()
         doc = self.job.Document
         curved = self.plan_kind.currentText() == "CurvedLayers"
         solid = self.solid_object()
@@ -450,6 +519,7 @@ class TaskPanelJob:
         if not found:
             return ""
         message, widget = found[0]
+        widget = getattr(widget, "widget", widget)  # a QuantityField's box
         for i in range(self.tabs.count()):
             if self.tabs.widget(i).isAncestorOf(widget):
                 self.tabs.setCurrentIndex(i)
@@ -481,19 +551,41 @@ class TaskPanelJob:
             finally:
                 doc.commitTransaction()
             self.initial = self.values()
+        self.update_status()
+        return True
+
+    def update_status(self):
         self.status_label.setText("Layers: %s\nPaths: %s" % (self.job.Status,
                                                              self.job.PathsStatus))
-        return True
+        count = int(self.job.PoseCount)
+        self.pose_point.setRange(0, count - 1 if count > 0 else INT_MAX)
+
+    def run(self):
+        """The Run button: applies the values (nothing runs when one is refused), then runs the
+        Job with the progress dialog, recorded as api.run; the panel stays open. True when the
+        run succeeded."""
+        if not self.apply():
+            return False
+        from ..commands.job_commands import run_selected_job
+
+        ok = run_selected_job(self.job)
+        self.update_status()
+        self.initial = self.values()
+        return ok
 
     def accept(self):
         if not self.apply():
             return False
-        FreeCADGui.ActiveDocument.resetEdit()
+        self.close()
         return True
 
     def reject(self):
-        FreeCADGui.ActiveDocument.resetEdit()
+        self.close()
         return True
+
+    def close(self):
+        """Closes the panel, recorded as Gui.getDocument(...).resetEdit()."""
+        FreeCADGui.doCommand("Gui.getDocument(%r).resetEdit()" % self.doc_name)
 
     def clicked(self, button):
         if enum_value(button) == enum_value(QtGui.QDialogButtonBox.Apply):

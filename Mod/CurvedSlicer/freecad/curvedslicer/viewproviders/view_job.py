@@ -24,6 +24,21 @@ def height_color(fraction):
     return stops[-1][1]
 
 
+def _differs(current, value):
+    """True if a view property's `current` value is not `value` (colours compared on r, g, b
+    within one step of the 8 bits per channel they are saved with)."""
+    if isinstance(value, tuple):
+        return any(abs(float(c) - float(v)) > 1.01 / 255 for c, v in zip(current, value))
+    return current != value
+
+
+def set_view(vobj, name, value):
+    """Sets a view property only when it changes: restyling a document as it was saved (after
+    opening it, or after an undo) then does not mark the document modified."""
+    if name in vobj.PropertiesList and _differs(getattr(vobj, name), value):
+        setattr(vobj, name, value)
+
+
 def color_layers(job):
     """Colours the Job's layer meshes by height (no-op headless)."""
     if not FreeCAD.GuiUp:
@@ -39,9 +54,9 @@ def color_layers(job):
         vobj = feature.ViewObject
         if vobj is None:
             continue
-        vobj.ShapeColor = height_color(0.0 if high <= low else (h - low) / (high - low))
-        if "Lighting" in vobj.PropertiesList:
-            vobj.Lighting = "Two side"
+        set_view(vobj, "ShapeColor",
+                 height_color(0.0 if high <= low else (h - low) / (high - low)))
+        set_view(vobj, "Lighting", "Two side")
 
 
 def style_paths(job):
@@ -58,19 +73,19 @@ def style_paths(job):
         vobj = feature.ViewObject
         if vobj is None:
             continue
-        vobj.LineColor = height_color(i / max(count - 1, 1))
-        vobj.LineWidth = 2.0
-        vobj.DrawStyle = "Solid"
+        set_view(vobj, "LineColor", height_color(i / max(count - 1, 1)))
+        set_view(vobj, "LineWidth", 2.0)
+        set_view(vobj, "DrawStyle", "Solid")
     travel = path_stage.travel_object(job)
     if travel is not None and travel.ViewObject is not None:
-        travel.ViewObject.LineColor = (0.45, 0.45, 0.45)
-        travel.ViewObject.LineWidth = 1.0
-        travel.ViewObject.DrawStyle = "Dashed"
+        set_view(travel.ViewObject, "LineColor", (0.45, 0.45, 0.45))
+        set_view(travel.ViewObject, "LineWidth", 1.0)
+        set_view(travel.ViewObject, "DrawStyle", "Dashed")
     greys = {"PositionerBase": (0.35, 0.35, 0.38), "PositionerCradle": (0.55, 0.55, 0.6),
              "PositionerTable": (0.75, 0.75, 0.78)}
     for role, obj in poses.pose_objects(job).items():
         if role in greys and obj.ViewObject is not None:
-            obj.ViewObject.ShapeColor = greys[role]
+            set_view(obj.ViewObject, "ShapeColor", greys[role])
 
 
 #: Result properties after whose change the Job's features are restyled: the layer stage sets
@@ -133,19 +148,21 @@ class ViewProviderJob:
 
         from ..taskpanels.task_job import TaskPanelJob
 
-        FreeCADGui.Control.showDialog(TaskPanelJob(vobj.Object))
+        self.panel = TaskPanelJob(vobj.Object)  # the open panel (tests drive it)
+        FreeCADGui.Control.showDialog(self.panel)
         return True
 
     def unsetEdit(self, vobj, mode=0):
         import FreeCADGui
 
+        self.panel = None
         FreeCADGui.Control.closeDialog()
         return True
 
     def doubleClicked(self, vobj):
-        import FreeCADGui
+        from ..commands.job_commands import edit_job
 
-        FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name)
+        edit_job(vobj.Object)
         return True
 
     def __getstate__(self):
@@ -191,7 +208,7 @@ def _sync_visibility(job):
         objects.append(travel)
     for o in objects:
         if o.ViewObject is not None:
-            o.ViewObject.Visibility = bool(o.Visibility)
+            set_view(o.ViewObject, "Visibility", bool(o.Visibility))
 
 
 def attach(obj):
