@@ -201,7 +201,8 @@ py::dict exportProgramPy(const std::string& planJson, const std::string& cellJso
   const Cell cell = parseCell(cellJson, "cell");
   const ExportResult result = runWithProgress(progress, [&](Progress p) {
     const MotionPlan planned = planMotion(plan, cell, motion, p.sub(0.0, 0.7));
-    ExportResult r = exportProgram(planned, cell, f, options, p.sub(0.7, 0.95));
+    ExportResult r = exportProgram(planned, withPartPlacement(cell, planned.tableToPart), f,
+                                   options, p.sub(0.7, 0.95));
     if (path) writeExportFiles(r, std::filesystem::path(*path));
     p.report(1.0, "export");
     return r;

@@ -106,8 +106,8 @@ int runExportCommand(const ExportArguments& args) {
     const MotionPlan motion = planMotion(plan, cell, motionOptions, progress.sub(0.05, 0.7));
 
     // ---- export --------------------------------------------------------------------------------
-    const ExportResult result =
-        exportProgram(motion, cell, format, options, progress.sub(0.7, 0.95));
+    const ExportResult result = exportProgram(motion, withPartPlacement(cell, motion.tableToPart),
+                                              format, options, progress.sub(0.7, 0.95));
 
     // ---- write ---------------------------------------------------------------------------------
     progress.report(0.97, "write");  // last chance to cancel: nothing is in place yet

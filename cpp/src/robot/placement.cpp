@@ -133,6 +133,11 @@ PartPlacementResult placePart(const Plan& plan, const Cell& cell, PartPlacement 
   return result;
 }
 
+Cell withPartPlacement(Cell cell, const Pose& tableToPart) {
+  cell.positioner.tableToPart = tableToPart;
+  return cell;
+}
+
 void checkPartPlacement(const Plan& plan, const PositionerDescription& positioner) {
   const PositionerGeometry& g = positioner.geometry;
   Extreme below, outside, above;  // of -z, radius, z (table frame)

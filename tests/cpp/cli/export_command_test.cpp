@@ -155,6 +155,19 @@ TEST(ExportCommand, APartBelowTheTableFailsWithExitTwoNamingTheLowestPoint) {
   EXPECT_TRUE(fs::exists(out));
 }
 
+TEST(ExportCommand, GcodeMachineCoordinatesUseThePlacementOfTheMotion) {
+  const fs::path dir = freshTempDir();
+  writePlanJson(dir / "plan.json", lowered(9.5));  // rests 8 + 1.5 = 9.5 mm higher
+  const fs::path out = dir / "part.gcode";
+  ASSERT_EQ(runCli(dir, "export '" + (dir / "plan.json").string() +
+                            "' --format gcode --gcode-mode machine -q -o '" + out.string() + "'"),
+            0)
+      << readFile((dir / "stderr.txt").string());
+  const std::string gcode = readFile(out.string());
+  EXPECT_NE(gcode.find("; table to part: translation 0.000 0.000 9.500 mm"), std::string::npos)
+      << gcode.substr(0, 800);
+}
+
 TEST(ExportCommand, APartOutsideTheWorkingVolumeFailsWithExitTwo) {
   const fs::path dir = freshTempDir();
   Plan plan = makeSmallPlan();

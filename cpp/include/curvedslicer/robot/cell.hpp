@@ -44,7 +44,7 @@
 
 namespace curvedslicer {
 
-using Pose = Eigen::Isometry3d;  ///< rigid transform, translation in mm
+using Pose = Eigen::Isometry3d;             ///< rigid transform, translation in mm
 using JointVector = std::array<double, 6>;  ///< robot joints, rad, controller convention
 
 /// Range and speed of one joint.
@@ -119,10 +119,10 @@ struct PositionerAxis {
 /// rotation axis between z = 0 and z = `maxPartHeight`. Defaults (taken for version-1 cells): a
 /// D500B-class positioner, sources in resources/cells/README.md.
 struct PositionerGeometry {
-  double tableRadius = 300.0;     ///< mm, > 0
-  double tableThickness = 30.0;   ///< mm, > 0
-  double maxPartRadius = 350.0;   ///< mm, > 0, about the rotation axis
-  double maxPartHeight = 500.0;   ///< mm, > 0, above the table top
+  double tableRadius = 300.0;    ///< mm, > 0
+  double tableThickness = 30.0;  ///< mm, > 0
+  double maxPartRadius = 350.0;  ///< mm, > 0, about the rotation axis
+  double maxPartHeight = 500.0;  ///< mm, > 0, above the table top
 };
 
 struct PositionerDescription {

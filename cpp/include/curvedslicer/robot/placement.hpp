@@ -47,6 +47,11 @@ struct PartPlacementResult {
 /// the starting point). A plan without points keeps the cell's placement.
 PartPlacementResult placePart(const Plan& plan, const Cell& cell, PartPlacement placement);
 
+/// `cell` with the part placement `tableToPart` (e.g. MotionPlan::tableToPart): the cell the
+/// motion was planned in, for writers and readers that use the positioner's kinematics with
+/// the part (the G-code header and machine coordinates).
+Cell withPartPlacement(Cell cell, const Pose& tableToPart);
+
 /// Checks the plan at `positioner.tableToPart` against the table and the working volume
 /// (`positioner.geometry`). @throws InvalidInput naming the lowest point below the table top
 /// (layer/path/point, part coordinates, how far below in mm, how many points), else the
