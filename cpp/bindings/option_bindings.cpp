@@ -308,7 +308,22 @@ void bindMotionOptions(py::module_& m) {
           "unreachable", member(&O::unreachable), parseUnreachablePolicy,
           [](UnreachablePolicy u) { return toString(u); },
           "'throw' (InvalidInput naming the points) | 'warn' (closest pose, a warning)")
-      .value("residual_warning", member(&O::residualWarning), "rad: warn above this residual");
+      .value("residual_warning", member(&O::residualWarning), "rad: warn above this residual")
+      .value("clearance", member(&O::clearance),
+             "mm, arc-off moves travel this high above the part and the deposit")
+      .value("allow_collisions", member(&O::allowCollisions),
+             "remaining collisions are warnings (MotionPlan collisions) instead of errors")
+      .value("add_home", member(&O::addHome), "start and end at the cell's home pose")
+      .value("merge_tolerance", member(&O::mergeTolerance),
+             "mm, consecutive path points closer than this are merged")
+      .value("max_a2_step", member(&O::maxA2Step),
+             "rad, largest a2 step between consecutive points of a weld (points inserted)")
+      .value("time_parameterise", member(&O::timeParameterise),
+             "respect every axis's maximum speed (else nominal speeds only)")
+      .choice(
+          "placement", member(&O::placement), parsePartPlacement,
+          [](PartPlacement p) { return toString(p); },
+          "'rest' (lowest bead bottom on the table top) | 'cell' (the cell's table_to_part)");
   c.finish();
 }
 

@@ -166,6 +166,7 @@ py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
   d["singular_points"] = motion.singularPoints;
   d["limited_points"] = motion.limitedPoints;
   d["total"] = estimateDict(motion.total);
+  d["table_to_part"] = poseMatrix(motion.tableToPart);  // the placement used (4x4, mm)
   d["near_singular_band"] = motion.nearSingularBand;
   d["notes"] = motion.notes;
   d["paths"] = pathSpanList(motion.paths);
@@ -200,7 +201,8 @@ py::dict exportProgramPy(const std::string& planJson, const std::string& cellJso
   const Cell cell = parseCell(cellJson, "cell");
   const ExportResult result = runWithProgress(progress, [&](Progress p) {
     const MotionPlan planned = planMotion(plan, cell, motion, p.sub(0.0, 0.7));
-    ExportResult r = exportProgram(planned, cell, f, options, p.sub(0.7, 0.95));
+    ExportResult r = exportProgram(planned, withPartPlacement(cell, planned.tableToPart), f,
+                                   options, p.sub(0.7, 0.95));
     if (path) writeExportFiles(r, std::filesystem::path(*path));
     p.report(1.0, "export");
     return r;
@@ -327,7 +329,8 @@ void registerPlanBindings(py::module_& m) {
         "max_residual, singular_points, limited_points, near_singular_band (rad), paths "
         "(layer, path, begin, end, configuration), speed_reductions (layer, path, first_index, "
         "last_index, min_speed, axis), collisions (point, what, depth), total (estimates; "
-        "total_time_s = the last point's time plus the dwell after it).",
+        "total_time_s = the last point's time plus the dwell after it), table_to_part (4x4 mm: the "
+        "part placement used, MotionOptions.placement).",
         py::arg("plan_json"), py::arg("cell_json"), py::kw_only(),
         py::arg("options") = MotionOptions{}, py::arg("progress") = py::none());
 

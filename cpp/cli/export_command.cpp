@@ -31,6 +31,50 @@ ExportOptions parseExportOptions(const ExportArguments& args) {
   return options;
 }
 
+/// Speed reductions and collisions are listed up to this many; then a count of the rest.
+constexpr std::size_t kListedAtMost = 10;
+
+void printPlacement(const MotionPlan& motion, PartPlacement placement) {
+  const Vec3 t = motion.tableToPart.translation();
+  const Vec3 rpy = rollPitchYaw(motion.tableToPart.rotation()) * (180.0 / 3.14159265358979323846);
+  std::printf(
+      "curvedslicer: part on the table (placement %s): table_to_part xyz %.3f, %.3f, %.3f mm, "
+      "rpy %.3f, %.3f, %.3f deg\n",
+      std::string(toString(placement)).c_str(), t.x(), t.y(), t.z(), rpy.x() + 0.0, rpy.y() + 0.0,
+      rpy.z() + 0.0);
+}
+
+void printSpeedReductions(const MotionPlan& motion) {
+  if (motion.speedReductions.empty()) return;
+  std::printf("curvedslicer: weld speed reduced in %zu stretch%s (axis speed limits):\n",
+              motion.speedReductions.size(), motion.speedReductions.size() == 1 ? "" : "es");
+  for (std::size_t k = 0; k < motion.speedReductions.size() && k < kListedAtMost; ++k) {
+    const SpeedReduction& r = motion.speedReductions[k];
+    std::printf("  layer %d path %d points %d-%d: down to %.2f mm/s, limited by %s\n", r.layer,
+                r.path, r.firstIndex, r.lastIndex, r.minSpeed, r.axis.c_str());
+  }
+  if (motion.speedReductions.size() > kListedAtMost) {
+    std::printf("  ... and %zu more\n", motion.speedReductions.size() - kListedAtMost);
+  }
+}
+
+void printCollisions(const MotionPlan& motion) {
+  for (std::size_t k = 0; k < motion.collisions.size() && k < kListedAtMost; ++k) {
+    const CollisionReport& c = motion.collisions[k];
+    if (c.point >= motion.points.size()) continue;
+    const MotionPoint& p = motion.points[c.point];
+    std::fprintf(stderr,
+                 "curvedslicer: warning: collision (--allow-collisions): %s move to motion point "
+                 "%zu (layer %d path %d): %s, %.2f mm deep\n",
+                 std::string(toString(p.kind)).c_str(), c.point, p.layer, p.path, c.what.c_str(),
+                 c.depth);
+  }
+  if (motion.collisions.size() > kListedAtMost) {
+    std::fprintf(stderr, "curvedslicer: warning: ... and %zu more collisions\n",
+                 motion.collisions.size() - kListedAtMost);
+  }
+}
+
 }  // namespace
 
 int runExportCommand(const ExportArguments& args) {
@@ -58,11 +102,12 @@ int runExportCommand(const ExportArguments& args) {
     // ---- motion --------------------------------------------------------------------------------
     MotionOptions motionOptions;
     if (args.warnUnreachable) motionOptions.unreachable = UnreachablePolicy::Warn;
+    args.motion.applyTo(motionOptions);
     const MotionPlan motion = planMotion(plan, cell, motionOptions, progress.sub(0.05, 0.7));
 
     // ---- export --------------------------------------------------------------------------------
-    const ExportResult result =
-        exportProgram(motion, cell, format, options, progress.sub(0.7, 0.95));
+    const ExportResult result = exportProgram(motion, withPartPlacement(cell, motion.tableToPart),
+                                              format, options, progress.sub(0.7, 0.95));
 
     // ---- write ---------------------------------------------------------------------------------
     progress.report(0.97, "write");  // last chance to cancel: nothing is in place yet
@@ -72,9 +117,15 @@ int runExportCommand(const ExportArguments& args) {
       for (const std::string& w : motion.warnings) {
         std::fprintf(stderr, "curvedslicer: warning: %s\n", w.c_str());
       }
+      printCollisions(motion);
       for (const std::string& w : result.warnings) {
         std::fprintf(stderr, "curvedslicer: note: %s\n", w.c_str());
       }
+      for (const std::string& n : motion.notes) {
+        std::fprintf(stderr, "curvedslicer: note: %s\n", n.c_str());
+      }
+      printPlacement(motion, motionOptions.placement);
+      printSpeedReductions(motion);
       std::printf(
           "curvedslicer: wrote %s (%zu file%s, %zu bytes): %zu motions, %zu paths; arc time "
           "%.0f s, total time %.0f s, wire %.2f m, deposit %.1f g\n",

@@ -5,6 +5,9 @@
 
 #include <string>
 
+#include "curvedslicer/robot/motion.hpp"
+#include "option_binding.hpp"
+
 namespace curvedslicer::cli {
 
 /// The command's arguments as typed (checked by `runExportCommand`).
@@ -18,6 +21,10 @@ struct ExportArguments {
   std::string date;       ///< empty = the fixed default (reproducible files)
   bool warnUnreachable = false;
   bool quiet = false;
+  /// --clearance, --allow-collisions, --no-home, --merge-tolerance, --max-a2-step, --placement:
+  /// one binding per motion option (export_options.cpp); options not given keep
+  /// MotionOptions{}'s values.
+  OptionBindings<MotionOptions> motion;
 };
 
 /// Runs the command; progress and errors on stderr, a summary on stdout. @return the exit code.

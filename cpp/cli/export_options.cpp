@@ -26,8 +26,48 @@ Output:
 All files appear together, or none on any error (each is written to a temporary file first).
 Files of an earlier run with other sub-job names are not removed.
 
-Exit codes: 0 success, 2 invalid input (bad plan or cell, unreachable point, joint limit;
-including usage errors), 3 file I/O error, 130 interrupted (Ctrl-C), 1 other.)";
+Summary: the part's placement on the table (table_to_part), notes (e.g. defaults taken for an
+older cell file), where the weld speed drops below the cell's (and which axis limits it) and,
+with --allow-collisions, the remaining collisions.
+
+Exit codes: 0 success, 2 invalid input (bad plan or cell, unreachable point, joint limit,
+part below the table or outside the working volume, collision; including usage errors),
+3 file I/O error, 130 interrupted (Ctrl-C), 1 other.)";
+
+/// The motion planner's options: one line each (see docs/ADDING-AN-OPTION.md).
+void addMotionOptions(CLI::App& cmd, OptionBindings<MotionOptions>& b) {
+  b.addLength(cmd, "--clearance", &MotionOptions::clearance, "clearance",
+              "Arc-off moves leave along the layer normal to this height above the\n"
+              "part and everything deposited so far, travel there and approach\n"
+              "along the normal, mm");
+  b.addFlag(cmd, "--allow-collisions", &MotionOptions::allowCollisions, true,
+            "Write the program although torch or positioner still collide with the\n"
+            "part or the deposit after re-routing: each collision becomes a warning\n"
+            "naming the move (default: stop with an error naming it).");
+  b.addFlag(cmd, "--no-home", &MotionOptions::addHome, false,
+            "Do not start and end the program at the cell's home pose (default:\n"
+            "the cell's `home`).");
+  b.addLength(cmd, "--merge-tolerance", &MotionOptions::mergeTolerance, "merge tolerance",
+              "Consecutive path points closer than this are merged into one,\n"
+              "mm");
+  b.addAngleInRadians(cmd, "--max-a2-step", &MotionOptions::maxA2Step, "maximum a2 step",
+                      "Largest turn of the positioner's rotation a2 between consecutive\n"
+                      "points of a weld; points are inserted where it turns faster,\n"
+                      "degrees");
+  b.add(cmd, "--placement",
+        "Where the part sits on the table:\n"
+        "  rest  the cell's table_to_part rotation and xy, moved along the\n"
+        "        table z so the lowest bead bottom (a bead: one layer thickness\n"
+        "        below its weld point along the layer normal, half a bead\n"
+        "        spacing to each side) lies on the table top\n"
+        "  cell  the cell's positioner/table_to_part as given\n"
+        "Default " +
+            formatDefault(toString(MotionOptions{}.placement)) +
+            ". A weld point below the table top or outside the\n"
+            "positioner's working volume stops the export (exit code 2).",
+        "MODE",
+        [](std::string_view text, MotionOptions& o) { o.placement = parsePartPlacement(text); });
+}
 
 void addExportOptions(CLI::App& cmd, ExportArguments& args) {
   cmd.add_option("PLAN", args.plan, "The plan: plan.json written by `curvedslicer plan`.")
@@ -64,6 +104,7 @@ void addExportOptions(CLI::App& cmd, ExportArguments& args) {
                "Do not stop at points the robot cannot reach: keep the closest pose and\n"
                "warn (default: stop with an error naming the points). A point beyond a\n"
                "joint limit is still refused by every exporter.");
+  addMotionOptions(cmd, args.motion);
   cmd.add_flag("-q,--quiet", args.quiet, "No progress and no summary; errors still go to stderr.");
   cmd.footer(kExportFooter);
 }

@@ -77,6 +77,27 @@ class OptionBindings {
         [field, what](std::string_view text, Options& o) { o.*field = parseAngle(text, what); });
   }
 
+  /// An angle given in degrees (parseAngle) stored in radians in `field`; the help ends with
+  /// the field's default in degrees.
+  CLI::Option* addAngleInRadians(CLI::App& app, const std::string& name, double Options::*field,
+                                 const std::string& what, const std::string& help) {
+    constexpr double kDegree = 3.14159265358979323846 / 180.0;
+    return add(app, name, help + " (default " + formatDefault(Options{}.*field / kDegree) + ").",
+               "DEG", [field, what](std::string_view text, Options& o) {
+                 o.*field = parseAngle(text, what) * kDegree;
+               });
+  }
+
+  /// A flag that sets the bool `field` to `value` when given (`value` is the opposite of the
+  /// field's default, so the help needs no default).
+  CLI::Option* addFlag(CLI::App& app, const std::string& name, bool Options::*field, bool value,
+                       const std::string& help) {
+    Slot& slot = slots_.emplace_back();
+    slot.apply = [field, value](std::string_view, Options& o) { o.*field = value; };
+    slot.option = app.add_flag(name, help);
+    return slot.option;
+  }
+
   /// Parses every option that was given into `options`, in the order they were added.
   /// @throws InvalidInput from the parsers.
   void applyTo(Options& options) const {

@@ -39,7 +39,10 @@ DOCUMENTED_DEFAULTS = {
     "PlanJobOptions": {"thin_wall": None, "model_name": "", "start_spec": "",
                        "layer_format": "ply"},
     "MotionOptions": {"tool_along_travel": False, "unreachable": "throw",
-                      "prefer_positive_tilt": True, "smoothing_length": 0.0},
+                      "prefer_positive_tilt": True, "smoothing_length": 0.0,
+                      "clearance": 10.0, "allow_collisions": False, "add_home": True,
+                      "merge_tolerance": 0.01, "max_a2_step": 0.0872664625997165,  # 5°
+                      "time_parameterise": True, "placement": "rest"},
     "ExportOptions": {"program_name": "", "date": "2000/01/01 00:00", "gcode_mode": "tcp",
                       "arc_output": 1},
 }
@@ -117,6 +120,7 @@ class TestOptionsClasses(cs_testing.DocumentTestCase):
             (native.ThinWallOptions, "edge", "top", "unknown thin-wall edge: 'top'"),
             (native.MotionOptions, "unreachable", "ignore",
              "unknown unreachable-point policy: 'ignore'"),
+            (native.MotionOptions, "placement", "floor", "unknown part placement: 'floor'"),
             (native.ExportOptions, "gcode_mode", "abs", "unknown G-code mode: 'abs'"),
             (native.StartSurface, "kind", "sphere", "unknown start surface kind: 'sphere'"),
             (native.InitialCurve, "kind", "line", "unknown initial curve kind: 'line'"),

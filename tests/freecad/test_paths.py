@@ -173,10 +173,13 @@ class TestPoses(PathTestCase):
             self.assertLess((job.PoseDeposition - turned).Length, 1e-9)
             # The deposited direction is not vertical in the part frame: the tilt does the work.
             self.assertGreater(abs(a1), 20.0)
-        # The table carries the part: the part frame origin stays on the table's axis.
+        # The table carries the part: the part frame origin stays on the table's axis, where
+        # the motion placed it (resting on the table: lifted along the table's z).
         table = [o for o in job.PosesGroup.Group if getattr(o, "PoseRole", "")
                  == "PositionerTable"][0]
-        self.assertLess((table.Placement.Base - part.Placement.Base).Length, 1e-6)
+        in_table = table.Placement.inverse().multiply(part.Placement)
+        self.assertLess(math.hypot(in_table.Base.x, in_table.Base.y), 1e-6)
+        self.assertAlmostEqual(in_table.Base.z, motion["table_to_part"][2][3], places=6)
 
 
 class TestExport(PathTestCase):

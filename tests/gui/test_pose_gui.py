@@ -74,6 +74,9 @@ def run():
     doc.recompute()
     # Layers grow from the side face x = -15 along +x: the positioner tilts the part over.
     job = api.make_job(doc, box, start=(box, ["Face1"]), layer_thickness=5.0, voxel_size=1.0)
+    # The cell's placement (table_to_part as given): the box's bottom face exactly on the table.
+    # (The default Rest derives it from the beads, to within the paths' accuracy: test_motion_options.)
+    job.PartPlacement = "Cell"
     api.run(job)
     process_events()
     count = api.pose_count(job)

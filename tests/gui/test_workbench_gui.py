@@ -7,7 +7,6 @@ value of every group (paths, robot, thin wall) and refuses a missing or broken c
 face not on the wall surface with their messages, leaving the Job unchanged. Exits with
 os._exit."""
 
-import ctypes
 import os
 import sys
 import traceback
@@ -183,12 +182,9 @@ def run():
                 "doc = FreeCAD.newDocument('Headless')\n"
                 "box = doc.addObject('Part::Box', 'Box')\ndoc.recompute()\n"
                 "job = api.make_job(doc, box, layer_thickness=3.0, voxel_size=1.0)\n"
-                # closed before exit: freecadcmd 1.1 crashes at exit with Mesh features open
-                "api.run(job, progress=False)\ndoc.saveAs(%r)\nFreeCAD.closeDocument(doc.Name)\n"
-                "sys.exit(0)\n" % path)
-    made = subprocess.run([os.environ.get("CURVEDSLICER_FREECADCMD", "freecadcmd"), script],
-                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=120)
-    check(made.returncode == 0, "the headless freecadcmd exits 0 (code %d)" % made.returncode)
+                "api.run(job, progress=False)\ndoc.saveAs(%r)\nsys.exit(0)\n" % path)
+    subprocess.run([os.environ.get("CURVEDSLICER_FREECADCMD", "freecadcmd"), script],
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=120)
     reopened = FreeCAD.openDocument(path)
     process_events()
     job2 = reopened.getObject("Job")
@@ -247,6 +243,12 @@ def panel_edits_every_group(job, box):
     check(panel.cell_status.text() == "valid cell file", "cell file status: %s"
           % panel.cell_status.text())
     panel.tool_along_travel.setChecked(True)
+    panel.part_placement.setCurrentIndex(job_module.PART_PLACEMENTS.index("Cell"))
+    panel.clearance.set_value(15.0)
+    panel.add_home.setChecked(False)
+    panel.allow_collisions.setChecked(True)
+    panel.merge_tolerance.set_value(0.02)
+    panel.max_a2_step.set_value(4.0)
     panel.pose_point.setValue(pose)
     lines = panel.commands()
     expected = ["InitialPath = 'Plane'", "InitialPlanePoint = App.Vector(1.0, 2.0, 3.0)",
@@ -254,7 +256,9 @@ def panel_edits_every_group(job, box):
                 "CornerAngle = 45.0",
                 "SurfaceMethod = 'Paper'", "NarrowStrips = 'Overlap'",
                 "PathDisplay = 'BSpline'", "CellFile = %r" % cell,
-                "ToolAlongTravel = True", "PosePoint = %d" % pose]
+                "ToolAlongTravel = True", "PartPlacement = 'Cell'", "Clearance = 15.0",
+                "AddHome = False", "AllowCollisions = True", "MergeTolerance = 0.02",
+                "MaxA2Step = 4.0", "PosePoint = %d" % pose]
     prefix = "App.getDocument(%r).getObject(%r)." % (job.Document.Name, job.Name)
     check(all(line.startswith(prefix) for line in lines)
           and sorted(line[len(prefix):] for line in lines) == sorted(expected),
@@ -271,6 +275,11 @@ def panel_edits_every_group(job, box):
           "Apply set the path parameters")
     check(job.CellFile == cell and job.ToolAlongTravel and job.PosePoint == pose,
           "Apply set the robot parameters (cell, torch along travel, pose point %d)" % pose)
+    check(job.PartPlacement == "Cell" and abs(job.Clearance.Value - 15.0) < 1e-12
+          and not job.AddHome and job.AllowCollisions
+          and abs(job.MergeTolerance.Value - 0.02) < 1e-12
+          and abs(FreeCAD.Units.Quantity(job.MaxA2Step).getValueAs("deg").Value - 4.0) < 1e-9,
+          "Apply set the motion options")
     check(panel.commands() == [], "nothing left to apply after Apply")
 
     # A missing and a broken cell file are refused, saying which file; nothing is applied.
@@ -336,6 +345,4 @@ else:
     print("failures: %s" % failures)
 sys.stdout.flush()
 sys.stderr.flush()
-# FreeCAD 1.1's GUI sends print() to a buffered C stdout that os._exit would discard.
-ctypes.CDLL(None).fflush(None)
 os._exit(0 if not failures else 1)

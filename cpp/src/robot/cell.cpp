@@ -80,6 +80,11 @@ class Field {
     if (!(v > 0.0)) fail(key, "must be positive", formatNumber(v), hint);
     return v;
   }
+  double nonNegative(std::string_view key, std::string_view hint) {
+    const double v = number(key, hint);
+    if (v < 0.0) fail(key, "must not be negative", formatNumber(v), hint);
+    return v;
+  }
   double nonNegative(std::string_view key, double fallback, std::string_view hint) {
     const double v = number(key, fallback, hint);
     if (v < 0.0) fail(key, "must not be negative", formatNumber(v), hint);
@@ -302,17 +307,129 @@ RobotDescription readRobot(Field& top, std::string_view origin) {
   return robot;
 }
 
-ToolDescription readTool(Field& top) {
+// ---- version-2 sections (defaults and a note for version 1) ------------------------------------
+
+/// In a version-1 file a version-2 field is refused (it would be silently ignored otherwise).
+void refuseInVersion1(Field& parent, std::string_view key) {
+  if (parent.has(key)) {
+    parent.fail(key, "needs cell version 2", "\"version\": 1",
+                "set \"version\": 2 at the top of the cell file");
+  }
+}
+
+std::string describeEnvelope(const TorchEnvelope& e) {
+  return "cone from the nozzle " + formatNumber(e.stickout) + " mm behind the TCP, radius " +
+         formatNumber(e.radius) + " mm there and " + formatNumber(e.topRadius) +
+         " mm at the top, " + formatNumber(e.length) + " mm long";
+}
+
+TorchEnvelope readEnvelope(Field& t, int version, std::vector<std::string>& notes) {
+  if (version < 2) {
+    refuseInVersion1(t, "envelope");
+    notes.push_back("cell version 1: default torch envelope assumed (" +
+                    describeEnvelope(TorchEnvelope{}) +
+                    "); add tool/envelope (cell version 2) to describe your torch");
+    return {};
+  }
+  Field e = t.object("envelope",
+                     "give the torch envelope: stickout_mm, radius_mm, top_radius_mm, length_mm");
+  TorchEnvelope env;
+  env.stickout = e.nonNegative("stickout_mm", "TCP (wire tip) to the nozzle tip in mm");
+  env.radius = e.positive("radius_mm", "outer radius of the nozzle in mm");
+  env.topRadius = e.positive("top_radius_mm", "radius of the torch at the top end in mm");
+  env.length = e.positive("length_mm", "nozzle tip to the top end along the torch in mm");
+  e.rejectUnknown();
+  return env;
+}
+
+std::string describeGeometry(const PositionerGeometry& g) {
+  return "table radius " + formatNumber(g.tableRadius) + " mm, " + formatNumber(g.tableThickness) +
+         " mm thick; working volume radius " + formatNumber(g.maxPartRadius) + " mm, height " +
+         formatNumber(g.maxPartHeight) + " mm above the table";
+}
+
+PositionerGeometry readGeometry(Field& p, int version, std::vector<std::string>& notes) {
+  if (version < 2) {
+    refuseInVersion1(p, "geometry");
+    notes.push_back("cell version 1: default positioner geometry assumed (" +
+                    describeGeometry(PositionerGeometry{}) +
+                    "); add positioner/geometry (cell version 2) for your positioner");
+    return {};
+  }
+  Field g = p.object("geometry",
+                     "give table_radius_mm, table_thickness_mm, max_part_radius_mm and "
+                     "max_part_height_mm");
+  PositionerGeometry geo;
+  geo.tableRadius = g.positive("table_radius_mm", "radius of the table disc in mm");
+  geo.tableThickness = g.positive("table_thickness_mm", "thickness of the table disc in mm");
+  geo.maxPartRadius =
+      g.positive("max_part_radius_mm", "largest part radius about the rotation axis in mm");
+  geo.maxPartHeight = g.positive("max_part_height_mm", "largest part height over the table in mm");
+  g.rejectUnknown();
+  return geo;
+}
+
+std::string describeHome(const HomePose& h) {
+  std::string joints;
+  for (double q : h.robot) joints += (joints.empty() ? "" : ", ") + formatNumber(q / kDeg);
+  return "robot joints [" + joints + "] deg, positioner [" + formatNumber(h.a1 / kDeg) + ", " +
+         formatNumber(h.a2 / kDeg) + "] deg";
+}
+
+/// The home pose; joints and positioner angles checked against the limits read before.
+HomePose readHome(Field& top, int version, const Cell& cell, std::vector<std::string>& notes) {
+  if (version < 2) {
+    refuseInVersion1(top, "home");
+    notes.push_back("cell version 1: default home pose assumed (" + describeHome(HomePose{}) +
+                    "); add home (cell version 2) with a pose clear of the table");
+    return {};
+  }
+  Field h = top.object("home",
+                       "give robot_joints_deg (6 values) and positioner_deg [tilt, "
+                       "rotation] of the pose the program starts and ends at");
+  HomePose home;
+  const auto q = h.numbers("robot_joints_deg", 6, "give the six robot joints in degrees");
+  for (int i = 0; i < 6; ++i) {
+    home.robot[i] = q[i] * kDeg;
+    const JointLimit& lim = cell.robot.joints[i];
+    if (!lim.contains(home.robot[i])) {
+      h.fail("robot_joints_deg",
+             "has joint " + std::to_string(i + 1) + " (" + kJointNames[i] +
+                 ") outside its limits [" + formatNumber(lim.min / kDeg) + ", " +
+                 formatNumber(lim.max / kDeg) + "] deg",
+             formatNumber(q[i]), "give a home pose within the robot's joint limits");
+    }
+  }
+  const auto a = h.numbers("positioner_deg", 2, "give [tilt, rotation] in degrees");
+  home.a1 = a[0] * kDeg;
+  home.a2 = a[1] * kDeg;
+  const PositionerAxis* axes[2] = {&cell.positioner.tilt, &cell.positioner.rotation};
+  for (int i = 0; i < 2; ++i) {
+    const PositionerAxis& axis = *axes[i];
+    if (!axis.endless && !axis.limit.contains(a[i] * kDeg)) {
+      h.fail("positioner_deg",
+             std::string("has the ") + (i == 0 ? "tilt" : "rotation") + " outside its limits [" +
+                 formatNumber(axis.limit.min / kDeg) + ", " + formatNumber(axis.limit.max / kDeg) +
+                 "] deg",
+             formatNumber(a[i]), "give a home pose within the positioner's limits");
+    }
+  }
+  h.rejectUnknown();
+  return home;
+}
+
+ToolDescription readTool(Field& top, int version, std::vector<std::string>& notes) {
   ToolDescription tool;
   Field t = top.object("tool", "describe the torch");
   tool.name = t.string("name", "", "tool name");
   tool.number = t.integer("number", 1, 0, 63, "tool number in the controller (0..63)");
   tool.tcp = readPose(t, "tcp", "give the TCP in the flange frame (z along the torch)");
+  tool.envelope = readEnvelope(t, version, notes);
   t.rejectUnknown();
   return tool;
 }
 
-PositionerDescription readPositioner(Field& top) {
+PositionerDescription readPositioner(Field& top, int version, std::vector<std::string>& notes) {
   Field p = top.object("positioner", "describe the tilt-rotate positioner");
   PositionerDescription pos;
   pos.model = p.string("model", "name the positioner model");
@@ -334,6 +451,7 @@ PositionerDescription readPositioner(Field& top) {
   pos.tableToPart = readPose(p, "table_to_part", "give the part frame in the table frame");
   pos.tilt = readAxis(p, "tilt", false);
   pos.rotation = readAxis(p, "rotation", true);
+  pos.geometry = readGeometry(p, version, notes);
   p.rejectUnknown();
   return pos;
 }
@@ -442,15 +560,18 @@ Cell readCellDocument(const Json& root, std::string_view origin) {
     top.fail("format", "must be \"curvedslicer-cell\"", abbreviateJson(root["format"]),
              "this is not a cell description");
   }
-  if (top.has("version")) top.integer("version", 1, 1, "version 1 is the only cell format");
+  const int version = top.integer("version", 1, 1, kCellFormatVersion,
+                                  "versions 1 and 2 are known; write 2 (see "
+                                  "resources/schema/cell.schema.json)");
   cell.name = top.string("name", "give the cell a name");
   cell.description = top.string("description", "", "free text");
   cell.gravity = top.direction("gravity", "give gravity as a direction in world, e.g. [0, 0, -1]");
   cell.robot = readRobot(top, origin);
-  cell.tool = readTool(top);
-  cell.positioner = readPositioner(top);
+  cell.tool = readTool(top, version, cell.notes);
+  cell.positioner = readPositioner(top, version, cell.notes);
   cell.process = readProcess(top);
   cell.exportOptions = readExport(top);
+  cell.home = readHome(top, version, cell, cell.notes);
   if (cell.exportOptions.positionType == PositionType::Pulse &&
       cell.robot.pulsesPerDegree.empty()) {
     top.fail("robot/pulses_per_degree", "is missing but export position_type is \"pulse\"",
@@ -542,7 +663,7 @@ Cell readCell(const std::filesystem::path& path) {
 std::string writeCellJson(const Cell& cell) {
   Json j;
   j["format"] = "curvedslicer-cell";
-  j["version"] = 1;
+  j["version"] = kCellFormatVersion;
   j["name"] = cell.name;
   j["description"] = cell.description;
   j["gravity"] = vecJson(cell.gravity);
@@ -568,8 +689,15 @@ std::string writeCellJson(const Cell& cell) {
                       {"c4", k.c4}}},
                     {"joints", joints}};
   if (!r.pulsesPerDegree.empty()) j["robot"]["pulses_per_degree"] = r.pulsesPerDegree;
-  j["tool"] = Json{
-      {"name", cell.tool.name}, {"number", cell.tool.number}, {"tcp", poseJson(cell.tool.tcp)}};
+  const TorchEnvelope& env = cell.tool.envelope;
+  j["tool"] = Json{{"name", cell.tool.name},
+                   {"number", cell.tool.number},
+                   {"tcp", poseJson(cell.tool.tcp)},
+                   {"envelope",
+                    {{"stickout_mm", clean(env.stickout)},
+                     {"radius_mm", clean(env.radius)},
+                     {"top_radius_mm", clean(env.topRadius)},
+                     {"length_mm", clean(env.length)}}}};
   const PositionerDescription& p = cell.positioner;
   j["positioner"] =
       Json{{"model", p.model},
@@ -581,7 +709,12 @@ std::string writeCellJson(const Cell& cell) {
              {"direction", vecJson(p.rotationAxisDirection)}}},
            {"table_to_part", poseJson(p.tableToPart)},
            {"tilt", axisJson(p.tilt)},
-           {"rotation", axisJson(p.rotation)}};
+           {"rotation", axisJson(p.rotation)},
+           {"geometry",
+            {{"table_radius_mm", clean(p.geometry.tableRadius)},
+             {"table_thickness_mm", clean(p.geometry.tableThickness)},
+             {"max_part_radius_mm", clean(p.geometry.maxPartRadius)},
+             {"max_part_height_mm", clean(p.geometry.maxPartHeight)}}}};
   const ProcessDescription& pr = cell.process;
   Json arc{{"control", std::string(toString(pr.arcControl))},
            {"start_condition", pr.arcStartCondition},
@@ -607,6 +740,10 @@ std::string writeCellJson(const Cell& cell) {
                      {"job_name", e.jobName},
                      {"max_name_length", e.maxNameLength},
                      {"user_frame", e.userFrame}};
+  Json homeJoints = Json::array();
+  for (double q : cell.home.robot) homeJoints.push_back(clean(q / kDeg));
+  j["home"] = Json{{"robot_joints_deg", homeJoints},
+                   {"positioner_deg", {clean(cell.home.a1 / kDeg), clean(cell.home.a2 / kDeg)}}};
   return j.dump(2) + "\n";
 }
 
@@ -640,6 +777,7 @@ Cell defaultCell() {
   cell.tool.name = "straight WAAM torch, TCP 400 mm along the flange axis";
   cell.tool.number = 1;
   cell.tool.tcp = makePose(Vec3(0, 0, 400), Vec3::Zero());
+  cell.tool.envelope = TorchEnvelope{15.0, 12.5, 25.0, 385.0};
   PositionerDescription& p = cell.positioner;
   p.model = "two-axis tilt-rotate positioner (Yaskawa D500B class)";
   p.base = makePose(Vec3(1100, 0, 0), Vec3::Zero());
@@ -650,6 +788,7 @@ Cell defaultCell() {
   p.tableToPart = Pose::Identity();
   p.tilt = PositionerAxis{JointLimit{-95 * kDeg, 95 * kDeg, 120 * kDeg}, false, 1994.3, 1};
   p.rotation = PositionerAxis{JointLimit{-360 * kDeg, 360 * kDeg, 180 * kDeg}, true, 1376.7, 1};
+  p.geometry = PositionerGeometry{300.0, 30.0, 350.0, 500.0};
   ProcessDescription& pr = cell.process;
   pr.weldSpeed = 8.0;
   pr.travelSpeed = 50.0;
@@ -674,6 +813,11 @@ Cell defaultCell() {
   e.jobName = "WAAM";
   e.maxNameLength = 8;
   e.userFrame = 1;
+  // Torch vertical, TCP at (648.7, 0, 995.1) mm in world: 100 mm outside the working volume's
+  // radius and 465 mm above the table top (checked by a test with the robot's FK).
+  cell.home.robot = {0.0, -20 * kDeg, -10 * kDeg, 0.0, -100 * kDeg, 0.0};
+  cell.home.a1 = 0.0;
+  cell.home.a2 = 0.0;
   return cell;
 }
 

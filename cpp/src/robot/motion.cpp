@@ -641,12 +641,20 @@ void RobotKinematicsPass::reportFailures() const {
 
 }  // namespace
 
-MotionPlan planMotion(const Plan& plan, const Cell& cell, const MotionOptions& options,
+MotionPlan planMotion(const Plan& plan, const Cell& givenCell, const MotionOptions& options,
                       const Progress& progress) {
-  validateCell(cell);
+  validateCell(givenCell);
   validateInputs(plan, options);
+  // Placement (placement.hpp): the rest of the planning uses the cell with the part placed.
+  const PartPlacementResult placement = placePart(plan, givenCell, options.placement);
+  Cell cell = givenCell;
+  cell.positioner.tableToPart = placement.tableToPart;
+  checkPartPlacement(plan, cell.positioner);
   const Vec3 gravity = cell.gravity.normalized();
   MotionPlan result;
+  result.tableToPart = placement.tableToPart;
+  result.notes = givenCell.notes;
+  if (!placement.note.empty()) result.notes.push_back(placement.note);
   result.points.reserve(plan.pointCount() + plan.pathCount());
   WarningLog warnings;
   planPositionerAngles(plan, cell, gravity, options, progress.sub(0.0, 0.4), result, warnings);

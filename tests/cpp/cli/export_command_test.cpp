@@ -1,5 +1,6 @@
 // End-to-end tests of `curvedslicer export`: exit codes, outputs, all-or-nothing on errors.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdlib>
 #include <filesystem>
@@ -74,7 +75,8 @@ TEST(ExportCommand, BadInputsFailCleanlyWithoutOutput) {
   EXPECT_NE(readFile((dir / "stderr.txt").string()).find("curvedslicer: error: "),
             std::string::npos);
   EXPECT_FALSE(fs::exists(out));
-  // A plan the robot cannot reach (5 m away from the table): exit 2, nothing written.
+  // A plan the robot cannot reach (5 m away from the table, in a cell whose working volume
+  // allows it): exit 2, nothing written.
   Plan far = makeSmallPlan();
   for (auto& layer : far.layers) {
     for (auto& path : layer.paths) {
@@ -82,9 +84,13 @@ TEST(ExportCommand, BadInputsFailCleanlyWithoutOutput) {
     }
   }
   writePlanJson(dir / "far.json", far);
-  EXPECT_EQ(runCli(dir, "export '" + (dir / "far.json").string() + "' --format jbi -o '" +
-                            out.string() + "'"),
-            2);
+  Cell wide = defaultCell();
+  wide.positioner.geometry.maxPartRadius = 6000.0;
+  { std::ofstream(dir / "wide.json") << writeCellJson(wide); }
+  EXPECT_EQ(
+      runCli(dir, "export '" + (dir / "far.json").string() + "' --cell '" +
+                      (dir / "wide.json").string() + "' --format jbi -o '" + out.string() + "'"),
+      2);
   EXPECT_NE(readFile((dir / "stderr.txt").string()).find("misses by"), std::string::npos)
       << readFile((dir / "stderr.txt").string());
   EXPECT_FALSE(fs::exists(out));
@@ -101,6 +107,136 @@ TEST(ExportCommand, BadInputsFailCleanlyWithoutOutput) {
                             (dir / "missing" / "W.JBI").string() + "'"),
             3);
   EXPECT_FALSE(fs::exists(out));
+}
+
+/// makeSmallPlan (weld points 1.5 and 3 mm above the part origin) moved down by `dz` mm.
+Plan lowered(double dz) {
+  Plan plan = makeSmallPlan();
+  plan.parameters.layerThickness = 1.5;
+  for (auto& layer : plan.layers) {
+    for (auto& path : layer.paths) {
+      for (auto& p : path.points) p.position.z() -= dz;
+    }
+  }
+  return plan;
+}
+
+TEST(ExportCommand, APartBelowTheTableFailsWithExitTwoNamingTheLowestPoint) {
+  const fs::path dir = freshTempDir();
+  Plan plan = lowered(9.5);  // weld points at z = -8 and -6.5; the lowest: layer 0 path 1 point 2
+  plan.layers[0].paths[1].points[2].position.z() -= 0.75;
+  writePlanJson(dir / "plan.json", plan);
+  const fs::path out = dir / "W.JBI";
+  const std::string command = "export '" + (dir / "plan.json").string() + "' --format jbi -o '" +
+                              out.string() + "' --placement cell";
+  EXPECT_EQ(runCli(dir, command), 2);
+  const std::string err = readFile((dir / "stderr.txt").string());
+  EXPECT_NE(err.find("curvedslicer: error: weld points below the table top: layer 0 path 1 point "
+                     "2 (part 0.00, 5.00, -8.75 mm) lies 8.750 mm below the table (12 points "
+                     "below it)"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("positioner/table_to_part"), std::string::npos) << err;
+  EXPECT_NE(err.find("--placement rest"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(out));
+  // The same plan resting on the table (the default) is written; the summary gives the
+  // placement used and the note says what rest did.
+  EXPECT_EQ(runCli(dir, "export '" + (dir / "plan.json").string() + "' --format jbi -o '" +
+                            out.string() + "'"),
+            0)
+      << readFile((dir / "stderr.txt").string());
+  const std::string summary = readFile((dir / "stdout.txt").string());
+  EXPECT_NE(summary.find("part on the table (placement rest): table_to_part xyz 0.000, 0.000, "
+                         "10.250 mm"),
+            std::string::npos)
+      << summary;
+  EXPECT_NE(readFile((dir / "stderr.txt").string()).find("note: part placement rest"),
+            std::string::npos);
+  EXPECT_TRUE(fs::exists(out));
+}
+
+TEST(ExportCommand, GcodeMachineCoordinatesUseThePlacementOfTheMotion) {
+  const fs::path dir = freshTempDir();
+  writePlanJson(dir / "plan.json", lowered(9.5));  // rests 8 + 1.5 = 9.5 mm higher
+  const fs::path out = dir / "part.gcode";
+  ASSERT_EQ(runCli(dir, "export '" + (dir / "plan.json").string() +
+                            "' --format gcode --gcode-mode machine -q -o '" + out.string() + "'"),
+            0)
+      << readFile((dir / "stderr.txt").string());
+  const std::string gcode = readFile(out.string());
+  EXPECT_NE(gcode.find("; table to part: translation 0.000 0.000 9.500 mm"), std::string::npos)
+      << gcode.substr(0, 800);
+}
+
+TEST(ExportCommand, APartOutsideTheWorkingVolumeFailsWithExitTwo) {
+  const fs::path dir = freshTempDir();
+  Plan plan = makeSmallPlan();
+  plan.layers[1].paths[0].points[0].position.x() = -400.0;
+  writePlanJson(dir / "plan.json", plan);
+  EXPECT_EQ(runCli(dir, "export '" + (dir / "plan.json").string() + "' --format csv -o '" +
+                            (dir / "out.csv").string() + "'"),
+            2);
+  const std::string err = readFile((dir / "stderr.txt").string());
+  EXPECT_NE(err.find("outside the positioner's working volume: layer 1 path 0 point 0 (part "
+                     "-400.00, -5.00, 3.00 mm) lies 400.031 mm from the rotation axis"),
+            std::string::npos)
+      << err;
+}
+
+TEST(ExportCommand, MotionOptionsAreParsedAndBadValuesNamed) {
+  const fs::path dir = freshTempDir();
+  writePlanJson(dir / "plan.json", makeSmallPlan());
+  const std::string base = "export '" + (dir / "plan.json").string() + "' --format csv -o '" +
+                           (dir / "out.csv").string() + "' ";
+  EXPECT_EQ(runCli(dir, base + "--clearance 15 --merge-tolerance 0.02 --max-a2-step 4 "
+                               "--allow-collisions --no-home --placement cell"),
+            0)
+      << readFile((dir / "stderr.txt").string());
+  EXPECT_NE(readFile((dir / "stdout.txt").string()).find("(placement cell)"), std::string::npos);
+  const std::pair<const char*, const char*> bad[] = {
+      {"--clearance ten", "clearance"},
+      {"--merge-tolerance x", "merge tolerance"},
+      {"--max-a2-step 5deg", "maximum a2 step"},
+      {"--placement floor", "unknown part placement: 'floor'"},
+  };
+  for (const auto& [option, needle] : bad) {
+    EXPECT_EQ(runCli(dir, base + option), 2) << option;
+    const std::string err = readFile((dir / "stderr.txt").string());
+    EXPECT_NE(err.find(needle), std::string::npos) << option << ": " << err;
+  }
+}
+
+TEST(ExportCommand, NotesOfAVersionOneCellArePrinted) {
+  const fs::path dir = freshTempDir();
+  writePlanJson(dir / "plan.json", makeSmallPlan());
+  // The default cell written in the version-1 format: without the version-2 fields.
+  nlohmann::json cell = nlohmann::json::parse(writeCellJson(defaultCell()));
+  cell["version"] = 1;
+  cell["tool"].erase("envelope");
+  cell["positioner"].erase("geometry");
+  cell.erase("home");
+  const fs::path v1 = dir / "v1.json";
+  { std::ofstream(v1) << cell.dump(2); }
+  ASSERT_EQ(runCli(dir, "export '" + (dir / "plan.json").string() + "' --cell '" + v1.string() +
+                            "' --format csv -o '" + (dir / "out.csv").string() + "'"),
+            0)
+      << readFile((dir / "stderr.txt").string());
+  const std::string err = readFile((dir / "stderr.txt").string());
+  EXPECT_NE(err.find("note: cell version 1: default torch envelope assumed"), std::string::npos)
+      << err;
+  EXPECT_NE(err.find("note: cell version 1: default home pose assumed"), std::string::npos) << err;
+}
+
+TEST(ExportCommand, HelpGivesTheMotionDefaultsFromTheOptionsStruct) {
+  const fs::path dir = freshTempDir();
+  ASSERT_EQ(runCli(dir, "export --help"), 0);
+  const std::string help = readFile((dir / "stdout.txt").string());
+  for (const char* needle :
+       {"--clearance MM", "(default 10)", "--merge-tolerance MM", "(default 0.01)",
+        "--max-a2-step DEG", "degrees (default 5)", "--allow-collisions", "--no-home",
+        "--placement MODE", "Default rest."}) {
+    EXPECT_NE(help.find(needle), std::string::npos) << needle;
+  }
 }
 
 }  // namespace

@@ -217,6 +217,13 @@ inline void collectReferences(const std::string& line, std::vector<int>& c, std:
   }
 }
 
+/// The cell with the part where the motion placed it (MotionPlan::tableToPart, the placement
+/// rule of robot/placement.hpp): what an independent reader of the program must assume.
+inline Cell placedCell(Cell cell, const MotionPlan& motion) {
+  cell.positioner.tableToPart = motion.tableToPart;
+  return cell;
+}
+
 /// Part-frame position of the TCP from a TCP pose in the robot base frame and the positioner
 /// angles (model convention).
 inline Vec3 partPointFromRobotBase(const Cell& cell, const Pose& tcpInBase, double a1, double a2) {

@@ -139,7 +139,7 @@ TEST(JbiWriter, CartesianJobReadsBackOntoThePlannedPath) {
   ASSERT_EQ(result.files.size(), 1u);
   EXPECT_EQ(result.files[0].name, "WAAM.JBI");
   const Program program = parseAndCheck(result, cell);
-  expectOnPlannedPath(decodeMoves(program, cell), motion);
+  expectOnPlannedPath(decodeMoves(program, placedCell(cell, motion)), motion);
   EXPECT_EQ(result.motionCount, motion.points.size());
   EXPECT_EQ(result.arcCount, 4u);
 }
@@ -156,7 +156,7 @@ TEST(JbiWriter, PulseJobDecodesThroughForwardKinematicsOntoThePath) {
       EXPECT_EQ(job.cPosType, "PULSE");
     }
   }
-  expectOnPlannedPath(decodeMoves(program, cell), motion);
+  expectOnPlannedPath(decodeMoves(program, placedCell(cell, motion)), motion);
 }
 
 TEST(JbiWriter, ConeSurfacePlanIsCoordinatedWithOneArcPairPerPath) {
@@ -165,7 +165,7 @@ TEST(JbiWriter, ConeSurfacePlanIsCoordinatedWithOneArcPairPerPath) {
   const MotionPlan motion = planMotion(plan, cell);
   const ExportResult result = JbiWriter().write(motion, cell, {}, {});
   const Program program = parseAndCheck(result, cell);
-  const std::vector<DecodedMove> moves = decodeMoves(program, cell);
+  const std::vector<DecodedMove> moves = decodeMoves(program, placedCell(cell, motion));
   expectOnPlannedPath(moves, motion);
 
   // Walk the instructions in execution order: between ARCON and ARCOF every move is coordinated,
@@ -216,7 +216,7 @@ TEST(JbiWriter, SplitsIntoSubJobsWithinLineAndNameLimits) {
   EXPECT_EQ(program.order.size() + 1, result.files.size());
   std::set<std::string> names;
   for (const ExportFile& f : result.files) EXPECT_TRUE(names.insert(f.name).second) << f.name;
-  expectOnPlannedPath(decodeMoves(program, cell), motion);
+  expectOnPlannedPath(decodeMoves(program, placedCell(cell, motion)), motion);
   // 32-character names (DX100 and later) keep the whole requested name.
   cell.exportOptions.maxNameLength = 32;
   ExportOptions options;

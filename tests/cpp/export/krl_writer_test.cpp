@@ -60,7 +60,7 @@ TEST(KrlWriter, PositionsAndExternalAxesLandOnThePlannedPath) {
     const double a2 = cell.positioner.rotation.sign * moves[i].e2 * kDegT;
     EXPECT_NEAR(a1, motion.points[i].a1, 1e-6);
     EXPECT_NEAR(a2, motion.points[i].a2, 1e-6);
-    const Vec3 p = partPointFromTable(cell, moves[i].tcp, a1, a2);
+    const Vec3 p = partPointFromTable(placedCell(cell, motion), moves[i].tcp, a1, a2);
     EXPECT_LT((p - motion.points[i].position).norm(), 0.01) << moves[i].line;
     if (i > 0) {
       EXPECT_EQ(moves[i].line.rfind("LIN ", 0), 0u);
@@ -100,7 +100,7 @@ TEST(KrlWriter, WorldPositionsWithoutCoordination) {
   ASSERT_EQ(moves.size(), motion.points.size());
   for (std::size_t i = 0; i < moves.size(); ++i) {
     const double a1 = moves[i].e1 * kDegT, a2 = moves[i].e2 * kDegT;
-    const Vec3 p = partPointFromWorld(cell, moves[i].tcp.translation(), a1, a2);
+    const Vec3 p = partPointFromWorld(placedCell(cell, motion), moves[i].tcp.translation(), a1, a2);
     EXPECT_LT((p - motion.points[i].position).norm(), 0.01);
   }
   EXPECT_THROW(KrlWriter().write(MotionPlan{}, cell, {}, {}), InvalidInput);

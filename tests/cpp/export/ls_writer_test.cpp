@@ -77,7 +77,7 @@ TEST(LsWriter, PositionsOfBothGroupsLandOnThePlannedPath) {
                        valueAfter(b, "W = "), valueAfter(b, "P = "), valueAfter(b, "R = "));
     const double a1 = valueAfter(b, "J1 = ") * kDegT, a2 = valueAfter(b, "J2 = ") * kDegT;
     EXPECT_NEAR(a2, motion.points[i].a2, 1e-6);
-    const Vec3 p = partPointFromTable(cell, tcp, a1, a2);
+    const Vec3 p = partPointFromTable(placedCell(cell, motion), tcp, a1, a2);
     EXPECT_LT((p - motion.points[i].position).norm(), 0.01) << b;
   }
   EXPECT_THROW(LsWriter().write(MotionPlan{}, cell, {}, {}), InvalidInput);

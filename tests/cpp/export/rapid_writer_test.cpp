@@ -65,7 +65,7 @@ TEST(RapidWriter, RobtargetsAndExtaxLandOnThePlannedPath) {
     tcp.translation() = Vec3(v[0], v[1], v[2]);
     const double a1 = v[11] * kDegT, a2 = v[12] * kDegT;
     EXPECT_NEAR(a1, motion.points[move].a1, 1e-6);
-    const Vec3 p = partPointFromTable(cell, tcp, a1, a2);
+    const Vec3 p = partPointFromTable(placedCell(cell, motion), tcp, a1, a2);
     EXPECT_LT((p - motion.points[move].position).norm(), 0.01) << line;
     ++move;
   }

@@ -5,12 +5,16 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 
 #include "curvedslicer/core/error.hpp"
+#include "curvedslicer/robot/positioner.hpp"
+#include "curvedslicer/robot/robot_kinematics.hpp"
 
 namespace curvedslicer {
 namespace {
@@ -114,6 +118,27 @@ TEST(Cell, EachBadFieldHasItsOwnError) {
       {"/export/job_name", "A B", "letters, digits"},
       {"/export/max_lines_per_job", 5, "between 20"},
       {"/export/coordinated", "yes", "true or false"},
+      // version 2 fields
+      {"/version", 3, "between 1 and 2"},
+      {"/tool/envelope", nullptr, "is missing"},
+      {"/tool/envelope", 12, "must be an object"},
+      {"/tool/envelope/radius_mm", 0, "must be positive"},
+      {"/tool/envelope/radius_mm", "wide", "must be a number"},
+      {"/tool/envelope/top_radius_mm", -25, "must be positive"},
+      {"/tool/envelope/length_mm", nullptr, "is missing"},
+      {"/tool/envelope/stickout_mm", -1, "must not be negative"},
+      {"/tool/envelope/nozzle_mm", 3, "is not a known field"},
+      {"/positioner/geometry", nullptr, "is missing"},
+      {"/positioner/geometry/table_radius_mm", 0, "must be positive"},
+      {"/positioner/geometry/table_thickness_mm", nullptr, "is missing"},
+      {"/positioner/geometry/max_part_radius_mm", -350, "must be positive"},
+      {"/positioner/geometry/max_part_height_mm", "tall", "must be a number"},
+      {"/home", nullptr, "is missing"},
+      {"/home/robot_joints_deg", Json::array({0, 0, 0}), "array of 6"},
+      {"/home/robot_joints_deg", Json::array({0, -20, -10, 0, -130, 0}), "joint 5 (B)"},
+      {"/home/positioner_deg", Json::array({0}), "array of 2"},
+      {"/home/positioner_deg", Json::array({100, 0}), "tilt outside its limits"},
+      {"/home/joints_deg", Json::array({0}), "is not a known field"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.pointer);
@@ -126,6 +151,116 @@ TEST(Cell, EachBadFieldHasItsOwnError) {
     }
     expectInvalid(j, {c.pointer, c.needle, "test.json"});
   }
+}
+
+/// The default cell written as version 1: without the version-2 fields.
+Json versionOneJson() {
+  Json j = defaultJson();
+  j["version"] = 1;
+  j["tool"].erase("envelope");
+  j["positioner"].erase("geometry");
+  j.erase("home");
+  return j;
+}
+
+TEST(Cell, VersionOneLoadsWithStatedDefaultsAndNotes) {
+  const Cell v1 = parseCell(versionOneJson().dump(), "old.json");
+  const Cell v2 = defaultCell();
+  EXPECT_EQ(v1.tool.envelope.stickout, TorchEnvelope{}.stickout);
+  EXPECT_EQ(v1.tool.envelope.radius, 12.5);
+  EXPECT_EQ(v1.tool.envelope.topRadius, 25.0);
+  EXPECT_EQ(v1.tool.envelope.length, 385.0);
+  EXPECT_EQ(v1.positioner.geometry.tableRadius, 300.0);
+  EXPECT_EQ(v1.positioner.geometry.maxPartHeight, 500.0);
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(v1.home.robot[i], 0.0);
+  EXPECT_EQ(v1.home.a1, 0.0);
+  // Everything else as read; the defaults are stated in one note per section.
+  EXPECT_EQ(v1.robot.model, v2.robot.model);
+  EXPECT_TRUE(v1.tool.tcp.isApprox(v2.tool.tcp));
+  ASSERT_EQ(v1.notes.size(), 3u);
+  EXPECT_NE(v1.notes[0].find("cell version 1: default torch envelope assumed"), std::string::npos)
+      << v1.notes[0];
+  EXPECT_NE(v1.notes[0].find("radius 12.5 mm"), std::string::npos) << v1.notes[0];
+  EXPECT_NE(v1.notes[0].find("add tool/envelope"), std::string::npos) << v1.notes[0];
+  EXPECT_NE(v1.notes[1].find("positioner/geometry"), std::string::npos) << v1.notes[1];
+  EXPECT_NE(v1.notes[2].find("home pose"), std::string::npos) << v1.notes[2];
+  EXPECT_TRUE(v2.notes.empty());
+  EXPECT_TRUE(readCell(defaultCellFile()).notes.empty());
+  // Without "version" a file is version 1 (as before version 2 existed).
+  Json noVersion = versionOneJson();
+  noVersion.erase("version");
+  EXPECT_EQ(parseCell(noVersion.dump()).notes.size(), 3u);
+  // Written again, a version-1 cell becomes version 2 with the defaults spelled out.
+  const Json rewritten = Json::parse(writeCellJson(v1));
+  EXPECT_EQ(rewritten["version"], 2);
+  EXPECT_EQ(rewritten["tool"]["envelope"]["length_mm"], 385.0);
+  EXPECT_TRUE(parseCell(rewritten.dump()).notes.empty());
+}
+
+TEST(Cell, VersionOneRefusesVersionTwoFields) {
+  Json j = versionOneJson();
+  j["home"] = defaultJson()["home"];
+  expectInvalid(j, {"/home", "needs cell version 2", "\"version\": 2"});
+  j = versionOneJson();
+  j["tool"]["envelope"] = defaultJson()["tool"]["envelope"];
+  expectInvalid(j, {"/tool/envelope", "needs cell version 2"});
+  j = versionOneJson();
+  j["positioner"]["geometry"] = defaultJson()["positioner"]["geometry"];
+  expectInvalid(j, {"/positioner/geometry", "needs cell version 2"});
+}
+
+TEST(Cell, VersionTwoRoundTripKeepsEnvelopeGeometryAndHome) {
+  Cell cell = defaultCell();
+  cell.tool.envelope = TorchEnvelope{18.0, 11.0, 31.5, 290.0};
+  cell.positioner.geometry = PositionerGeometry{225.0, 25.0, 260.0, 410.5};
+  cell.home.robot = {0.1, -0.2, 0.3, -0.4, -1.5, 0.6};
+  cell.home.a1 = -0.5;
+  cell.home.a2 = 7.0;  // the rotation axis is endless: beyond its ±360° is fine
+  const std::string text = writeCellJson(cell);
+  EXPECT_NE(text.find("\"version\": 2"), std::string::npos);
+  const Cell back = parseCell(text);
+  EXPECT_EQ(writeCellJson(back), text);
+  EXPECT_DOUBLE_EQ(back.tool.envelope.stickout, 18.0);
+  EXPECT_DOUBLE_EQ(back.tool.envelope.topRadius, 31.5);
+  EXPECT_DOUBLE_EQ(back.positioner.geometry.maxPartHeight, 410.5);
+  EXPECT_DOUBLE_EQ(back.positioner.geometry.tableThickness, 25.0);
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(back.home.robot[i], cell.home.robot[i], 1e-9);
+  EXPECT_NEAR(back.home.a1, -0.5, 1e-9);
+  EXPECT_NEAR(back.home.a2, 7.0, 7.0 * 1e-9 * 1.5);  // 401.07... deg written to 9 digits
+  EXPECT_TRUE(back.notes.empty());
+}
+
+/// Distance of a point (table frame) from the solid cylinder made of the table disc and the
+/// working volume above it.
+double distanceFromTableAndVolume(const PositionerGeometry& g, const Vec3& p) {
+  const double radius = std::max(g.tableRadius, g.maxPartRadius);
+  const double dr = std::max(std::hypot(p.x(), p.y()) - radius, 0.0);
+  const double dz = std::max({-g.tableThickness - p.z(), p.z() - g.maxPartHeight, 0.0});
+  return std::hypot(dr, dz);
+}
+
+TEST(Cell, DefaultHomeIsReachableAndClearOfTableAndWorkingVolume) {
+  const Cell cell = defaultCell();
+  for (int i = 0; i < 6; ++i) EXPECT_TRUE(cell.robot.joints[i].contains(cell.home.robot[i]));
+  const Pose tcp =
+      cell.robot.base * computeFlangePose(cell.robot, cell.home.robot) * cell.tool.tcp;  // world
+  const Pose table = computeTableInWorld(cell.positioner, cell.home.a1, cell.home.a2);
+  const Vec3 z = tcp.rotation().col(2);
+  EXPECT_NEAR(z.dot(cell.gravity.normalized()), 1.0, 1e-6) << "torch vertical at home";
+  const TorchEnvelope& env = cell.tool.envelope;
+  double closest = 1e9;
+  for (int k = 0; k <= 100; ++k) {  // the envelope's axis, nozzle to top, and its radius
+    const double s = env.length * k / 100.0;
+    const Vec3 world = tcp.translation() - (env.stickout + s) * z;
+    const double radius = env.radius + (env.topRadius - env.radius) * k / 100.0;
+    closest = std::min(
+        closest,
+        distanceFromTableAndVolume(cell.positioner.geometry, table.inverse() * world) - radius);
+  }
+  EXPECT_GT(closest, 50.0) << "the torch at home keeps 50 mm from the table and working volume";
+  // The TCP itself: outside the working volume's radius.
+  const Vec3 tcpInTable = table.inverse() * tcp.translation();
+  EXPECT_GT(std::hypot(tcpInTable.x(), tcpInTable.y()), cell.positioner.geometry.maxPartRadius);
 }
 
 TEST(Cell, CrossFieldRules) {

@@ -321,7 +321,8 @@ def export(job, path=None, format="jbi", program_name="", date="", gcode_mode="t
                                    arc_output=arc_output)
     if date:
         options.date = date
-    motion = native.MotionOptions(unreachable="warn" if warn_unreachable else "throw",
+    motion = poses.motion_options(jobs[0],
+                                  unreachable="warn" if warn_unreachable else "throw",
                                   tool_along_travel=bool(tool_along_travel))
     return native.export_program(text, cell, format=format, path=path, options=options,
                                  motion=motion)

@@ -4,11 +4,14 @@ defaults for the command line, the Python module and the workbench: the C++ ``Op
 App side: imports only the compiled module.
 """
 
+import math
+
 from .core import native
 
 _LAYERS = native.LayerJobOptions()
 _PLANNER = native.PlannerOptions()
 _WALL = native.ThinWallOptions()
+_MOTION = native.MotionOptions()
 
 LAYER_THICKNESS = _LAYERS.layer_thickness  # mm
 BEAD_SPACING = _PLANNER.bead_spacing  # mm, curved layers
@@ -16,3 +19,11 @@ WALL_BEAD_SPACING = _WALL.bead_spacing  # mm, between the beads of a thin wall
 POINT_SPACING = _PLANNER.point_spacing  # mm
 FIT_TOLERANCE = _PLANNER.fit_tolerance  # mm
 CORNER_ANGLE = _PLANNER.corner_angle  # degrees
+
+# Motion (robot/motion.hpp MotionOptions; the Job's Robot properties, stages/poses.py)
+CLEARANCE = _MOTION.clearance  # mm
+ALLOW_COLLISIONS = _MOTION.allow_collisions
+ADD_HOME = _MOTION.add_home
+MERGE_TOLERANCE = _MOTION.merge_tolerance  # mm
+MAX_A2_STEP = math.degrees(_MOTION.max_a2_step)  # degrees (the core keeps radians)
+PART_PLACEMENT = _MOTION.placement  # "rest" | "cell"

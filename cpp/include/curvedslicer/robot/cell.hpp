@@ -23,6 +23,11 @@
 // `RobotDescription::jointSigns/jointOffsets` map them to the kinematic model of
 // robot_kinematics.hpp (θ_model = sign · θ_controller + offset).
 //
+// Versions: version 2 (written by writeCellJson) adds the torch envelope (`tool/envelope`), the
+// positioner's geometry (`positioner/geometry`) and the home pose (`home`). A version-1 file (the
+// format before them) still loads: it gets the stated defaults (`TorchEnvelope{}`,
+// `PositionerGeometry{}`, `HomePose{}`) and one entry in `Cell::notes` per default taken.
+//
 // Validation: every field is checked on reading; a missing or invalid field throws InvalidInput
 // whose message names the JSON path (e.g. "/positioner/tilt/limits_deg") and why. Cost: trivial.
 #pragma once
@@ -39,7 +44,7 @@
 
 namespace curvedslicer {
 
-using Pose = Eigen::Isometry3d;  ///< rigid transform, translation in mm
+using Pose = Eigen::Isometry3d;             ///< rigid transform, translation in mm
 using JointVector = std::array<double, 6>;  ///< robot joints, rad, controller convention
 
 /// Range and speed of one joint.
@@ -80,10 +85,24 @@ struct RobotDescription {
   std::vector<double> pulsesPerDegree;
 };
 
+/// The torch body for collision checks: a truncated cone on the tool z axis. It starts at the
+/// nozzle, `stickout` behind the TCP (the wire tip; against tool z, i.e. up the torch), with
+/// radius `radius`, and ends `length` further up the torch with radius `topRadius`. The defaults
+/// (taken for version-1 cells) describe a typical straight 400 mm WAAM / GMAW torch: nozzle
+/// outer diameter 25 mm, 15 mm wire stick-out, neck and body within 50 mm diameter up to the
+/// flange (400 - 15 = 385 mm); sources in resources/cells/README.md.
+struct TorchEnvelope {
+  double stickout = 15.0;   ///< mm, TCP to the nozzle tip along -tool z, >= 0
+  double radius = 12.5;     ///< mm, radius at the nozzle, > 0
+  double topRadius = 25.0;  ///< mm, radius at the top end, > 0
+  double length = 385.0;    ///< mm, nozzle to top end along -tool z, > 0
+};
+
 struct ToolDescription {
   std::string name;             ///< e.g. "straight torch 400 mm"
   Pose tcp = Pose::Identity();  ///< TCP frame in the flange frame; its z axis is the torch axis
   int number = 1;               ///< tool number in the controller (TOOL 1)
+  TorchEnvelope envelope;       ///< torch body for collision checks (tool frame)
 };
 
 /// One positioner axis.
@@ -92,6 +111,18 @@ struct PositionerAxis {
   bool endless = false;          ///< unlimited rotation (rotation axis only)
   double pulsesPerDegree = 0.0;  ///< > 0: pulse = sign · round(deg · ppd)
   int sign = 1;                  ///< ±1, controller direction relative to the model direction
+};
+
+/// The positioner's table and working volume, in the table frame (origin on the rotation axis,
+/// z along it): the table is a disc of `tableRadius` whose top face is the plane z = 0, extending
+/// `tableThickness` below it; parts must fit in the cylinder of `maxPartRadius` about the
+/// rotation axis between z = 0 and z = `maxPartHeight`. Defaults (taken for version-1 cells): a
+/// D500B-class positioner, sources in resources/cells/README.md.
+struct PositionerGeometry {
+  double tableRadius = 300.0;    ///< mm, > 0
+  double tableThickness = 30.0;  ///< mm, > 0
+  double maxPartRadius = 350.0;  ///< mm, > 0, about the rotation axis
+  double maxPartHeight = 500.0;  ///< mm, > 0, above the table top
 };
 
 struct PositionerDescription {
@@ -104,6 +135,15 @@ struct PositionerDescription {
   Pose tableToPart = Pose::Identity();         ///< part frame in the table frame
   PositionerAxis tilt;                         ///< a1
   PositionerAxis rotation;                     ///< a2
+  PositionerGeometry geometry;                 ///< table disc and working volume
+};
+
+/// Where the program starts and ends: robot joints and positioner angles. The default (taken
+/// for version-1 cells) is the robot's controller zero (all joints 0) and the positioner at 0, 0.
+struct HomePose {
+  JointVector robot{0, 0, 0, 0, 0, 0};  ///< rad, controller convention, within the joint limits
+  double a1 = 0.0;                      ///< rad, positioner tilt (model convention), in limits
+  double a2 = 0.0;                      ///< rad, positioner rotation (model convention)
 };
 
 enum class SpeedUnit { MillimetresPerSecond, CentimetresPerMinute, MillimetresPerMinute };
@@ -148,7 +188,15 @@ struct Cell {
   PositionerDescription positioner;
   ProcessDescription process;
   ExportDescription exportOptions;
+  HomePose home;
+  /// What the reader assumed, e.g. the defaults of a version-1 file ("cell version 1: default
+  /// torch envelope ... assumed; add tool/envelope"); planMotion copies them into
+  /// MotionPlan::notes. Not written by writeCellJson.
+  std::vector<std::string> notes;
 };
+
+/// The cell format version writeCellJson writes and the newest parseCell reads.
+inline constexpr int kCellFormatVersion = 2;
 
 /// Reads and validates a cell description file (JSON). Throws IoError if the file cannot be read,
 /// InvalidInput naming the JSON path of a missing or invalid field.
@@ -162,8 +210,9 @@ Cell parseCell(std::string_view json, std::string_view origin = "cell");
 /// field (as its JSON path).
 void validateCell(const Cell& cell);
 
-/// Serialises a cell to the JSON form parseCell reads (numbers rounded to 9 significant digits,
-/// so a round trip reproduces the same text).
+/// Serialises a cell to the JSON form parseCell reads, version kCellFormatVersion (numbers
+/// rounded to 9 significant digits, so a round trip reproduces the same text; notes are not
+/// written).
 std::string writeCellJson(const Cell& cell);
 
 /// The paper's cell: Yaskawa Motoman HP20D, a D500B-class tilt-rotate positioner, straight torch;

@@ -41,6 +41,7 @@
 #include "curvedslicer/plan/plan.hpp"
 #include "curvedslicer/robot/cell.hpp"
 #include "curvedslicer/robot/configuration.hpp"
+#include "curvedslicer/robot/placement.hpp"
 
 namespace curvedslicer {
 
@@ -183,6 +184,10 @@ struct MotionOptions {
   /// are inserted on the straight segment (kMotionInserted, index = the plan point before)
   double maxA2Step = 0.0872664625997165;
   bool timeParameterise = true;  ///< respect every axis's max speed (else nominal speeds only)
+  /// Where the part sits on the table (placement.hpp): Rest (default) lifts the cell's
+  /// table_to_part so the lowest bead bottom lies on the table top; Cell keeps it as given.
+  /// Either way a weld point below the table or outside the working volume is InvalidInput.
+  PartPlacement placement = PartPlacement::Rest;
 };
 
 struct MotionPlan {
@@ -198,7 +203,8 @@ struct MotionPlan {
   std::vector<CollisionReport> collisions;      ///< what remains (only with allowCollisions)
   double nearSingularBand = 0.0;        ///< rad, V this close to the rotation axis is blended
   Pose tableToPart = Pose::Identity();  ///< the part placement used (after the placement rule)
-  std::vector<std::string> notes;       ///< e.g. defaults taken for an older cell version
+  /// e.g. defaults taken for an older cell version (Cell::notes), the placement rest made
+  std::vector<std::string> notes;
 };
 
 /// Plans positioner angles, robot joints and estimates for every point of `plan` in `cell`.

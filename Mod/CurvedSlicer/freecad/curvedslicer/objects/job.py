@@ -19,7 +19,7 @@ import FreeCAD
 
 from .. import SCHEMA_VERSION, defaults, hooks, preferences, stages
 from ..core import CurvedSlicerError
-from ..stages import layers, paths
+from ..stages import layers, paths, poses
 
 JOB_TYPE = "CurvedSlicer::Job"
 
@@ -32,6 +32,7 @@ WALL_EDGES = paths.WALL_EDGES
 SURFACE_METHODS = paths.SURFACE_METHODS
 NARROW_STRIPS = paths.NARROW_STRIPS
 PATH_DISPLAYS = paths.PATH_DISPLAYS
+PART_PLACEMENTS = poses.PART_PLACEMENTS
 
 # (type, name, group, tooltip, default). Enumerations take their list as default (first = value).
 PROPERTIES = [
@@ -114,6 +115,26 @@ PROPERTIES = [
     ("App::PropertyBool", "ToolAlongTravel", "Robot",
      "Torch x axis along the travel direction; off keeps the torch orientation fixed while the "
      "positioner turns the part (default; no wrist wind-up on long rings)", False),
+    ("App::PropertyLength", "Clearance", "Robot",
+     "Arc-off moves leave along the layer normal to this height above the part and the "
+     "deposit, travel there and approach along the normal, mm", defaults.CLEARANCE),
+    ("App::PropertyBool", "AllowCollisions", "Robot",
+     "Plan the motion although torch or positioner still collide after re-routing (each "
+     "collision a warning in MotionWarnings); off: a collision is an error",
+     defaults.ALLOW_COLLISIONS),
+    ("App::PropertyBool", "AddHome", "Robot",
+     "Start and end the program at the cell's home pose", defaults.ADD_HOME),
+    ("App::PropertyLength", "MergeTolerance", "Robot",
+     "Consecutive path points closer than this are merged into one, mm",
+     defaults.MERGE_TOLERANCE),
+    ("App::PropertyAngle", "MaxA2Step", "Robot",
+     "Largest turn of the positioner rotation a2 between consecutive points of a weld; points "
+     "are inserted where it turns faster, degrees", defaults.MAX_A2_STEP),
+    ("App::PropertyEnumeration", "PartPlacement", "Robot",
+     "Where the part sits on the table: Rest (the cell's table_to_part rotation and xy, moved "
+     "along the table z so the lowest bead bottom lies on the table top) or Cell (the cell's "
+     "table_to_part as given); a weld point below the table or outside the working volume is an "
+     "error", PART_PLACEMENTS),
     ("App::PropertyInteger", "PosePoint", "Robot",
      "Motion point (0-based, execution order) the positioner model shows", 0),
     ("App::PropertyString", "Status", "Results", "What the last run did", "Not run yet"),
@@ -231,6 +252,9 @@ class JobProxy:
         if "NarrowStrips" in added:
             # Planned before the option existed: keep what it planned (overlapping paths).
             obj.NarrowStrips = "Overlap"
+        if "PartPlacement" in added:
+            # Planned before the option existed: the part sat where the cell put it.
+            obj.PartPlacement = "Cell"
         if old < SCHEMA_VERSION or added:
             obj.SchemaVersion = SCHEMA_VERSION
             FreeCAD.Console.PrintLog("CurvedSlicer: migrated %s from schema %d (added %s)\n"

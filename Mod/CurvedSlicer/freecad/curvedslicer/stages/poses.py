@@ -7,9 +7,12 @@ Shapes are built once in the table-zero frame T0 (x axis the tilt axis, z axis t
 axis, origin on the table) and carried by placements: base T0, cradle T_cradle(a1) = T_table(a1,
 0), table T_table(a1, a2), part T_part(a1, a2). Sizes follow the part's extent
 (table radius at least 1.2 × the part's radius); they illustrate the motion and are not a
-collision model. The motion is planned with unreachable robot points kept (warnings go to
-``MotionWarnings``), cached per plan and cell for stepping. App side: no GUI imports (the view
-provider colours the parts).
+collision model. The part sits on the table where the motion placed it (the Job's
+``PartPlacement``: the motion's ``table_to_part``). The motion is planned with the Job's Robot
+options (``motion_options``: Clearance, AllowCollisions, AddHome, MergeTolerance, MaxA2Step,
+PartPlacement, ToolAlongTravel) and unreachable robot points kept (warnings and notes go to
+``MotionWarnings``), cached per plan, cell and options for stepping. App side: no GUI imports
+(the view provider colours the parts).
 """
 
 import hashlib
@@ -17,11 +20,17 @@ import math
 
 import FreeCAD
 
+from .. import defaults
 from ..core import InvalidInput, native
 from .features import ensure_group, group_members
 from .pose_placement import part_placement
 
 POSE_PARTS = ["PositionerBase", "PositionerCradle", "PositionerTable", "PosePart"]
+
+#: PartPlacement property values, the core's default first; name -> MotionOptions.placement.
+_PLACEMENT_NAMES = {"Rest": "rest", "Cell": "cell"}
+PART_PLACEMENTS = sorted(_PLACEMENT_NAMES, key=lambda n: _PLACEMENT_NAMES[n]
+                         != defaults.PART_PLACEMENT)
 
 _motion_cache = {}  # (document name, job name) -> (digest, motion dict)
 
@@ -42,21 +51,45 @@ def _digest(*parts):
     return h.hexdigest()
 
 
+def _quantity(job, name, unit, default):
+    """A Length / Angle property in `unit` (the default for a Job without it)."""
+    if name not in job.PropertiesList:
+        return float(default)
+    return float(FreeCAD.Units.Quantity(getattr(job, name)).getValueAs(unit))
+
+
+def motion_options(job, **overrides):
+    """native.MotionOptions from the Job's Robot properties (a Job saved before one existed
+    uses the core's default), then `overrides` (e.g. unreachable="warn")."""
+    def prop(name, default):
+        return getattr(job, name) if name in job.PropertiesList else default
+
+    placement = prop("PartPlacement", PART_PLACEMENTS[0])
+    values = dict(
+        tool_along_travel=bool(prop("ToolAlongTravel", False)),
+        clearance=_quantity(job, "Clearance", "mm", defaults.CLEARANCE),
+        allow_collisions=bool(prop("AllowCollisions", defaults.ALLOW_COLLISIONS)),
+        add_home=bool(prop("AddHome", defaults.ADD_HOME)),
+        merge_tolerance=_quantity(job, "MergeTolerance", "mm", defaults.MERGE_TOLERANCE),
+        max_a2_step=math.radians(_quantity(job, "MaxA2Step", "deg", defaults.MAX_A2_STEP)),
+        placement=_PLACEMENT_NAMES[placement],
+    )
+    values.update(overrides)
+    return native.MotionOptions(**values)
+
+
 def motion(job, progress=None):
     """planMotion of the Job's plan in its cell (cached): dict of columns (see plan_motion)."""
     if not job.PlanJson:
         raise InvalidInput("no plan: %s has no paths yet; run the Job first" % job.Label)
     cell = cell_json(job)
-    along = bool(getattr(job, "ToolAlongTravel", False))
-    digest = _digest(job.PlanJson, cell, along)
+    options = motion_options(job, unreachable="warn")
+    digest = _digest(job.PlanJson, cell, repr(options))
     key = (job.Document.Name, job.Name)
     cached = _motion_cache.get(key)
     if cached is not None and cached[0] == digest:
         return cached[1]
-    result = native.plan_motion(
-        job.PlanJson, cell,
-        options=native.MotionOptions(unreachable="warn", tool_along_travel=along),
-        progress=progress)
+    result = native.plan_motion(job.PlanJson, cell, options=options, progress=progress)
     result["cell_json"] = cell
     _motion_cache[key] = (digest, result)
     return result
@@ -199,5 +232,5 @@ def update_poses(job, progress=None):
     job.PoseLayer = int(m["layer"][index]) + 1
     job.PosePath = int(m["path"][index]) + 1
     job.PoseDeposition = world_v
-    job.MotionWarnings = list(m["warnings"])
+    job.MotionWarnings = list(m["warnings"]) + ["note: " + n for n in m["notes"]]
     return m

@@ -9,8 +9,9 @@ the form rows wrap, so the panel fits the default width of the combo view.
 Four tabs follow the property groups: Model (Solid, PlanKind, the start surface and the thin
 wall), Layers (with the estimate: core planGrid cells and memory against the budget, refreshed on
 demand and after a change of the voxel size, alignment or budget), Paths, Robot (cell file with a
-file dialog, torch orientation, pose point). Fields that the chosen modes do not use are disabled
-(e.g. the wall fields unless PlanKind is ThinWall, the initial plane unless InitialPath is Plane).
+file dialog, torch orientation, part placement and the other motion options, pose point). Fields
+that the chosen modes do not use are disabled (e.g. the wall fields unless PlanKind is ThinWall,
+the initial plane unless InitialPath is Plane).
 
 OK and Apply first validate what the panel would set (a message "<what>: <value>; <what to do>"
 below the tabs, the tab with the field brought forward, nothing applied), then assign the
@@ -250,6 +251,35 @@ class TaskPanelJob:
                                           "turns the part (no wrist wind-up)")
         self.tool_along_travel.setChecked(job.ToolAlongTravel)
         f.addRow(self.tool_along_travel)
+        self.part_placement = combo(job_module.PART_PLACEMENTS, job.PartPlacement)
+        self.part_placement.setToolTip("Rest: the part's lowest bead bottom on the table top "
+                                       "(the cell's table_to_part rotation and xy); Cell: the "
+                                       "cell's table_to_part as given")
+        f.addRow("Placement", self.part_placement)
+        self.clearance = QuantityField(mm(job.Clearance), "mm", "clearance", 0.0, LENGTH_LIMIT,
+                                       exclusive_minimum=False, example="10 mm")
+        self.clearance.setToolTip("Arc-off moves travel this high above the part and the "
+                                  "deposit (leaving and approaching along the layer normal)")
+        f.addRow("Clearance", self.clearance.widget)
+        self.add_home = QtGui.QCheckBox("Start and end at home")
+        self.add_home.setToolTip("Start and end the program at the cell's home pose")
+        self.add_home.setChecked(job.AddHome)
+        f.addRow(self.add_home)
+        self.allow_collisions = QtGui.QCheckBox("Allow collisions")
+        self.allow_collisions.setToolTip("Remaining collisions become warnings. Off: a collision "
+                                         "of torch or positioner with the part or the deposit "
+                                         "after re-routing is an error")
+        self.allow_collisions.setChecked(job.AllowCollisions)
+        f.addRow(self.allow_collisions)
+        self.merge_tolerance = QuantityField(mm(job.MergeTolerance), "mm", "merge tolerance", 0.0,
+                                             100.0, exclusive_minimum=False, example="0.01 mm")
+        self.merge_tolerance.setToolTip("Consecutive path points closer than this are merged")
+        f.addRow("Merge tolerance", self.merge_tolerance.widget)
+        self.max_a2_step = QuantityField(degrees(job.MaxA2Step), "deg", "maximum a2 step", 0.0,
+                                         180.0, example="5°")
+        self.max_a2_step.setToolTip("Largest turn of the table rotation a2 between consecutive "
+                                    "points of a weld; points are inserted where it turns faster")
+        f.addRow("Max a2 step", self.max_a2_step.widget)
         self.pose_point = QtGui.QSpinBox()
         count = int(job.PoseCount)
         self.pose_point.setRange(0, count - 1 if count > 0 else INT_MAX)
@@ -342,7 +372,8 @@ class TaskPanelJob:
     def quantity_fields(self):
         """Every length and angle field of the panel (vector coordinates included)."""
         fields = [self.layer_thickness, self.voxel_size, self.deflection, self.bead_spacing,
-                  self.point_spacing, self.fit_tolerance, self.corner_angle]
+                  self.point_spacing, self.fit_tolerance, self.corner_angle, self.clearance,
+                  self.merge_tolerance, self.max_a2_step]
         for vector in (self.start_point, self.wall_point, self.initial_point):
             fields.extend(vector.boxes)
         return fields
@@ -406,6 +437,12 @@ class TaskPanelJob:
             "PathDisplay": self.path_display.currentText(),
             "CellFile": self.cell_file.text(),
             "ToolAlongTravel": self.tool_along_travel.isChecked(),
+            "PartPlacement": self.part_placement.currentText(),
+            "Clearance": self.clearance.value(),
+            "AddHome": self.add_home.isChecked(),
+            "AllowCollisions": self.allow_collisions.isChecked(),
+            "MergeTolerance": self.merge_tolerance.value(),
+            "MaxA2Step": self.max_a2_step.value(),
             "PosePoint": self.pose_point.value(),
         }
         for name, value in v.items():

@@ -1,0 +1,172 @@
+// Part placement on the table and the table / working-volume check (placement.hpp).
+#include "curvedslicer/robot/placement.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "curvedslicer/core/error.hpp"
+
+namespace curvedslicer {
+
+std::string_view toString(PartPlacement placement) {
+  return placement == PartPlacement::Cell ? "cell" : "rest";
+}
+
+PartPlacement parsePartPlacement(std::string_view name) {
+  if (name == "rest") return PartPlacement::Rest;
+  if (name == "cell") return PartPlacement::Cell;
+  throw InvalidInput("unknown part placement: '" + std::string(name) +
+                     "'; choose rest (the part's lowest bead bottom on the table top) or cell "
+                     "(the cell's positioner/table_to_part as given)");
+}
+
+namespace {
+
+constexpr double kTolerance = 1e-6;  // mm: points this close to a bound are on it
+
+std::string fmt(double value, int precision = 3) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.*f", precision, value);
+  return buffer;
+}
+
+/// The extreme of one quantity over all weld points, and how many points pass a bound.
+struct Extreme {
+  double value = -std::numeric_limits<double>::infinity();  ///< largest value seen
+  int layer = -1, path = -1, point = -1;
+  Vec3 position = Vec3::Zero();  ///< part frame
+  std::size_t beyond = 0;        ///< points with value > the bound given to add
+  void add(double v, double bound, int l, int p, int k, const Vec3& position) {
+    if (v > bound) ++beyond;
+    if (v <= value) return;
+    value = v;
+    layer = l;
+    path = p;
+    point = k;
+    this->position = position;
+  }
+  bool found() const { return layer >= 0; }
+  std::string name() const {
+    return "layer " + std::to_string(layer) + " path " + std::to_string(path) + " point " +
+           std::to_string(point) + " (part " + fmt(position.x(), 2) + ", " + fmt(position.y(), 2) +
+           ", " + fmt(position.z(), 2) + " mm)";
+  }
+};
+
+/// Calls f(layer, path, point, position in part, position in table) for every plan point.
+template <class F>
+void forEachWeldPoint(const Plan& plan, const Pose& tableToPart, F&& f) {
+  for (std::size_t l = 0; l < plan.layers.size(); ++l) {
+    const auto& paths = plan.layers[l].paths;
+    for (std::size_t p = 0; p < paths.size(); ++p) {
+      const auto& points = paths[p].points;
+      for (std::size_t k = 0; k < points.size(); ++k) {
+        const Vec3& x = points[k].position;
+        f(static_cast<int>(l), static_cast<int>(p), static_cast<int>(k), x, tableToPart * x);
+      }
+    }
+  }
+}
+
+/// How far below the weld point (table z, mm) its bead reaches: the bead's cross-section is
+/// the rectangle {p - a·n + b·w : a in [0, h], b in [-s/2, s/2]} with n the layer normal and
+/// w = t × n across the path (t the path tangent), all in the table frame. Where the tangent is
+/// undefined (repeated points) w is taken as steep as n allows (the conservative bound).
+double beadDepthBelow(const PlanPath& path, std::size_t k, const Mat3& rotation, double h,
+                      double s) {
+  const auto& points = path.points;
+  const std::size_t n = points.size();
+  const std::size_t prev = k > 0 ? k - 1 : (path.closed ? n - 1 : 0);
+  const std::size_t next = k + 1 < n ? k + 1 : (path.closed ? 0 : n - 1);
+  const Vec3 normal = rotation * points[k].normal.normalized();
+  const Vec3 tangent = rotation * (points[next].position - points[prev].position);
+  const Vec3 across = tangent.cross(normal);
+  const double steepest = std::sqrt(std::max(0.0, 1.0 - normal.z() * normal.z()));
+  const double acrossZ = across.norm() > 1e-9 * std::max(tangent.norm(), 1e-300)
+                             ? std::abs(across.normalized().z())
+                             : steepest;
+  return h * std::max(normal.z(), 0.0) + 0.5 * s * acrossZ;
+}
+
+const char* const kHint =
+    "set the part's placement on the table: positioner/table_to_part in the cell file, or the "
+    "placement rest (--placement rest; Python MotionOptions(placement=\"rest\"); the Job's "
+    "PartPlacement Rest)";
+
+}  // namespace
+
+PartPlacementResult placePart(const Plan& plan, const Cell& cell, PartPlacement placement) {
+  PartPlacementResult result;
+  result.tableToPart = cell.positioner.tableToPart;
+  if (placement == PartPlacement::Cell) return result;
+  // The lowest bead bottom: of -(z_table - depth of the bead below the point).
+  const double h = std::max(plan.parameters.layerThickness, 0.0);
+  const double s = std::max(plan.parameters.beadSpacing, 0.0);
+  const Mat3 rotation = result.tableToPart.rotation();
+  Extreme lowest;
+  double depth = 0.0;  // of the lowest bead below its weld point
+  for (std::size_t l = 0; l < plan.layers.size(); ++l) {
+    const auto& paths = plan.layers[l].paths;
+    for (std::size_t p = 0; p < paths.size(); ++p) {
+      for (std::size_t k = 0; k < paths[p].points.size(); ++k) {
+        const Vec3& x = paths[p].points[k].position;
+        const double d = beadDepthBelow(paths[p], k, rotation, h, s);
+        const double before = lowest.value;
+        lowest.add(-((result.tableToPart * x).z() - d), std::numeric_limits<double>::infinity(),
+                   static_cast<int>(l), static_cast<int>(p), static_cast<int>(k), x);
+        if (lowest.value != before) depth = d;
+      }
+    }
+  }
+  if (!lowest.found()) return result;
+  const double bottom = -lowest.value;  // table z of the lowest bead bottom
+  // A part already resting within kTolerance keeps the cell's placement exactly (no motion
+  // changes in the last digits from a lift of 1e-11 mm).
+  result.lift = std::abs(bottom) <= kTolerance ? 0.0 : -bottom;
+  result.tableToPart.pretranslate(Vec3(0, 0, result.lift));
+  result.note =
+      "part placement rest: the lowest bead bottom (" + fmt(depth) + " mm below " + lowest.name() +
+      ") lies on the table top: table_to_part z = " + fmt(result.tableToPart.translation().z()) +
+      " mm (the cell gives " + fmt(cell.positioner.tableToPart.translation().z()) +
+      " mm); use --placement cell to keep the cell's placement";
+  return result;
+}
+
+Cell withPartPlacement(Cell cell, const Pose& tableToPart) {
+  cell.positioner.tableToPart = tableToPart;
+  return cell;
+}
+
+void checkPartPlacement(const Plan& plan, const PositionerDescription& positioner) {
+  const PositionerGeometry& g = positioner.geometry;
+  Extreme below, outside, above;  // of -z, radius, z (table frame)
+  forEachWeldPoint(
+      plan, positioner.tableToPart, [&](int l, int p, int k, const Vec3& part, const Vec3& table) {
+        below.add(-table.z(), kTolerance, l, p, k, part);
+        outside.add(std::hypot(table.x(), table.y()), g.maxPartRadius + kTolerance, l, p, k, part);
+        above.add(table.z(), g.maxPartHeight + kTolerance, l, p, k, part);
+      });
+  if (below.beyond > 0) {
+    throw InvalidInput("weld points below the table top: " + below.name() + " lies " +
+                       fmt(below.value) + " mm below the table (" + std::to_string(below.beyond) +
+                       " points below it); " + kHint);
+  }
+  if (outside.beyond > 0) {
+    throw InvalidInput("weld points outside the positioner's working volume: " + outside.name() +
+                       " lies " + fmt(outside.value) + " mm from the rotation axis, " +
+                       fmt(outside.value - g.maxPartRadius) + " mm beyond its radius of " +
+                       fmt(g.maxPartRadius, 1) + " mm (" + std::to_string(outside.beyond) +
+                       " points beyond it); " + kHint +
+                       " (the part's xy), or give the cell's positioner/geometry");
+  }
+  if (above.beyond > 0) {
+    throw InvalidInput("weld points above the positioner's working volume: " + above.name() +
+                       " lies " + fmt(above.value) + " mm above the table, " +
+                       fmt(above.value - g.maxPartHeight) + " mm above its height of " +
+                       fmt(g.maxPartHeight, 1) + " mm (" + std::to_string(above.beyond) +
+                       " points above it); " + kHint + ", or give the cell's positioner/geometry");
+  }
+}
+
+}  // namespace curvedslicer
