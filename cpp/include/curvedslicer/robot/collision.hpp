@@ -1,0 +1,66 @@
+// Collision check of a planned motion: the torch envelope against the material deposited up to
+// each move and against the positioner table, for every weld move and every arc-off move (retract,
+// travel, approach, home), with FCL (the Flexible Collision Library, Pan, Chitta, Manocha 2012).
+//
+// Model (docs/METHODS.md, "Travel and collisions"):
+//   deposit   every welded segment of the paths before the move (and of the current path up to
+//             the move) is a capsule of radius `depositBeadRadius` (half the bead width) around
+//             the segment, in the part frame;
+//   torch     a capsule along the torch axis whose round ends reach from `stickOut` above the
+//             TCP (the nozzle end) to `stickOut + length`, radius `radius` (TorchEnvelope);
+//   table     a cylinder (disc) of the positioner table: top face at the table frame's origin,
+//             normal along its z axis, radius and thickness from TableGeometry.
+// Weld moves are checked at their end point (the torch pose while the next segment is laid);
+// arc-off moves at samples no further apart than half the envelope radius, linear in the part
+// frame (joint-interpolated for moves from or to the home pose, through forward kinematics).
+// Broad phase: the deposit in a uniform grid of chunked segments with exact segment distances
+// (robot/deposit_index); narrow phase and contacts: FCL (capsule/capsule, capsule/cylinder).
+//
+// Preconditions: the motion comes from planMotion (toolInPart, a1/a2, joints set). Cost: about a
+// microsecond per weld point plus the samples of arc-off moves (tests/bench/README.md).
+#pragma once
+
+#include <string>
+
+#include "curvedslicer/plan/plan.hpp"
+#include "curvedslicer/robot/cell.hpp"
+#include "curvedslicer/robot/motion.hpp"
+
+namespace curvedslicer {
+
+/// The torch as a capsule along its axis (tool z). Stands in for the cell's tool envelope until
+/// the cell description carries one (the defaults are a typical straight GMA torch).
+struct TorchEnvelope {
+  double stickOut = 15.0;  ///< mm, TCP (wire tip) to the nozzle end along the torch axis (> 0)
+  double radius = 10.0;    ///< mm, nozzle / body radius (> 0; a 20 mm GMA nozzle)
+  double length = 300.0;   ///< mm, envelope length from the nozzle end up (> 2 · radius)
+};
+
+/// The positioner table as a disc. Stands in for the cell's positioner geometry until the cell
+/// description carries one.
+struct TableGeometry {
+  double radius = 250.0;     ///< mm, table radius about the rotation axis (> 0)
+  double thickness = 40.0;   ///< mm, below the table surface (> 0)
+};
+
+struct CollisionGeometry {
+  TorchEnvelope torch;
+  TableGeometry table;
+};
+
+/// Radius of the deposit capsules (mm): half the bead width (= bead spacing) of the plan, or
+/// the layer thickness when the plan has no bead spacing, or 1 mm when it has neither.
+double depositBeadRadius(const PlanParameters& parameters);
+
+/// "layer 3 path 2 point 17 (weld move)" / "approach move to layer 3 path 2" — how messages name
+/// the move arriving at motion.points[index].
+std::string describeMove(const MotionPlan& motion, std::size_t index);
+
+/// Checks every move of `motion` (see the file comment). Colliding moves get kMotionCollision
+/// and a CollisionReport; with options.allowCollisions they are also summarised in the
+/// warnings, otherwise InvalidInput names the first few moves, what they hit and by how much.
+/// @param beadRadius  mm, capsule radius of the deposit (depositBeadRadius of the plan)
+void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const CollisionGeometry& geometry,
+                           double beadRadius, const MotionOptions& options);
+
+}  // namespace curvedslicer

@@ -1,0 +1,286 @@
+// Collision check of a planned motion (robot/collision.hpp): the torch envelope against the
+// deposit so far and the positioner table, move by move in execution order.
+#include "curvedslicer/robot/collision.hpp"
+
+#include <fcl/fcl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "curvedslicer/core/error.hpp"
+#include "curvedslicer/robot/positioner.hpp"
+#include "curvedslicer/robot/robot_kinematics.hpp"
+#include "torch_checker.hpp"
+
+namespace curvedslicer {
+
+namespace detail {
+
+// ---- one torch pose -------------------------------------------------------------------------
+
+struct TorchChecker::Fcl {
+  std::shared_ptr<fcl::Capsuled> torch;
+  std::shared_ptr<fcl::Cylinderd> table;
+  fcl::Transform3d tableInPart = fcl::Transform3d::Identity();
+};
+
+namespace {
+
+/// Pose of an FCL capsule/cylinder (centred, along its z axis) spanning [a, b].
+fcl::Transform3d alongSegment(const Vec3& a, const Vec3& b) {
+  fcl::Transform3d pose = fcl::Transform3d::Identity();
+  const Vec3 d = b - a;
+  if (d.norm() > 1e-12) {
+    pose.linear() = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), d).toRotationMatrix();
+  }
+  pose.translation() = 0.5 * (a + b);
+  return pose;
+}
+
+/// Deepest FCL contact of two shapes, or a negative value when they do not touch.
+double fclPenetration(const fcl::CollisionGeometryd* a, const fcl::Transform3d& poseA,
+                      const fcl::CollisionGeometryd* b, const fcl::Transform3d& poseB) {
+  fcl::CollisionRequestd request(1, true);
+  fcl::CollisionResultd result;
+  fcl::collide(a, poseA, b, poseB, request, result);
+  if (!result.isCollision()) return -1.0;
+  double depth = 0.0;
+  for (std::size_t i = 0; i < result.numContacts(); ++i) {
+    depth = std::max(depth, result.getContact(i).penetration_depth);
+  }
+  return depth;
+}
+
+}  // namespace
+
+TorchChecker::TorchChecker(const Cell& cell, const CollisionGeometry& geometry,
+                           const DepositIndex& deposit)
+    : deposit_(deposit),
+      torch_(geometry.torch),
+      partToTable_(cell.positioner.tableToPart),
+      tableRadius_(geometry.table.radius),
+      fcl_(std::make_unique<Fcl>()) {
+  fcl_->torch = std::make_shared<fcl::Capsuled>(torch_.radius, torch_.length - 2.0 * torch_.radius);
+  fcl_->table = std::make_shared<fcl::Cylinderd>(geometry.table.radius, geometry.table.thickness);
+  // the table disc in the table frame: top face at z = 0, centred on the rotation axis
+  fcl::Transform3d tableInTable = fcl::Transform3d::Identity();
+  tableInTable.translation() = Vec3(0.0, 0.0, -0.5 * geometry.table.thickness);
+  fcl_->tableInPart = cell.positioner.tableToPart.inverse() * tableInTable;
+}
+
+TorchChecker::~TorchChecker() = default;
+
+TorchHit TorchChecker::check(const Vec3& tip, const Vec3& up) const {
+  // the capsule's axis: its round ends reach exactly stickOut and stickOut + length
+  const Vec3 bottom = tip + (torch_.stickOut + torch_.radius) * up;
+  const Vec3 top = tip + (torch_.stickOut + torch_.length - torch_.radius) * up;
+  TorchHit hit = checkDeposit(bottom, top);
+  if (hit.collides()) return hit;
+  return checkTable(bottom, top);
+}
+
+TorchHit TorchChecker::checkDeposit(const Vec3& bottom, const Vec3& top) const {
+  // exact capsule distances find the nearest bead; FCL confirms the contact and its depth
+  const DepositHit near = deposit_.nearest(bottom, top, torch_.radius);
+  if (!near.found()) return {};
+  const DepositSegment& bead = deposit_.segments()[near.segment];
+  const fcl::Capsuled beadShape(deposit_.beadRadius(), (bead.b - bead.a).norm());
+  const double depth = fclPenetration(fcl_->torch.get(), alongSegment(bottom, top), &beadShape,
+                                      alongSegment(bead.a, bead.b));
+  if (depth < 0.0) return {};  // grazing contact FCL does not confirm
+  return {TorchHit::Object::Deposit, std::max(depth, torch_.radius - near.distance),
+          near.segment};
+}
+
+TorchHit TorchChecker::checkTable(const Vec3& bottom, const Vec3& top) const {
+  // cheap rejection in the table frame: the capsule entirely above the table surface or
+  // entirely outside its radius
+  const Vec3 b = partToTable_ * bottom;
+  const Vec3 t = partToTable_ * top;
+  if (std::min(b.z(), t.z()) - torch_.radius > 0.0) return {};
+  const double radial = pointSegmentDistance(Vec3::Zero(), Vec3(b.x(), b.y(), 0.0),
+                                             Vec3(t.x(), t.y(), 0.0));
+  if (radial - torch_.radius > tableRadius_) return {};
+  const double depth = fclPenetration(fcl_->torch.get(), alongSegment(bottom, top),
+                                      fcl_->table.get(), fcl_->tableInPart);
+  if (depth < 0.0) return {};
+  return {TorchHit::Object::Table, depth, 0};
+}
+
+}  // namespace detail
+
+namespace {
+
+using detail::DepositIndex;
+using detail::DepositSegment;
+using detail::TorchChecker;
+using detail::TorchHit;
+
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+constexpr std::size_t kNamedCollisions = 5;
+
+std::string fmt(double value, int precision = 2) {
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(precision);
+  out << value;
+  return out.str();
+}
+
+/// Part-frame box of every path point, grown by `margin`.
+Aabb pathBounds(const MotionPlan& motion, double margin) {
+  Aabb box;
+  for (const MotionPoint& m : motion.points) {
+    if (m.kind == MoveKind::Path) box.extend(m.position);
+  }
+  if (box.empty()) box.extend(Vec3::Zero());
+  box.min -= Vec3::Constant(margin);
+  box.max += Vec3::Constant(margin);
+  return box;
+}
+
+/// TCP pose in the part frame of joints and positioner angles (forward kinematics).
+Pose toolInPartAt(const Cell& cell, const JointVector& joints, double a1, double a2) {
+  const Pose toolInWorld =
+      cell.robot.base * computeFlangePose(cell.robot, joints) * cell.tool.tcp;
+  return computePartInWorld(cell.positioner, a1, a2).inverse() * toolInWorld;
+}
+
+/// The worst hit along the move arriving at points[i] (arc-off moves: sampled).
+TorchHit checkArcOffMove(const MotionPlan& motion, std::size_t i, const Cell& cell,
+                         const TorchChecker& checker, const TorchEnvelope& torch) {
+  const MotionPoint& from = motion.points[i - 1];
+  const MotionPoint& to = motion.points[i];
+  const double step = 0.5 * torch.radius;
+  TorchHit worst;
+  auto consider = [&](const Pose& toolInPart) {
+    Vec3 tip, up;
+    detail::torchAxisOf(toolInPart, tip, up);
+    const TorchHit hit = checker.check(tip, up);
+    if (hit.collides() && (!worst.collides() || hit.depth > worst.depth)) worst = hit;
+  };
+  if (from.kind == MoveKind::Home || to.kind == MoveKind::Home) {
+    // joint-interpolated move: 0.25 deg steps of the fastest-changing axis
+    double span = std::max(std::abs(to.a1 - from.a1), std::abs(to.a2 - from.a2));
+    for (int j = 0; j < 6; ++j) span = std::max(span, std::abs(to.joints[j] - from.joints[j]));
+    const int n = std::max(1, static_cast<int>(std::ceil(span / (0.25 * kDeg))));
+    for (int k = 1; k <= n; ++k) {
+      const double t = static_cast<double>(k) / n;
+      JointVector q;
+      for (int j = 0; j < 6; ++j) q[j] = from.joints[j] + t * (to.joints[j] - from.joints[j]);
+      consider(toolInPartAt(cell, q, from.a1 + t * (to.a1 - from.a1),
+                            from.a2 + t * (to.a2 - from.a2)));
+    }
+    return worst;
+  }
+  // linear in the part frame: tip along the chord, torch axis turned evenly
+  Vec3 tip0, up0, tip1, up1;
+  detail::torchAxisOf(from.toolInPart, tip0, up0);
+  detail::torchAxisOf(to.toolInPart, tip1, up1);
+  const double turn = std::atan2(up0.cross(up1).norm(), up0.dot(up1));
+  const double sweep = (tip1 - tip0).norm() + turn * (torch.stickOut + torch.length);
+  const int n = std::max(1, static_cast<int>(std::ceil(sweep / step)));
+  for (int k = 1; k <= n; ++k) {
+    const double t = static_cast<double>(k) / n;
+    Vec3 up = ((1.0 - t) * up0 + t * up1);
+    up = up.norm() > 1e-12 ? Vec3(up.normalized()) : up1;
+    const Vec3 tip = tip0 + t * (tip1 - tip0);
+    const TorchHit hit = checker.check(tip, up);
+    if (hit.collides() && (!worst.collides() || hit.depth > worst.depth)) worst = hit;
+  }
+  return worst;
+}
+
+std::string describeHit(const TorchHit& hit, const DepositIndex& deposit) {
+  if (hit.object == TorchHit::Object::Table) return "torch vs positioner table";
+  const DepositSegment& s = deposit.segments()[hit.segment];
+  return "torch vs deposit of layer " + std::to_string(s.layer) + " path " +
+         std::to_string(s.path);
+}
+
+void reportCollisions(MotionPlan& motion, const MotionOptions& options) {
+  if (motion.collisions.empty()) return;
+  std::string list;
+  for (std::size_t k = 0; k < std::min(kNamedCollisions, motion.collisions.size()); ++k) {
+    const CollisionReport& c = motion.collisions[k];
+    list += (k ? "; " : "") + describeMove(motion, c.point) + ": " + c.what + " by " +
+            fmt(c.depth) + " mm";
+  }
+  if (motion.collisions.size() > kNamedCollisions) list += "; ...";
+  const std::string text = "torch collides on " + std::to_string(motion.collisions.size()) +
+                           " move(s): " + list;
+  if (!options.allowCollisions) {
+    throw InvalidInput(text +
+                       "; change the path order or the part's placement, use a slimmer torch "
+                       "envelope, or allow collisions (--allow-collisions) to export anyway");
+  }
+  motion.warnings.push_back(text + " (allowed: --allow-collisions)");
+}
+
+}  // namespace
+
+double depositBeadRadius(const PlanParameters& parameters) {
+  if (parameters.beadSpacing > 0.0) return 0.5 * parameters.beadSpacing;
+  if (parameters.layerThickness > 0.0) return parameters.layerThickness;
+  return 1.0;
+}
+
+std::string describeMove(const MotionPlan& motion, std::size_t index) {
+  const MotionPoint& m = motion.points[index];
+  const std::string path = "layer " + std::to_string(m.layer) + " path " + std::to_string(m.path);
+  switch (m.kind) {
+    case MoveKind::Path:
+      if (m.arcOn) return path + " point " + std::to_string(m.index) + " (weld move)";
+      return path + " point " + std::to_string(m.index) + " (approach onto the path start)";
+    case MoveKind::Retract:
+      return "retract from " + path;
+    case MoveKind::Travel:
+      return "travel move towards " + path;
+    case MoveKind::Approach:
+      return "approach above " + path;
+    case MoveKind::Home:
+      return index == 0 ? "home pose" : "move to the home pose after " + path;
+  }
+  return path;
+}
+
+void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const CollisionGeometry& geometry,
+                           double beadRadius, const MotionOptions& options) {
+  const TorchEnvelope& torch = geometry.torch;
+  if (!(torch.stickOut > 0.0 && torch.radius > 0.0 && torch.length > 2.0 * torch.radius &&
+        geometry.table.radius > 0.0 && geometry.table.thickness > 0.0 && beadRadius > 0.0)) {
+    throw InvalidInput("torch envelope, table and bead sizes must be positive (envelope length "
+                       "over twice its radius): stick-out " +
+                       fmt(torch.stickOut) + ", radius " + fmt(torch.radius) + ", length " +
+                       fmt(torch.length) + ", table " + fmt(geometry.table.radius) + " x " +
+                       fmt(geometry.table.thickness) + ", bead radius " + fmt(beadRadius) +
+                       " mm; fix the cell's tool envelope / positioner geometry");
+  }
+  motion.collisions.clear();
+  DepositIndex deposit(pathBounds(motion, 0.0), beadRadius,
+                       2.0 * (torch.radius + beadRadius));
+  const TorchChecker checker(cell, geometry, deposit);
+  for (std::size_t i = 1; i < motion.points.size(); ++i) {
+    MotionPoint& m = motion.points[i];
+    TorchHit hit;
+    if (m.arcOn) {
+      Vec3 tip, up;
+      detail::torchAxisOf(m.toolInPart, tip, up);
+      hit = checker.check(tip, up);
+    } else {
+      hit = checkArcOffMove(motion, i, cell, checker, torch);
+    }
+    if (hit.collides()) {
+      m.flags |= kMotionCollision;
+      motion.collisions.push_back({i, describeHit(hit, deposit), hit.depth});
+    }
+    if (m.arcOn) {
+      const MotionPoint& prev = motion.points[i - 1];
+      deposit.add({prev.position, m.position, m.layer, m.path}, prev.pathStart);
+    }
+  }
+  reportCollisions(motion, options);
+}
+
+}  // namespace curvedslicer

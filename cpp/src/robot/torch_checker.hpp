@@ -1,0 +1,51 @@
+// Internal to robot/: one torch pose against the deposit so far and the positioner table (FCL
+// narrow phase; see robot/collision.hpp for the model). Shared by the collision check and the
+// travel planner, which raises travel routes until the torch clears.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+
+#include "curvedslicer/robot/collision.hpp"
+#include "deposit_index.hpp"
+
+namespace curvedslicer::detail {
+
+struct TorchHit {
+  enum class Object { None, Deposit, Table };
+  Object object = Object::None;
+  double depth = 0.0;       ///< mm, penetration depth
+  std::size_t segment = 0;  ///< DepositIndex segment hit (Object::Deposit)
+  bool collides() const { return object != Object::None; }
+};
+
+/// Torch tip and the unit direction from the tip up the torch body (part frame) of a TCP pose
+/// in the part frame (the tool z axis points out of the torch towards the tip).
+inline void torchAxisOf(const Pose& toolInPart, Vec3& tip, Vec3& up) {
+  tip = toolInPart.translation();
+  up = -toolInPart.linear().col(2);
+}
+
+class TorchChecker {
+ public:
+  TorchChecker(const Cell& cell, const CollisionGeometry& geometry, const DepositIndex& deposit);
+  ~TorchChecker();
+  TorchChecker(const TorchChecker&) = delete;
+  TorchChecker& operator=(const TorchChecker&) = delete;
+
+  /// The torch with its tip at `tip` and its body along unit `up` (part frame).
+  TorchHit check(const Vec3& tip, const Vec3& up) const;
+
+ private:
+  struct Fcl;
+  TorchHit checkDeposit(const Vec3& bottom, const Vec3& top) const;
+  TorchHit checkTable(const Vec3& bottom, const Vec3& top) const;
+
+  const DepositIndex& deposit_;
+  TorchEnvelope torch_;
+  Pose partToTable_;  // part frame -> table frame
+  double tableRadius_ = 0.0;
+  std::unique_ptr<Fcl> fcl_;
+};
+
+}  // namespace curvedslicer::detail
