@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "curvedslicer/robot/collision.hpp"
+#include "curvedslicer/robot/motion.hpp"
 #include "deposit_index.hpp"
 
 namespace curvedslicer::detail {
@@ -47,5 +48,15 @@ class TorchChecker {
   double tableRadius_ = 0.0;
   std::unique_ptr<Fcl> fcl_;
 };
+
+/// The deepest hit along a joint-interpolated move (robot joints and positioner angles linear,
+/// sampled every 0.25° of the axis that moves most; forward kinematics).
+TorchHit checkJointMove(const Cell& cell, const TorchChecker& checker, const MotionPoint& from,
+                        const MotionPoint& to);
+
+/// The deepest hit along a move linear in the part frame (tip on the chord, axis turned evenly;
+/// samples at most half the envelope radius apart, counting the sweep of the torch's far end).
+TorchHit checkLinearMove(const TorchChecker& checker, const TorchEnvelope& torch,
+                         const Pose& fromToolInPart, const Pose& toToolInPart);
 
 }  // namespace curvedslicer::detail

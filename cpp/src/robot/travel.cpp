@@ -68,6 +68,7 @@ class TravelPlanner {
  private:
   static Aabb pathBounds(const MotionPlan& motion);
   void appendHome(const MotionPoint& neighbour);
+  void clearHomeMove(std::size_t home, std::size_t neighbour, const MotionPoint& owner);
   void appendArcOff(const MotionPoint* from, const MotionPoint* to);
   MotionPoint normalPoint(MoveKind kind, const MotionPoint& at);
   void appendPath(const MotionPathSpan& span, std::vector<MotionPathSpan>& spans);
@@ -114,14 +115,19 @@ void TravelPlanner::run() {
     if (s == 0) {
       if (options_.addHome) appendHome(start);
       appendArcOff(nullptr, &start);
+      if (options_.addHome) clearHomeMove(0, 1, start);
     } else {
       appendArcOff(&points[motion_.paths[s - 1].end - 1], &start);
     }
     appendPath(span, spans);
   }
   if (!motion_.paths.empty()) {
-    appendArcOff(&points[motion_.paths.back().end - 1], nullptr);
-    if (options_.addHome) appendHome(out_.back());
+    const MotionPoint& last = points[motion_.paths.back().end - 1];
+    appendArcOff(&last, nullptr);
+    if (options_.addHome) {
+      appendHome(out_.back());
+      clearHomeMove(out_.size() - 1, out_.size() - 2, last);
+    }
   }
   if (shortCount_ > 0) {
     std::string list;
@@ -294,6 +300,29 @@ void TravelPlanner::appendHome(const MotionPoint& neighbour) {
     }
   }
   out_.push_back(m);
+}
+
+/// Where the joint move between the home pose out_[home] and the arc-off point out_[neighbour]
+/// (retract or approach of `owner`) would collide, inserts a travel point lifted above the
+/// neighbour along owner's normal: the lowest lift whose straight move and joint move clear.
+void TravelPlanner::clearHomeMove(std::size_t home, std::size_t neighbour,
+                                  const MotionPoint& owner) {
+  const MotionPoint& h = out_[home];
+  const MotionPoint& n = out_[neighbour];
+  if (!detail::checkJointMove(cell_, checker_, n, h).collides()) return;
+  for (double d = step_; d <= setup_.maxLift + 1e-9; d += step_) {
+    MotionPoint via = arcOffPoint(MoveKind::Travel, owner, n.position + d * owner.normal, n.a1,
+                                  n.a2, n.toolInWorld.linear());
+    if (!solveJoints(via, n.joints, n.configuration)) break;  // higher is not reachable either
+    if (detail::checkLinearMove(checker_, setup_.geometry.torch, n.toolInPart, via.toolInPart)
+            .collides() ||
+        detail::checkJointMove(cell_, checker_, via, h).collides()) {
+      continue;
+    }
+    out_.insert(out_.begin() + static_cast<std::ptrdiff_t>(std::max(home, neighbour)), via);
+    return;
+  }
+  // nothing clears: the collision check names the home move
 }
 
 /// Retract (from a path end) or approach (above a path start) point along the point's normal at

@@ -1,0 +1,193 @@
+// Collision check (robot/collision): a torch that must hit a tall wall deposited next to its path
+// fails with a message naming the move and what it hits, and passes with allowCollisions
+// listing the moves; the positioner table; a free plan has no collisions; the envelope and the
+// bead radius from the plan; bad envelopes.
+#include "curvedslicer/robot/collision.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "curvedslicer/core/error.hpp"
+#include "curvedslicer/robot/motion.hpp"
+#include "curvedslicer/robot/travel.hpp"
+
+namespace curvedslicer {
+namespace {
+
+/// One straight path from `a` to `b` (points 1 mm apart), V = -z, normal +z.
+PlanPath straightPath(const Vec3& a, const Vec3& b) {
+  PlanPath path;
+  const int n = std::max(2, static_cast<int>(std::ceil((b - a).norm())) + 1);
+  for (int i = 0; i < n; ++i) {
+    PathPoint p;
+    p.position = a + (b - a) * (static_cast<double>(i) / (n - 1));
+    p.normal = Vec3::UnitZ();
+    p.deposition = -Vec3::UnitZ();
+    path.points.push_back(p);
+  }
+  path.length = (b - a).norm();
+  return path;
+}
+
+/// A wall along x at y = 0, `layers` layers of 1.5 mm, then one more layer with a path at
+/// height 1.5 mm along the wall at y = `offset`.
+Plan wallAndPathPlan(int layers, double offset) {
+  Plan plan;
+  plan.parameters.beadSpacing = 3.7;  // bead radius 1.85 mm
+  plan.parameters.layerThickness = 1.5;
+  for (int l = 0; l <= layers; ++l) {
+    PlanLayer layer;
+    layer.index = l;
+    if (l < layers) {
+      const double z = 1.5 * (l + 1);
+      layer.paths.push_back(straightPath(Vec3(-40, 0, z), Vec3(40, 0, z)));
+    } else {
+      layer.paths.push_back(straightPath(Vec3(-20, offset, 1.5), Vec3(20, offset, 1.5)));
+    }
+    layer.paths.back().layer = l;
+    plan.layers.push_back(layer);
+  }
+  return plan;
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+TEST(Collision, TorchAgainstATallWallNamesTheMove) {
+  // torch radius 10 mm, wall bead radius 1.85 mm: at 8 mm from the wall the nozzle clears the
+  // deposit below it but the torch body hits the 45 mm wall
+  const Plan plan = wallAndPathPlan(30, 8.0);
+  try {
+    planMotion(plan, defaultCell());
+    FAIL() << "no collision reported";
+  } catch (const InvalidInput& e) {
+    const std::string text = e.what();
+    EXPECT_TRUE(contains(text, "torch collides on")) << text;
+    EXPECT_TRUE(contains(text, "layer 30 path 0 point 1 (weld move): torch vs deposit of layer"))
+        << text;
+    EXPECT_TRUE(contains(text, "--allow-collisions")) << text;
+  }
+}
+
+TEST(Collision, AllowCollisionsListsTheMoves) {
+  const Plan plan = wallAndPathPlan(30, 8.0);
+  MotionOptions options;
+  options.allowCollisions = true;
+  const MotionPlan motion = planMotion(plan, defaultCell(), options);
+  ASSERT_FALSE(motion.collisions.empty());
+  const MotionPathSpan& weld = motion.paths.back();
+  std::size_t weldCollisions = 0;
+  for (const CollisionReport& c : motion.collisions) {
+    ASSERT_LT(c.point, motion.points.size());
+    const MotionPoint& m = motion.points[c.point];
+    EXPECT_TRUE(m.flags & kMotionCollision);
+    EXPECT_TRUE(contains(c.what, "torch vs deposit of layer")) << c.what;
+    // penetration: torch radius + bead radius - 8 mm axis distance
+    EXPECT_GT(c.depth, 0.0);
+    EXPECT_LE(c.depth, 10.0 + 1.85 - 8.0 + 1e-6);
+    if (c.point > weld.begin && c.point < weld.end) ++weldCollisions;
+  }
+  // every weld move of the path along the wall collides (the wall is longer than the path)
+  EXPECT_EQ(weldCollisions, weld.end - weld.begin - 1);
+  std::size_t flagged = 0;
+  for (const MotionPoint& m : motion.points) flagged += (m.flags & kMotionCollision) != 0;
+  EXPECT_EQ(flagged, motion.collisions.size());
+  const bool warned = std::any_of(motion.warnings.begin(), motion.warnings.end(),
+                                  [](const std::string& w) { return contains(w, "torch collides"); });
+  EXPECT_TRUE(warned);
+}
+
+TEST(Collision, PathFarEnoughFromTheWallIsFree) {
+  // 12 mm from the wall centre line: 12 - 1.85 > 10 mm torch radius
+  const Plan plan = wallAndPathPlan(30, 12.0);
+  const MotionPlan motion = planMotion(plan, defaultCell());
+  EXPECT_TRUE(motion.collisions.empty());
+  for (const MotionPoint& m : motion.points) EXPECT_FALSE(m.flags & kMotionCollision);
+}
+
+TEST(Collision, SlimmerEnvelopeOrLowerWallClears) {
+  // a 4 mm wall stays below the nozzle end (stick-out 15 mm)
+  EXPECT_TRUE(planMotion(wallAndPathPlan(2, 8.0), defaultCell()).collisions.empty());
+  // the same tall wall with a 5 mm envelope radius: checked directly
+  const Plan plan = wallAndPathPlan(30, 8.0);
+  MotionOptions options;
+  options.allowCollisions = true;
+  MotionPlan motion = planMotion(plan, defaultCell(), options);
+  ASSERT_FALSE(motion.collisions.empty());
+  CollisionGeometry slim;
+  slim.torch.radius = 5.0;
+  checkMotionCollisions(motion, defaultCell(), slim, depositBeadRadius(plan.parameters), options);
+  EXPECT_TRUE(motion.collisions.empty());
+  // and the default envelope finds them again on the same motion
+  checkMotionCollisions(motion, defaultCell(), CollisionGeometry{},
+                        depositBeadRadius(plan.parameters), options);
+  EXPECT_FALSE(motion.collisions.empty());
+}
+
+TEST(Collision, TorchAgainstThePositionerTable) {
+  // a path 30 mm below the table surface (part frame = table frame): the torch body crosses the
+  // table disc
+  Plan plan;
+  plan.parameters.beadSpacing = 3.7;
+  PlanLayer layer;
+  layer.paths.push_back(straightPath(Vec3(-20, 50, -30), Vec3(20, 50, -30)));
+  plan.layers.push_back(layer);
+  try {
+    planMotion(plan, defaultCell());
+    FAIL() << "no collision reported";
+  } catch (const InvalidInput& e) {
+    EXPECT_TRUE(contains(e.what(), "torch vs positioner table")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "layer 0 path 0")) << e.what();
+  }
+  // outside the table's radius the same path is free
+  plan.layers[0].paths[0] = straightPath(Vec3(-20, 280, -30), Vec3(20, 280, -30));
+  MotionOptions options;
+  options.allowCollisions = true;
+  const MotionPlan motion = planMotion(plan, defaultCell(), options);
+  for (const CollisionReport& c : motion.collisions) {
+    EXPECT_FALSE(contains(c.what, "table")) << describeMove(motion, c.point) << ": " << c.what;
+  }
+}
+
+TEST(Collision, BeadRadiusFromThePlan) {
+  PlanParameters p;
+  EXPECT_EQ(depositBeadRadius(p), 1.0);
+  p.layerThickness = 1.5;
+  EXPECT_EQ(depositBeadRadius(p), 1.5);
+  p.beadSpacing = 3.7;
+  EXPECT_EQ(depositBeadRadius(p), 1.85);
+}
+
+TEST(Collision, BadEnvelopeIsRejected) {
+  const Plan plan = wallAndPathPlan(1, 8.0);
+  MotionPlan motion = planMotion(plan, defaultCell());
+  for (int field = 0; field < 4; ++field) {
+    CollisionGeometry g;
+    if (field == 0) g.torch.stickOut = 0.0;
+    if (field == 1) g.torch.radius = -1.0;
+    if (field == 2) g.torch.length = 2.0 * g.torch.radius;
+    if (field == 3) g.table.thickness = 0.0;
+    EXPECT_THROW(checkMotionCollisions(motion, defaultCell(), g, 1.85, MotionOptions{}),
+                 InvalidInput);
+  }
+}
+
+TEST(Collision, DescribesEveryKindOfMove) {
+  const Plan plan = wallAndPathPlan(1, 30.0);
+  const MotionPlan motion = planMotion(plan, defaultCell());
+  EXPECT_EQ(describeMove(motion, 0), "home pose");
+  EXPECT_EQ(describeMove(motion, 1), "approach above layer 0 path 0");
+  EXPECT_EQ(describeMove(motion, 2), "layer 0 path 0 point 0 (approach onto the path start)");
+  EXPECT_EQ(describeMove(motion, 3), "layer 0 path 0 point 1 (weld move)");
+  const std::size_t end = motion.paths.front().end;
+  EXPECT_EQ(describeMove(motion, end), "retract from layer 0 path 0");
+  EXPECT_EQ(describeMove(motion, motion.points.size() - 1),
+            "move to the home pose after layer 1 path 0");
+}
+
+}  // namespace
+}  // namespace curvedslicer
