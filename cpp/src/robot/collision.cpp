@@ -100,8 +100,8 @@ TorchHit TorchChecker::checkTable(const Vec3& bottom, const Vec3& top) const {
   const Vec3 b = partToTable_ * bottom;
   const Vec3 t = partToTable_ * top;
   if (std::min(b.z(), t.z()) - torch_.radius > 0.0) return {};
-  const double radial = pointSegmentDistance(Vec3::Zero(), Vec3(b.x(), b.y(), 0.0),
-                                             Vec3(t.x(), t.y(), 0.0));
+  const double radial =
+      pointSegmentDistance(Vec3::Zero(), Vec3(b.x(), b.y(), 0.0), Vec3(t.x(), t.y(), 0.0));
   if (radial - torch_.radius > tableRadius_) return {};
   const double depth = fclPenetration(fcl_->torch.get(), alongSegment(bottom, top),
                                       fcl_->table.get(), fcl_->tableInPart);
@@ -113,8 +113,7 @@ namespace {
 
 /// TCP pose in the part frame of joints and positioner angles (forward kinematics).
 Pose toolInPartAt(const Cell& cell, const JointVector& joints, double a1, double a2) {
-  const Pose toolInWorld =
-      cell.robot.base * computeFlangePose(cell.robot, joints) * cell.tool.tcp;
+  const Pose toolInWorld = cell.robot.base * computeFlangePose(cell.robot, joints) * cell.tool.tcp;
   return computePartInWorld(cell.positioner, a1, a2).inverse() * toolInWorld;
 }
 
@@ -136,9 +135,9 @@ TorchHit checkJointMove(const Cell& cell, const TorchChecker& checker, const Mot
     JointVector q;
     for (int j = 0; j < 6; ++j) q[j] = from.joints[j] + t * (to.joints[j] - from.joints[j]);
     Vec3 tip, up;
-    torchAxisOf(toolInPartAt(cell, q, from.a1 + t * (to.a1 - from.a1),
-                             from.a2 + t * (to.a2 - from.a2)),
-                tip, up);
+    torchAxisOf(
+        toolInPartAt(cell, q, from.a1 + t * (to.a1 - from.a1), from.a2 + t * (to.a2 - from.a2)),
+        tip, up);
     keepDeeper(worst, checker.check(tip, up));
   }
   return worst;
@@ -208,8 +207,7 @@ TorchHit checkArcOffMove(const MotionPlan& motion, std::size_t i, const Cell& ce
 std::string describeHit(const TorchHit& hit, const DepositIndex& deposit) {
   if (hit.object == TorchHit::Object::Table) return "torch vs positioner table";
   const DepositSegment& s = deposit.segments()[hit.segment];
-  return "torch vs deposit of layer " + std::to_string(s.layer) + " path " +
-         std::to_string(s.path);
+  return "torch vs deposit of layer " + std::to_string(s.layer) + " path " + std::to_string(s.path);
 }
 
 void reportCollisions(MotionPlan& motion, const MotionOptions& options) {
@@ -221,8 +219,8 @@ void reportCollisions(MotionPlan& motion, const MotionOptions& options) {
             fmt(c.depth) + " mm";
   }
   if (motion.collisions.size() > kNamedCollisions) list += "; ...";
-  const std::string text = "torch collides on " + std::to_string(motion.collisions.size()) +
-                           " move(s): " + list;
+  const std::string text =
+      "torch collides on " + std::to_string(motion.collisions.size()) + " move(s): " + list;
   if (!options.allowCollisions) {
     throw InvalidInput(text +
                        "; change the path order or the part's placement, use a slimmer torch "
@@ -263,16 +261,16 @@ void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const Collision
   const TorchEnvelope& torch = geometry.torch;
   if (!(torch.stickOut > 0.0 && torch.radius > 0.0 && torch.length > 2.0 * torch.radius &&
         geometry.table.radius > 0.0 && geometry.table.thickness > 0.0 && beadRadius > 0.0)) {
-    throw InvalidInput("torch envelope, table and bead sizes must be positive (envelope length "
-                       "over twice its radius): stick-out " +
-                       fmt(torch.stickOut) + ", radius " + fmt(torch.radius) + ", length " +
-                       fmt(torch.length) + ", table " + fmt(geometry.table.radius) + " x " +
-                       fmt(geometry.table.thickness) + ", bead radius " + fmt(beadRadius) +
-                       " mm; fix the cell's tool envelope / positioner geometry");
+    throw InvalidInput(
+        "torch envelope, table and bead sizes must be positive (envelope length "
+        "over twice its radius): stick-out " +
+        fmt(torch.stickOut) + ", radius " + fmt(torch.radius) + ", length " + fmt(torch.length) +
+        ", table " + fmt(geometry.table.radius) + " x " + fmt(geometry.table.thickness) +
+        ", bead radius " + fmt(beadRadius) +
+        " mm; fix the cell's tool envelope / positioner geometry");
   }
   motion.collisions.clear();
-  DepositIndex deposit(pathBounds(motion, 0.0), beadRadius,
-                       2.0 * (torch.radius + beadRadius));
+  DepositIndex deposit(pathBounds(motion, 0.0), beadRadius, 2.0 * (torch.radius + beadRadius));
   const TorchChecker checker(cell, geometry, deposit);
   for (std::size_t i = 1; i < motion.points.size(); ++i) {
     MotionPoint& m = motion.points[i];

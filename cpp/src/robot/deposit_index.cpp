@@ -62,9 +62,7 @@ DepositIndex::DepositIndex(const Aabb& bounds, double beadRadius, double cellSiz
   box.max += Vec3::Constant(beadRadius + 1e-6);
   cell_ = std::max(cellSize, 1e-3);
   const Vec3 size = box.size();
-  auto countCells = [&](double c) {
-    return (size / c).array().ceil().max(1.0).eval();
-  };
+  auto countCells = [&](double c) { return (size / c).array().ceil().max(1.0).eval(); };
   while (countCells(cell_).prod() > static_cast<double>(maxCells)) cell_ *= 1.25;
   const auto n = countCells(cell_);
   dims_ = Vec3i(static_cast<int>(n.x()), static_cast<int>(n.y()), static_cast<int>(n.z()));

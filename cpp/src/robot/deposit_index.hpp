@@ -37,7 +37,7 @@ struct DepositSegment {
 
 /// The nearest bead found by a query.
 struct DepositHit {
-  double distance = kInf;  ///< mm, query segment to bead surface (axis distance - bead radius)
+  double distance = kInf;   ///< mm, query segment to bead surface (axis distance - bead radius)
   std::size_t segment = 0;  ///< index into DepositIndex::segments()
   bool found() const { return distance < kInf; }
 };
@@ -68,7 +68,7 @@ class DepositIndex {
   struct Chunk {
     std::size_t first = 0;  // first segment
     std::size_t count = 0;
-    Aabb box;               // of the segment end points
+    Aabb box;  // of the segment end points
   };
   template <typename Visit>
   void visitCandidates(const Vec3& p, const Vec3& q, double reach, Visit&& visit) const;

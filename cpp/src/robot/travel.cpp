@@ -29,8 +29,8 @@ std::string fmt(double value, int precision = 2) {
 
 /// A candidate arc-off route in the part frame: retract top, via points, approach top.
 struct Route {
-  std::vector<Vec3> points;     // TCP, part frame; front = retract top, back = approach top
-  std::vector<double> along;    // arc-length fraction of each point (0 .. 1)
+  std::vector<Vec3> points;   // TCP, part frame; front = retract top, back = approach top
+  std::vector<double> along;  // arc-length fraction of each point (0 .. 1)
 };
 
 Route makeRoute(std::vector<Vec3> points) {
@@ -78,8 +78,8 @@ class TravelPlanner {
                                                    const MotionPoint& retract, double* shortfall);
   bool routeClears(const Route& route, const MotionPoint& from, const MotionPoint& to,
                    double* shortfall) const;
-  MotionPoint arcOffPoint(MoveKind kind, const MotionPoint& owner, const Vec3& position,
-                          double a1, double a2, const Mat3& worldRotation) const;
+  MotionPoint arcOffPoint(MoveKind kind, const MotionPoint& owner, const Vec3& position, double a1,
+                          double a2, const Mat3& worldRotation) const;
   Pose toolInPart(const Vec3& position, double a1, double a2, const Mat3& worldRotation) const;
   bool solveJoints(MotionPoint& m, const JointVector& reference, int configuration) const;
   void unreachable(MotionPoint& m, const JointVector& reference, const std::string& move);
@@ -204,9 +204,9 @@ bool TravelPlanner::routeClears(const Route& route, const MotionPoint& from, con
     for (int i = 0; i <= n; ++i) {
       const double u = static_cast<double>(i) / n;
       const double t = route.along[k - 1] + u * (route.along[k] - route.along[k - 1]);
-      const Pose pose = toolInPart(p + u * (q - p), from.a1 + t * (to.a1 - from.a1),
-                                   from.a2 + t * (to.a2 - from.a2),
-                                   q0.slerp(t, q1).toRotationMatrix());
+      const Pose pose =
+          toolInPart(p + u * (q - p), from.a1 + t * (to.a1 - from.a1),
+                     from.a2 + t * (to.a2 - from.a2), q0.slerp(t, q1).toRotationMatrix());
       Vec3 tip, up;
       detail::torchAxisOf(pose, tip, up);
       if (checker_.check(tip, up).collides()) return false;
@@ -267,8 +267,9 @@ void TravelPlanner::unreachable(MotionPoint& m, const JointVector& reference,
                            fmt(m.position.x()) + ", " + fmt(m.position.y()) + ", " +
                            fmt(m.position.z()) + " mm)";
   if (options_.unreachable == UnreachablePolicy::Throw) {
-    throw InvalidInput(text + "; lower the clearance (--clearance), or move the positioner or "
-                              "the part so the robot reaches above the part");
+    throw InvalidInput(text +
+                       "; lower the clearance (--clearance), or move the positioner or "
+                       "the part so the robot reaches above the part");
   }
   m.joints = reference;
   m.flags |= kMotionRobotLimit;
@@ -278,12 +279,12 @@ void TravelPlanner::unreachable(MotionPoint& m, const JointVector& reference,
 /// The home pose as a motion point (forward kinematics), owned by `neighbour`'s path.
 void TravelPlanner::appendHome(const MotionPoint& neighbour) {
   const HomePose& home = setup_.home;
-  const Pose toolInWorld = cell_.robot.base * computeFlangePose(cell_.robot, home.joints) *
-                           cell_.tool.tcp;
+  const Pose toolInWorld =
+      cell_.robot.base * computeFlangePose(cell_.robot, home.joints) * cell_.tool.tcp;
   const Pose partInWorld = computePartInWorld(cell_.positioner, home.a1, home.a2);
-  MotionPoint m = arcOffPoint(MoveKind::Home, neighbour, partInWorld.inverse() *
-                                                              toolInWorld.translation(),
-                              home.a1, home.a2, toolInWorld.linear());
+  MotionPoint m =
+      arcOffPoint(MoveKind::Home, neighbour, partInWorld.inverse() * toolInWorld.translation(),
+                  home.a1, home.a2, toolInWorld.linear());
   m.joints = home.joints;
   // the IK branch of the home joints: the solution that reproduces them
   double best = kInf;
@@ -329,11 +330,12 @@ void TravelPlanner::clearHomeMove(std::size_t home, std::size_t neighbour,
 /// the lowest clear height, with the path point's positioner angles and tool orientation.
 MotionPoint TravelPlanner::normalPoint(MoveKind kind, const MotionPoint& at) {
   const double h = clearHeight(at);
-  MotionPoint m = arcOffPoint(kind, at, at.position + h * at.normal, at.a1, at.a2,
-                              at.toolInWorld.linear());
+  MotionPoint m =
+      arcOffPoint(kind, at, at.position + h * at.normal, at.a1, at.a2, at.toolInWorld.linear());
   if (!solveJoints(m, at.joints, at.configuration)) {
-    unreachable(m, at.joints, std::string(toString(kind)) + " point of layer " +
-                                  std::to_string(at.layer) + " path " + std::to_string(at.path));
+    unreachable(m, at.joints,
+                std::string(toString(kind)) + " point of layer " + std::to_string(at.layer) +
+                    " path " + std::to_string(at.path));
   }
   return m;
 }
@@ -352,7 +354,8 @@ void TravelPlanner::appendArcOff(const MotionPoint* from, const MotionPoint* to)
     double shortfall = options_.clearance;
     bool planned = false;
     for (double d = 0.0; d <= setup_.maxLift + 1e-9 && !planned; d += step_) {
-      const Route route = d == 0.0 ? makeRoute({r, p}) : makeRoute({r, r + d * lift, p + d * lift, p});
+      const Route route =
+          d == 0.0 ? makeRoute({r, p}) : makeRoute({r, r + d * lift, p + d * lift, p});
       if (auto vias = tryRoute(route, *from, *to, *retract, &shortfall)) {
         out_.insert(out_.end(), vias->begin(), vias->end());
         planned = true;
@@ -383,9 +386,9 @@ std::optional<std::vector<MotionPoint>> TravelPlanner::tryRoute(const Route& rou
   JointVector reference = retract.joints;
   for (std::size_t k = 1; k + 1 < route.points.size(); ++k) {
     const double t = route.along[k];
-    MotionPoint m = arcOffPoint(MoveKind::Travel, to, route.points[k],
-                                from.a1 + t * (to.a1 - from.a1), from.a2 + t * (to.a2 - from.a2),
-                                q0.slerp(t, q1).toRotationMatrix());
+    MotionPoint m =
+        arcOffPoint(MoveKind::Travel, to, route.points[k], from.a1 + t * (to.a1 - from.a1),
+                    from.a2 + t * (to.a2 - from.a2), q0.slerp(t, q1).toRotationMatrix());
     if (!solveJoints(m, reference, retract.configuration)) return std::nullopt;  // next lift
     reference = m.joints;
     vias.push_back(m);
@@ -403,7 +406,8 @@ void insertTravelMoves(MotionPlan& motion, const Cell& cell, const TravelSetup& 
   }
   if (!(beadRadius > 0.0) || !(setup.maxLift >= 0.0)) {
     throw InvalidInput("bead radius must be positive and the maximum lift not negative: " +
-                       fmt(beadRadius) + " / " + fmt(setup.maxLift) + " mm; check the plan's "
+                       fmt(beadRadius) + " / " + fmt(setup.maxLift) +
+                       " mm; check the plan's "
                        "bead spacing");
   }
   TravelPlanner(motion, cell, setup, beadRadius, options).run();

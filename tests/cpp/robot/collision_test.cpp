@@ -96,8 +96,9 @@ TEST(Collision, AllowCollisionsListsTheMoves) {
   std::size_t flagged = 0;
   for (const MotionPoint& m : motion.points) flagged += (m.flags & kMotionCollision) != 0;
   EXPECT_EQ(flagged, motion.collisions.size());
-  const bool warned = std::any_of(motion.warnings.begin(), motion.warnings.end(),
-                                  [](const std::string& w) { return contains(w, "torch collides"); });
+  const bool warned =
+      std::any_of(motion.warnings.begin(), motion.warnings.end(),
+                  [](const std::string& w) { return contains(w, "torch collides"); });
   EXPECT_TRUE(warned);
 }
 

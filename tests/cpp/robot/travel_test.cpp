@@ -155,7 +155,8 @@ struct Deposit {
     double best = cutoff;
     for (const Group& g : groups) {
       if ((x - g.centre).norm() - g.radius >= best) continue;
-      for (const auto& s : g.segments) best = std::min(best, distanceToSegment(x, s.first, s.second));
+      for (const auto& s : g.segments)
+        best = std::min(best, distanceToSegment(x, s.first, s.second));
     }
     return best;
   }
@@ -244,8 +245,8 @@ TEST(Travel, CurvedExampleKeepsTheClearanceAndStartsAndEndsAtHome) {
   const MotionPlan motion = planMotion(plan, cell, options);
   expectTravelStructure(motion, plan, cell);
   std::size_t moves = 0;
-  const double smallest =
-      smallestTravelClearance(motion, depositBeadRadius(plan.parameters), options.clearance, &moves);
+  const double smallest = smallestTravelClearance(motion, depositBeadRadius(plan.parameters),
+                                                  options.clearance, &moves);
   EXPECT_GT(moves, plan.pathCount() - 1);
   EXPECT_GE(smallest, options.clearance - 1e-9);
   EXPECT_TRUE(motion.collisions.empty());
@@ -277,7 +278,8 @@ TEST(Travel, ClimbsOverAWallBetweenTwoPaths) {
   expectTravelStructure(motion, plan, cell);
   std::size_t moves = 0;
   const double r = depositBeadRadius(plan.parameters);
-  EXPECT_GE(smallestTravelClearance(motion, r, options.clearance, &moves), options.clearance - 1e-9);
+  EXPECT_GE(smallestTravelClearance(motion, r, options.clearance, &moves),
+            options.clearance - 1e-9);
   // the move from the path at y = -30 to the one at y = +30 goes over the wall top
   const MotionPathSpan& last = motion.paths.back();
   double highest = -kInf;
@@ -328,8 +330,7 @@ TEST(Travel, BadClearanceIsRejected) {
       planMotion(plan, placedCell(plan), options);
       ADD_FAILURE() << "no error for clearance " << clearance;
     } catch (const InvalidInput& e) {
-      EXPECT_NE(std::string(e.what()).find("travel clearance must be positive"),
-                std::string::npos);
+      EXPECT_NE(std::string(e.what()).find("travel clearance must be positive"), std::string::npos);
     }
   }
 }

@@ -39,8 +39,8 @@ struct TorchEnvelope {
 /// The positioner table as a disc. Stands in for the cell's positioner geometry until the cell
 /// description carries one.
 struct TableGeometry {
-  double radius = 250.0;     ///< mm, table radius about the rotation axis (> 0)
-  double thickness = 40.0;   ///< mm, below the table surface (> 0)
+  double radius = 250.0;    ///< mm, table radius about the rotation axis (> 0)
+  double thickness = 40.0;  ///< mm, below the table surface (> 0)
 };
 
 struct CollisionGeometry {

@@ -34,8 +34,8 @@ namespace curvedslicer {
 /// (controller B = -90°), the positioner at zero.
 struct HomePose {
   JointVector joints{0.0, 0.0, 0.0, 0.0, -1.5707963267948966, 0.0};  ///< rad, controller
-  double a1 = 0.0;  ///< rad, positioner tilt
-  double a2 = 0.0;  ///< rad, positioner rotation
+  double a1 = 0.0;                                                   ///< rad, positioner tilt
+  double a2 = 0.0;                                                   ///< rad, positioner rotation
 };
 
 /// What the travel planner needs beyond the cell (fields the cell description will carry).
