@@ -257,7 +257,8 @@ std::string describeMove(const MotionPlan& motion, std::size_t index) {
 }
 
 void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const CollisionGeometry& geometry,
-                           double beadRadius, const MotionOptions& options) {
+                           double beadRadius, const MotionOptions& options,
+                           const Progress& progress) {
   const TorchEnvelope& torch = geometry.torch;
   if (!(torch.stickOut > 0.0 && torch.radius > 0.0 && torch.length > 2.0 * torch.radius &&
         geometry.table.radius > 0.0 && geometry.table.thickness > 0.0 && beadRadius > 0.0)) {
@@ -272,7 +273,12 @@ void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const Collision
   motion.collisions.clear();
   DepositIndex deposit(pathBounds(motion, 0.0), beadRadius, 2.0 * (torch.radius + beadRadius));
   const TorchChecker checker(cell, geometry, deposit);
+  progress.report(0.0, "collisions");
   for (std::size_t i = 1; i < motion.points.size(); ++i) {
+    if (i % 16384 == 0) {
+      progress.report(static_cast<double>(i) / static_cast<double>(motion.points.size()),
+                      "collisions");
+    }
     MotionPoint& m = motion.points[i];
     TorchHit hit;
     if (m.arcOn) {
@@ -291,6 +297,7 @@ void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const Collision
       deposit.add({prev.position, m.position, m.layer, m.path}, prev.pathStart);
     }
   }
+  progress.report(1.0, "collisions");
   reportCollisions(motion, options);
 }
 

@@ -849,7 +849,7 @@ MotionPlan planMotion(const Plan& plan, const Cell& cell, const MotionOptions& o
   WarningLog warnings;
   planPositionerAngles(plan, cell, gravity, options, progress.sub(0.0, 0.4), result, warnings);
   RobotKinematicsPass(cell, gravity, options, result, warnings).run(progress.sub(0.4, 0.95));
-  planArcOffMoves(plan, cell, TravelSetup{}, options, result);  // TODO(lead): cell home/envelope
+  planArcOffMoves(plan, cell, TravelSetup{}, options, result, progress.sub(0.95, 0.95));
   progress.report(0.95, "estimates");
   estimateMotion(plan, cell, result);
   warnings.flush(result.warnings);

@@ -63,7 +63,7 @@ class TravelPlanner {
                  std::max(options.clearance, setup.geometry.torch.radius) + beadRadius),
         checker_(cell, setup.geometry, deposit_) {}
 
-  void run();
+  void run(const Progress& progress);
 
  private:
   static Aabb pathBounds(const MotionPlan& motion);
@@ -105,7 +105,8 @@ Aabb TravelPlanner::pathBounds(const MotionPlan& motion) {
   return box;
 }
 
-void TravelPlanner::run() {
+void TravelPlanner::run(const Progress& progress) {
+  progress.report(0.0, "travel");
   const std::vector<MotionPoint>& points = motion_.points;  // the spans index these
   std::vector<MotionPathSpan> spans;
   out_.reserve(points.size() + 4 * motion_.paths.size() + 2);
@@ -120,6 +121,8 @@ void TravelPlanner::run() {
       appendArcOff(&points[motion_.paths[s - 1].end - 1], &start);
     }
     appendPath(span, spans);
+    progress.report(static_cast<double>(s + 1) / static_cast<double>(motion_.paths.size()),
+                    "travel");
   }
   if (!motion_.paths.empty()) {
     const MotionPoint& last = points[motion_.paths.back().end - 1];
@@ -399,7 +402,7 @@ std::optional<std::vector<MotionPoint>> TravelPlanner::tryRoute(const Route& rou
 }  // namespace
 
 void insertTravelMoves(MotionPlan& motion, const Cell& cell, const TravelSetup& setup,
-                       double beadRadius, const MotionOptions& options) {
+                       double beadRadius, const MotionOptions& options, const Progress& progress) {
   if (!(options.clearance > 0.0) || !std::isfinite(options.clearance)) {
     throw InvalidInput("travel clearance must be positive: " + fmt(options.clearance) +
                        " mm; use e.g. 10 mm");
@@ -410,14 +413,14 @@ void insertTravelMoves(MotionPlan& motion, const Cell& cell, const TravelSetup& 
                        " mm; check the plan's "
                        "bead spacing");
   }
-  TravelPlanner(motion, cell, setup, beadRadius, options).run();
+  TravelPlanner(motion, cell, setup, beadRadius, options).run(progress);
 }
 
 void planArcOffMoves(const Plan& plan, const Cell& cell, const TravelSetup& setup,
-                     const MotionOptions& options, MotionPlan& motion) {
+                     const MotionOptions& options, MotionPlan& motion, const Progress& progress) {
   const double beadRadius = depositBeadRadius(plan.parameters);
-  insertTravelMoves(motion, cell, setup, beadRadius, options);
-  checkMotionCollisions(motion, cell, setup.geometry, beadRadius, options);
+  insertTravelMoves(motion, cell, setup, beadRadius, options, progress.sub(0.0, 0.5));
+  checkMotionCollisions(motion, cell, setup.geometry, beadRadius, options, progress.sub(0.5, 1.0));
 }
 
 }  // namespace curvedslicer

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <string_view>
 
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/robot/motion.hpp"
@@ -188,6 +189,19 @@ TEST(Collision, DescribesEveryKindOfMove) {
   EXPECT_EQ(describeMove(motion, end), "retract from layer 0 path 0");
   EXPECT_EQ(describeMove(motion, motion.points.size() - 1),
             "move to the home pose after layer 1 path 0");
+}
+
+TEST(Collision, TravelAndCollisionStagesCanBeCancelled) {
+  const Plan plan = wallAndPathPlan(5, 30.0);
+  for (const std::string stage : {"travel", "collisions"}) {
+    bool seen = false;
+    const Progress progress([&](double, std::string_view name) {
+      seen = seen || name == stage;
+      return name != stage;
+    });
+    EXPECT_THROW(planMotion(plan, defaultCell(), MotionOptions{}, progress), Cancelled) << stage;
+    EXPECT_TRUE(seen) << stage;
+  }
 }
 
 }  // namespace

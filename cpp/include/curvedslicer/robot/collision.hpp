@@ -22,6 +22,7 @@
 
 #include <string>
 
+#include "curvedslicer/core/progress.hpp"
 #include "curvedslicer/plan/plan.hpp"
 #include "curvedslicer/robot/cell.hpp"
 #include "curvedslicer/robot/motion.hpp"
@@ -60,7 +61,9 @@ std::string describeMove(const MotionPlan& motion, std::size_t index);
 /// and a CollisionReport; with options.allowCollisions they are also summarised in the
 /// warnings, otherwise InvalidInput names the first few moves, what they hit and by how much.
 /// @param beadRadius  mm, capsule radius of the deposit (depositBeadRadius of the plan)
+/// Progress stage "collisions" (every 16,384 points); Cancelled when `progress` asks.
 void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const CollisionGeometry& geometry,
-                           double beadRadius, const MotionOptions& options);
+                           double beadRadius, const MotionOptions& options,
+                           const Progress& progress = {});
 
 }  // namespace curvedslicer

@@ -51,12 +51,16 @@ struct TravelSetup {
 /// @param beadRadius  mm, deposit capsule radius (depositBeadRadius of the plan)
 /// @throws InvalidInput for a non-positive clearance, or an arc-off point the robot cannot reach
 ///         (UnreachablePolicy::Throw), naming the move.
+/// Progress stage "travel" (per path); Cancelled when `progress` asks.
 void insertTravelMoves(MotionPlan& motion, const Cell& cell, const TravelSetup& setup,
-                       double beadRadius, const MotionOptions& options);
+                       double beadRadius, const MotionOptions& options,
+                       const Progress& progress = {});
 
 /// planMotion's arc-off phase: insertTravelMoves, then checkMotionCollisions (collision.hpp),
 /// both with the plan's deposit bead radius (depositBeadRadius).
+/// Progress: "travel" (first half), "collisions" (second half).
 void planArcOffMoves(const Plan& plan, const Cell& cell, const TravelSetup& setup,
-                     const MotionOptions& options, MotionPlan& motion);
+                     const MotionOptions& options, MotionPlan& motion,
+                     const Progress& progress = {});
 
 }  // namespace curvedslicer
