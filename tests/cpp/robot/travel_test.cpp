@@ -187,6 +187,37 @@ double smallestTravelClearance(const MotionPlan& motion, double r, double cleara
   return smallest;
 }
 
+/// Smallest distance (mm) between the default torch envelope's axis and the centre line of any
+/// bead welded before the move, over every weld move (torch at the move's end pose) — the
+/// collision check's own question, answered by brute force: each bead segment is sampled every
+/// 0.1 mm against the axis segment (an over-estimate by at most 0.05 mm).
+double smallestTorchAxisDistance(const MotionPlan& motion, double reach) {
+  const TorchEnvelope torch;
+  Deposit deposit;
+  double smallest = kInf;
+  for (std::size_t i = 1; i < motion.points.size(); ++i) {
+    const MotionPoint& a = motion.points[i - 1];
+    const MotionPoint& b = motion.points[i];
+    if (!b.arcOn) continue;
+    const Vec3 tip = b.toolInPart.translation();
+    const Vec3 up = -b.toolInPart.linear().col(2);
+    const Vec3 low = tip + (torch.stickOut + torch.radius) * up;
+    const Vec3 high = tip + (torch.stickOut + torch.length - torch.radius) * up;
+    for (const Deposit::Group& g : deposit.groups) {
+      if (distanceToSegment(g.centre, low, high) - g.radius >= reach) continue;
+      for (const auto& [p, q] : g.segments) {
+        const int n = std::max(1, static_cast<int>(std::ceil((q - p).norm() / 0.1)));
+        for (int k = 0; k <= n; ++k) {
+          const Vec3 x = p + (q - p) * (static_cast<double>(k) / n);
+          smallest = std::min(smallest, distanceToSegment(x, low, high));
+        }
+      }
+    }
+    deposit.add(a.position, b.position);
+  }
+  return smallest;
+}
+
 /// Structure every motion with travel must have: home at both ends, spans over path points
 /// only, arc-off points with index -1, retract/approach along the normals, joints that
 /// reproduce the TCP pose.
@@ -249,7 +280,11 @@ TEST(Travel, CurvedExampleKeepsTheClearanceAndStartsAndEndsAtHome) {
                                                   options.clearance, &moves);
   EXPECT_GT(moves, plan.pathCount() - 1);
   EXPECT_GE(smallest, options.clearance - 1e-9);
+  // the collision check found nothing: no torch axis comes within torch + bead radius of a bead
+  // (the closest is the bead under the nozzle, stick-out + radius = 25 mm from the axis end)
   EXPECT_TRUE(motion.collisions.empty());
+  const double reach = TorchEnvelope{}.radius + depositBeadRadius(plan.parameters);
+  EXPECT_GE(smallestTorchAxisDistance(motion, reach), reach);
 }
 
 TEST(Travel, CylinderKeepsTheClearanceAndStartsAndEndsAtHome) {
@@ -267,6 +302,9 @@ TEST(Travel, CylinderKeepsTheClearanceAndStartsAndEndsAtHome) {
         smallestTravelClearance(motion, depositBeadRadius(plan.parameters), clearance, &moves);
     EXPECT_GE(moves, plan.pathCount() - 1);
     EXPECT_GE(smallest, clearance - 1e-9);
+    EXPECT_TRUE(motion.collisions.empty());
+    const double reach = TorchEnvelope{}.radius + depositBeadRadius(plan.parameters);
+    EXPECT_GE(smallestTorchAxisDistance(motion, reach), reach);
   }
 }
 
