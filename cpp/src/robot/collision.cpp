@@ -103,10 +103,19 @@ TorchHit TorchChecker::checkTable(const Vec3& bottom, const Vec3& top) const {
   const double radial =
       pointSegmentDistance(Vec3::Zero(), Vec3(b.x(), b.y(), 0.0), Vec3(t.x(), t.y(), 0.0));
   if (radial - torch_.radius > tableRadius_) return {};
-  const double depth = fclPenetration(fcl_->torch.get(), alongSegment(bottom, top),
-                                      fcl_->table.get(), fcl_->tableInPart);
-  if (depth < 0.0) return {};
-  return {TorchHit::Object::Table, depth, 0};
+  const double fclDepth = fclPenetration(fcl_->torch.get(), alongSegment(bottom, top),
+                                         fcl_->table.get(), fcl_->tableInPart);
+  if (fclDepth < 0.0) return {};
+  // depth: how far the envelope reaches below the table surface over the disc (axis sampled
+  // every mm); FCL's capsule/cylinder depth is the EPA translation, which can be the disc's
+  // radius for a torch lying across it. At the rim only, FCL's value.
+  double depth = -kInf;
+  const int n = std::max(1, static_cast<int>(std::ceil((t - b).norm())));
+  for (int k = 0; k <= n; ++k) {
+    const Vec3 x = b + (t - b) * (static_cast<double>(k) / n);
+    if (x.head<2>().norm() <= tableRadius_) depth = std::max(depth, torch_.radius - x.z());
+  }
+  return {TorchHit::Object::Table, depth > 0.0 ? depth : fclDepth, 0};
 }
 
 namespace {

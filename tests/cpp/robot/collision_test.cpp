@@ -146,10 +146,21 @@ TEST(Collision, TorchAgainstThePositionerTable) {
     EXPECT_TRUE(contains(e.what(), "torch vs positioner table")) << e.what();
     EXPECT_TRUE(contains(e.what(), "layer 0 path 0")) << e.what();
   }
-  // outside the table's radius the same path is free
-  plan.layers[0].paths[0] = straightPath(Vec3(-20, 280, -30), Vec3(20, 280, -30));
+  // the vertical torch's nozzle end reaches 30 - 15 = 15 mm below the table surface
   MotionOptions options;
   options.allowCollisions = true;
+  const MotionPlan below = planMotion(plan, defaultCell(), options);
+  const MotionPathSpan& weld = below.paths.front();
+  std::size_t weldHits = 0;
+  for (const CollisionReport& c : below.collisions) {
+    if (c.point <= weld.begin || c.point >= weld.end) continue;
+    ++weldHits;
+    EXPECT_EQ(c.what, "torch vs positioner table");
+    EXPECT_NEAR(c.depth, 15.0, 1e-9);
+  }
+  EXPECT_EQ(weldHits, weld.end - weld.begin - 1);
+  // outside the table's radius the same path is free
+  plan.layers[0].paths[0] = straightPath(Vec3(-20, 280, -30), Vec3(20, 280, -30));
   const MotionPlan motion = planMotion(plan, defaultCell(), options);
   for (const CollisionReport& c : motion.collisions) {
     EXPECT_FALSE(contains(c.what, "table")) << describeMove(motion, c.point) << ": " << c.what;
