@@ -13,6 +13,7 @@
 #include "curvedslicer/robot/robot_kinematics.hpp"
 #include "curvedslicer/robot/timing.hpp"
 #include "positioner_path.hpp"
+#include "curvedslicer/robot/travel.hpp"
 
 namespace curvedslicer {
 
@@ -660,6 +661,7 @@ MotionPlan planMotion(const Plan& plan, const Cell& givenCell, const MotionOptio
   planPositionerAngles(plan, cell, gravity, options, progress.sub(0.0, 0.4), result, warnings);
   RobotKinematicsPass(cell, gravity, options, result, warnings).run(progress.sub(0.4, 0.95));
   result.nearSingularBand = options.nearSingularBand;
+  planArcOffMoves(plan, cell, travelSetupOf(cell), options, result, progress.sub(0.95, 0.95));
   progress.report(0.95, "estimates");
   warnings.flush(result.warnings);
   // time parameterisation (after the travel moves): times, speeds, estimates
