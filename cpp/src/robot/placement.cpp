@@ -96,10 +96,51 @@ const char* const kHint =
 
 }  // namespace
 
+namespace {
+
+/// Mean deposition direction V of the first layer with points (part frame, unit), or zero.
+Vec3 startDirection(const Plan& plan) {
+  for (const PlanLayer& layer : plan.layers) {
+    Vec3 sum = Vec3::Zero();
+    for (const PlanPath& path : layer.paths) {
+      for (const PathPoint& point : path.points) sum += point.deposition;
+    }
+    if (sum.norm() > 1e-9) return sum.normalized();
+  }
+  return Vec3::Zero();
+}
+
+/// Rest, first step: a part whose first layer is deposited more than 45° away from straight
+/// down onto the table (its start surface faces sideways: the torch would lie across the table) (a
+/// start surface on the part's side or tilted) is turned by the smallest rotation that makes it so
+/// — the start surface faces the table, as the substrate does — and its points are centred on the
+/// rotation axis. Returns the note, or "".
+std::string faceStartSurfaceDown(const Plan& plan, Pose& tableToPart) {
+  constexpr double kStartTilt = 45.0 * 3.14159265358979323846 / 180.0;
+  const Vec3 v = startDirection(plan);
+  if (v.isZero()) return "";
+  const Vec3 down = -Vec3::UnitZ();
+  const Vec3 vTable = tableToPart.linear() * v;
+  const double tilt = std::atan2(vTable.cross(down).norm(), vTable.dot(down));
+  if (tilt <= kStartTilt) return "";
+  tableToPart.prerotate(Eigen::Quaterniond::FromTwoVectors(vTable, down).toRotationMatrix());
+  Eigen::AlignedBox3d box;
+  forEachWeldPoint(plan, tableToPart,
+                   [&](int, int, int, const Vec3&, const Vec3& inTable) { box.extend(inTable); });
+  tableToPart.pretranslate(Vec3(-box.center().x(), -box.center().y(), 0.0));
+  const std::string degrees = fmt(tilt * 180.0 / 3.14159265358979323846, 1);
+  return "part placement rest: the first layer is deposited " + degrees +
+         " deg away from straight down onto the table, so the part is turned by " + degrees +
+         " deg to put its start surface on the table and centred on the rotation axis; ";
+}
+
+}  // namespace
+
 PartPlacementResult placePart(const Plan& plan, const Cell& cell, PartPlacement placement) {
   PartPlacementResult result;
   result.tableToPart = cell.positioner.tableToPart;
   if (placement == PartPlacement::Cell) return result;
+  const std::string turned = faceStartSurfaceDown(plan, result.tableToPart);
   // The lowest bead bottom: of -(z_table - depth of the bead below the point).
   const double h = std::max(plan.parameters.layerThickness, 0.0);
   const double s = std::max(plan.parameters.beadSpacing, 0.0);
@@ -125,11 +166,11 @@ PartPlacementResult placePart(const Plan& plan, const Cell& cell, PartPlacement 
   // changes in the last digits from a lift of 1e-11 mm).
   result.lift = std::abs(bottom) <= kTolerance ? 0.0 : -bottom;
   result.tableToPart.pretranslate(Vec3(0, 0, result.lift));
-  result.note =
-      "part placement rest: the lowest bead bottom (" + fmt(depth) + " mm below " + lowest.name() +
-      ") lies on the table top: table_to_part z = " + fmt(result.tableToPart.translation().z()) +
-      " mm (the cell gives " + fmt(cell.positioner.tableToPart.translation().z()) +
-      " mm); use --placement cell to keep the cell's placement";
+  result.note = turned + "part placement rest: the lowest bead bottom (" + fmt(depth) +
+                " mm below " + lowest.name() + ") lies on the table top: table_to_part z = " +
+                fmt(result.tableToPart.translation().z()) + " mm (the cell gives " +
+                fmt(cell.positioner.tableToPart.translation().z()) +
+                " mm); use --placement cell to keep the cell's placement";
   return result;
 }
 

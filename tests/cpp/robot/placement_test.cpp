@@ -110,17 +110,42 @@ TEST(Placement, RestPutsTheLowestBeadBottomOnTheTableTop) {
   EXPECT_TRUE(kept.tableToPart.matrix() == almost.positioner.tableToPart.matrix());
 }
 
-TEST(Placement, RestFollowsATiltedPlacement) {
+/// V of every point of `plan` in the table frame of `tableToPart` is straight down.
+void expectDepositedDownwards(const Plan& plan, const Pose& tableToPart) {
+  for (const PlanLayer& layer : plan.layers) {
+    for (const PlanPath& path : layer.paths) {
+      for (const PathPoint& p : path.points) {
+        EXPECT_NEAR((tableToPart.linear() * p.deposition).z(), -1.0, 1e-9);
+      }
+    }
+  }
+}
+
+TEST(Placement, RestFollowsATiltedPlacementWithinFortyFiveDegrees) {
+  Cell cell = defaultCell();
+  cell.positioner.tableToPart = makePose(Vec3(0, 0, 0), Vec3(kPi / 6, 0, 0));  // 30 deg
+  const Plan plan = twoRings(0.0);
+  const PartPlacementResult r = placePart(plan, cell, PartPlacement::Rest);
+  // The rings stay tilted by 30 deg (the cell's rotation kept) and rest on the table.
+  EXPECT_TRUE(r.tableToPart.linear().isApprox(cell.positioner.tableToPart.linear(), 1e-12));
+  Cell placed = cell;
+  placed.positioner.tableToPart = r.tableToPart;
+  EXPECT_NEAR(placePart(plan, placed, PartPlacement::Rest).lift, 0.0, 1e-9);
+  EXPECT_NO_THROW(checkPartPlacement(plan, placed.positioner));
+}
+
+TEST(Placement, RestTurnsAStartSurfaceFacingSidewaysOntoTheTable) {
   Cell cell = defaultCell();
   cell.positioner.tableToPart = makePose(Vec3(0, 0, 0), Vec3(kPi / 2, 0, 0));  // part y up
   const Plan plan = twoRings(0.0);
   const PartPlacementResult r = placePart(plan, cell, PartPlacement::Rest);
-  // The ring (radius 30 in the part's xy) stands on edge: its lowest point is 30 mm down, the
-  // layers grow sideways, so the bead reaches half a bead spacing (2 mm) below it.
-  EXPECT_NEAR(r.tableToPart.translation().z(), 30.0 + 2.0, 1e-9);
-  expectContains(r.note, "(2.000 mm below layer 0 path 0 point 27");
+  // The rings would stand on edge (V horizontal, the torch across the table): turned back flat,
+  // centred on the rotation axis, the lowest weld point one layer thickness above the table.
+  expectDepositedDownwards(plan, r.tableToPart);
+  expectContains(r.note, "turned by 90.0 deg");
   Cell placed = cell;
   placed.positioner.tableToPart = r.tableToPart;
+  EXPECT_NEAR(placePart(plan, placed, PartPlacement::Rest).lift, 0.0, 1e-9);
   EXPECT_NO_THROW(checkPartPlacement(plan, placed.positioner));
 }
 
@@ -153,15 +178,20 @@ Plan sidewaysBlock() {
   return plan;
 }
 
-TEST(Placement, RestPutsTheEdgeOfSidewaysLayersOnTheTable) {
+TEST(Placement, RestPutsTheStartFaceOfSidewaysLayersOnTheTable) {
   Cell cell = defaultCell();
   cell.positioner.tableToPart = makePose(Vec3(0, 0, 20), Vec3::Zero());
-  const PartPlacementResult r = placePart(sidewaysBlock(), cell, PartPlacement::Rest);
-  // The bottom path runs along y at z = 2: its beads reach s/2 = 2 mm down, to the block's
-  // bottom z = 0, which now lies on the table top (not one layer thickness lower or higher).
-  EXPECT_NEAR(r.tableToPart.translation().z(), 0.0, 1e-12);
-  EXPECT_EQ(r.lift, -20.0);
-  expectContains(r.note, "(2.000 mm below layer 0 path 0 point 1 ");
+  const Plan plan = sidewaysBlock();
+  const PartPlacementResult r = placePart(plan, cell, PartPlacement::Rest);
+  // Layers grown along +x from the face x = 0: the part is turned so that face lies on the table
+  // (V straight down) and the first layer's beads, 5 mm up, reach the table top.
+  expectDepositedDownwards(plan, r.tableToPart);
+  double lowest = kInf;
+  for (const PathPoint& p : plan.layers[0].paths[0].points) {
+    lowest = std::min(lowest, (r.tableToPart * p.position).z());
+  }
+  EXPECT_NEAR(lowest, 5.0, 1e-9);
+  expectContains(r.note, "start surface on the table");
 }
 
 TEST(Placement, CellKeepsTheGivenPlacement) {

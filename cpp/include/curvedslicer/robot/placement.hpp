@@ -12,6 +12,9 @@
 // lifts the part along the table z until the lowest of these bead bottoms touches the table top
 // (flat layers: the lowest weld point one h above the table; layers grown sideways: the outer
 // bead's edge on the table); a part resting within 1e-6 mm keeps the cell's placement exactly.
+// A start surface facing sideways (the first layer's mean V more than 45° from straight down in
+// the table frame: the torch would lie across the table) is first turned by the smallest
+// rotation that puts it on the table, and the part centred on the rotation axis.
 // Details and the choice of the default in docs/METHODS.md ("Part placement").
 // Cost: O(points) per call.
 #pragma once
@@ -26,8 +29,9 @@ namespace curvedslicer {
 
 /// How the part sits on the table.
 enum class PartPlacement {
-  Rest,  ///< the cell's table_to_part rotation and xy, moved along the table z so that the
-         ///< lowest bead bottom lies on the table top (default)
+  Rest,  ///< the cell's table_to_part rotation and xy (a start surface facing sideways turned
+         ///< onto the table first), moved along the table z so that the lowest bead bottom
+         ///< lies on the table top (default)
   Cell,  ///< the cell's table_to_part as given (a measured fixture or substrate placement)
 };
 
