@@ -178,10 +178,9 @@ TEST(Motion, TiltLimitGivesBestFeasiblePoseAndWarning) {
   }
   EXPECT_EQ(motion.limitedPoints, 3u);
   // (besides the warning about the allowed collisions)
-  const auto limit =
-      std::find_if(motion.warnings.begin(), motion.warnings.end(), [](const std::string& w) {
-        return w.find("positioner limit") != std::string::npos;
-      });
+  const auto limit = std::find_if(
+      motion.warnings.begin(), motion.warnings.end(),
+      [](const std::string& w) { return w.find("positioner limit") != std::string::npos; });
   ASSERT_NE(limit, motion.warnings.end());
   EXPECT_NE(limit->find("5.00 deg"), std::string::npos) << *limit;
 }
