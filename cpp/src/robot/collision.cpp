@@ -314,7 +314,9 @@ void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const Collision
         ", bead radius " + fmt(beadRadius) +
         " mm; fix the cell's tool envelope / positioner geometry");
   }
+  // a re-check (another envelope) replaces the verdicts of an earlier one, flags included
   motion.collisions.clear();
+  for (MotionPoint& m : motion.points) m.flags &= ~static_cast<std::uint32_t>(kMotionCollision);
   DepositIndex deposit(pathBounds(motion, 0.0), beadRadius, 2.0 * (torch.radius + beadRadius));
   const TorchChecker checker(cell, geometry, deposit);
   progress.report(0.0, "collisions");

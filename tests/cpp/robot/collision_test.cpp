@@ -88,11 +88,22 @@ TEST(Collision, TorchAgainstATallWallNamesTheMove) {
   }
 }
 
+/// Radius of the lowest of the four capsules that cover the cell's torch cone: the cone's
+/// largest radius over the lowest quarter of its length (collision.hpp).
+double lowestCapsuleRadius(const TorchEnvelope& torch) {
+  return torch.radius + 0.25 * (torch.topRadius - torch.radius);
+}
+
 TEST(Collision, AllowCollisionsListsTheMoves) {
   const Plan plan = wallAndPathPlan(30, 8.0);
   MotionOptions options;
   options.allowCollisions = true;
-  const MotionPlan motion = planMotion(plan, defaultCell(), options);
+  const Cell cell = defaultCell();
+  const MotionPlan motion = planMotion(plan, cell, options);
+  // the default cell's cone (12.5 -> 25 mm over 385 mm): the lowest capsule, 15 to 111.25 mm
+  // above the TCP, is the only one reaching down to the 45 mm wall
+  const double torchRadius = lowestCapsuleRadius(cell.tool.envelope);
+  ASSERT_DOUBLE_EQ(torchRadius, 15.625);
   ASSERT_FALSE(motion.collisions.empty());
   const MotionPathSpan& weld = motion.paths.back();
   std::size_t weldCollisions = 0;
@@ -101,10 +112,13 @@ TEST(Collision, AllowCollisionsListsTheMoves) {
     const MotionPoint& m = motion.points[c.point];
     EXPECT_TRUE(m.flags & kMotionCollision);
     EXPECT_TRUE(contains(c.what, "torch vs deposit of layer")) << c.what;
-    // penetration: torch radius + bead radius - 8 mm axis distance
+    // penetration: torch radius + bead radius - 8 mm axis distance (the weld moves: exactly)
     EXPECT_GT(c.depth, 0.0);
-    EXPECT_LE(c.depth, 10.0 + 1.85 - 8.0 + 1e-6);
-    if (c.point > weld.begin && c.point < weld.end) ++weldCollisions;
+    EXPECT_LE(c.depth, torchRadius + 1.85 - 8.0 + 1e-6);
+    if (c.point > weld.begin && c.point < weld.end) {
+      ++weldCollisions;
+      EXPECT_NEAR(c.depth, torchRadius + 1.85 - 8.0, 1e-6) << describeMove(motion, c.point);
+    }
   }
   // every weld move of the path along the wall collides (the wall is longer than the path)
   EXPECT_EQ(weldCollisions, weld.end - weld.begin - 1);
@@ -118,11 +132,20 @@ TEST(Collision, AllowCollisionsListsTheMoves) {
 }
 
 TEST(Collision, PathFarEnoughFromTheWallIsFree) {
-  // 12 mm from the wall centre line: 12 - 1.85 > 10 mm torch radius
-  const Plan plan = wallAndPathPlan(30, 12.0);
-  const MotionPlan motion = planMotion(plan, defaultCell());
+  // the cell's cone: 18 mm from the wall centre line, 18 - 1.85 > 15.625 mm (its lowest capsule)
+  const MotionPlan motion = planMotion(wallAndPathPlan(30, 18.0), defaultCell());
   EXPECT_TRUE(motion.collisions.empty());
   for (const MotionPoint& m : motion.points) EXPECT_FALSE(m.flags & kMotionCollision);
+  // the 10 mm capsule: 12 mm from the wall, 12 - 1.85 > 10 mm (the cone hits the wall there)
+  const Plan plan = wallAndPathPlan(30, 12.0);
+  MotionOptions options;
+  options.allowCollisions = true;
+  MotionPlan near = planMotion(plan, defaultCell(), options);
+  EXPECT_FALSE(near.collisions.empty());
+  checkMotionCollisions(near, defaultCell(), capsuleGeometry(), depositBeadRadius(plan.parameters),
+                        MotionOptions{});
+  EXPECT_TRUE(near.collisions.empty());
+  for (const MotionPoint& m : near.points) EXPECT_FALSE(m.flags & kMotionCollision);
 }
 
 TEST(Collision, SlimmerEnvelopeOrLowerWallClears) {
@@ -146,15 +169,25 @@ TEST(Collision, SlimmerEnvelopeOrLowerWallClears) {
 }
 
 TEST(Collision, TorchAgainstThePositionerTable) {
-  // a path 30 mm below the table surface (part frame = table frame): the torch body crosses the
-  // table disc
+  // A path 30 mm below the table surface where the cell puts the part (part frame = table
+  // frame): planMotion refuses weld points below the table and its placement rest lifts the part
+  // onto it, so the motion planned that way is checked against the table of the cell as given.
+  // The torch body crosses the table disc.
+  const Cell cell = defaultCell();
+  ASSERT_TRUE(cell.positioner.tableToPart.isApprox(Pose::Identity()));
   Plan plan;
   plan.parameters.beadSpacing = 3.7;
   PlanLayer layer;
   layer.paths.push_back(straightPath(Vec3(-20, 50, -30), Vec3(20, 50, -30)));
   plan.layers.push_back(layer);
+  const CollisionGeometry geometry = collisionGeometryOf(cell);
+  const double beadRadius = depositBeadRadius(plan.parameters);
+  MotionPlan below = planMotion(plan, cell);
+  EXPECT_TRUE(below.collisions.empty());  // resting on the table: free
+  // lifted 30 mm (no layer thickness in the plan: the bead bottom is the weld point)
+  EXPECT_NEAR(below.tableToPart.translation().z(), 30.0, 1e-9);
   try {
-    planMotion(plan, defaultCell());
+    checkMotionCollisions(below, cell, geometry, beadRadius, MotionOptions{});
     FAIL() << "no collision reported";
   } catch (const InvalidInput& e) {
     EXPECT_TRUE(contains(e.what(), "torch vs positioner table")) << e.what();
@@ -163,7 +196,7 @@ TEST(Collision, TorchAgainstThePositionerTable) {
   // the vertical torch's nozzle end reaches 30 - 15 = 15 mm below the table surface
   MotionOptions options;
   options.allowCollisions = true;
-  const MotionPlan below = planMotion(plan, defaultCell(), options);
+  checkMotionCollisions(below, cell, geometry, beadRadius, options);
   const MotionPathSpan& weld = below.paths.front();
   std::size_t weldHits = 0;
   for (const CollisionReport& c : below.collisions) {
@@ -173,11 +206,13 @@ TEST(Collision, TorchAgainstThePositionerTable) {
     EXPECT_NEAR(c.depth, 15.0, 1e-9);
   }
   EXPECT_EQ(weldHits, weld.end - weld.begin - 1);
-  // outside the table's radius the same path is free
-  plan.layers[0].paths[0] = straightPath(Vec3(-20, 280, -30), Vec3(20, 280, -30));
-  const MotionPlan motion = planMotion(plan, defaultCell(), options);
-  for (const CollisionReport& c : motion.collisions) {
-    EXPECT_FALSE(contains(c.what, "table")) << describeMove(motion, c.point) << ": " << c.what;
+  // outside the table's radius (300 mm) by more than the cone's lowest capsule radius (15.625
+  // mm) the same path is free
+  plan.layers[0].paths[0] = straightPath(Vec3(-20, 330, -30), Vec3(20, 330, -30));
+  MotionPlan outside = planMotion(plan, cell);
+  checkMotionCollisions(outside, cell, geometry, beadRadius, options);
+  for (const CollisionReport& c : outside.collisions) {
+    EXPECT_FALSE(contains(c.what, "table")) << describeMove(outside, c.point) << ": " << c.what;
   }
 }
 

@@ -48,19 +48,33 @@ TEST(Timing, NominalSpeedsDwellsAndTotal) {
   cell.process.pathDwell = 2.0;
   cell.process.layerDwell = 10.0;
   const MotionPlan motion = planMotion(straightPlan(11), cell);
-  ASSERT_EQ(motion.points.size(), 22u);
+  ASSERT_EQ(motion.paths.size(), 2u);
+  const MotionPathSpan& first = motion.paths[0];
+  const MotionPathSpan& second = motion.paths[1];
+  ASSERT_EQ(first.end - first.begin, 11u);
+  ASSERT_EQ(second.end - second.begin, 11u);
   EXPECT_TRUE(motion.speedReductions.empty());
   // weld moves of 1 mm at 5 mm/s
-  EXPECT_NEAR(motion.points[10].time - motion.points[0].time, 10 * 0.2, 1e-9);
-  for (std::size_t i = 1; i < 11; ++i) EXPECT_NEAR(motion.points[i].speed, 5.0, 1e-12);
-  // the arc-off move to layer 1 starts after path dwell + layer dwell
-  const double travel = motion.points[11].time - motion.points[10].time - 12.0;
-  EXPECT_GT(travel, 0.0);
+  EXPECT_NEAR(motion.points[first.end - 1].time - motion.points[first.begin].time, 10 * 0.2, 1e-9);
+  for (std::size_t i = first.begin + 1; i < first.end; ++i) {
+    EXPECT_NEAR(motion.points[i].speed, 5.0, 1e-12);
+  }
+  // the arc-off moves (home, approach / retract, travel, approach / retract, home): the one to
+  // layer 1 starts after path dwell + layer dwell, so does the one after the last path
+  const double before = motion.points[first.begin].time - motion.points.front().time;
+  const double between =
+      motion.points[second.begin].time - motion.points[first.end - 1].time - 12.0;
+  const double after = motion.points.back().time - motion.points[second.end - 1].time - 12.0;
+  EXPECT_GT(before, 0.0);
+  EXPECT_GT(between, 0.0);
+  EXPECT_GT(after, 0.0);
+  EXPECT_EQ(motion.points.front().kind, MoveKind::Home);
+  EXPECT_EQ(motion.points.back().kind, MoveKind::Home);
   EXPECT_NEAR(motion.total.dwellTime, 2 * (2.0 + 10.0), 1e-12);
   EXPECT_NEAR(motion.total.arcTime, 20 * 0.2, 1e-9);
-  EXPECT_NEAR(motion.total.travelTime, travel, 1e-9);
-  // the total is the last point's time plus the dwell after it
-  EXPECT_NEAR(motion.total.totalTime, motion.points.back().time + 12.0, 1e-9);
+  EXPECT_NEAR(motion.total.travelTime, before + between + after, 1e-9);
+  // the total is the last point's time (the home pose: the dwells come before it)
+  EXPECT_NEAR(motion.total.totalTime, motion.points.back().time, 1e-9);
   EXPECT_NEAR(motion.total.totalTime,
               motion.total.arcTime + motion.total.travelTime + motion.total.dwellTime, 1e-9);
 }
@@ -69,10 +83,13 @@ TEST(Timing, SlowAxisReducesTheWeldSpeedAndIsNamed) {
   Cell cell = defaultCell();
   const Plan plan = straightPlan(11);
   MotionPlan motion = planMotion(plan, cell);
-  // turn the table 40 deg per weld move on points 3..6: at 8 mm/s a 1 mm move takes 0.125 s,
-  // the rotation needs 40 deg / maxSpeed
-  for (std::size_t i = 3; i <= 6; ++i) motion.points[i].a2 += 40.0 * kDeg * (i - 2.0);
-  for (std::size_t i = 7; i < 11; ++i) motion.points[i].a2 += 160.0 * kDeg;
+  // turn the table 40 deg per weld move on path points 3..6: at 8 mm/s a 1 mm move takes
+  // 0.125 s, the rotation needs 40 deg / maxSpeed (at(i): path 0's point i)
+  const std::size_t b = motion.paths[0].begin;
+  ASSERT_EQ(motion.paths[0].end - b, 11u);
+  const auto at = [&](std::size_t i) -> MotionPoint& { return motion.points[b + i]; };
+  for (std::size_t i = 3; i <= 6; ++i) at(i).a2 += 40.0 * kDeg * (i - 2.0);
+  for (std::size_t i = 7; i < 11; ++i) at(i).a2 += 160.0 * kDeg;
   parameteriseTime(motion, cell);
   const double vmax = cell.positioner.rotation.limit.maxSpeed;
   const double expected = 1.0 / (40.0 * kDeg / vmax);
@@ -87,8 +104,8 @@ TEST(Timing, SlowAxisReducesTheWeldSpeedAndIsNamed) {
   EXPECT_EQ(r.axis, "positioner rotation (a2)");
   for (std::size_t i = 1; i < 11; ++i) {
     const bool reduced = i >= 3 && i <= 6;
-    EXPECT_EQ((motion.points[i].flags & kMotionSpeedReduced) != 0, reduced) << i;
-    EXPECT_NEAR(motion.points[i].speed, reduced ? expected : cell.process.weldSpeed, 1e-9);
+    EXPECT_EQ((at(i).flags & kMotionSpeedReduced) != 0, reduced) << i;
+    EXPECT_NEAR(at(i).speed, reduced ? expected : cell.process.weldSpeed, 1e-9);
   }
   ASSERT_FALSE(motion.warnings.empty());
   EXPECT_NE(motion.warnings.back().find("1 stretch(es), 4 weld move(s)"), std::string::npos)
@@ -96,7 +113,7 @@ TEST(Timing, SlowAxisReducesTheWeldSpeedAndIsNamed) {
   // without axis limits: nominal speeds
   parameteriseTime(motion, cell, TimingOptions{false});
   EXPECT_TRUE(motion.speedReductions.empty());
-  EXPECT_NEAR(motion.points[10].time - motion.points[0].time, 10 / cell.process.weldSpeed, 1e-9);
+  EXPECT_NEAR(at(10).time - at(0).time, 10 / cell.process.weldSpeed, 1e-9);
 }
 
 TEST(Timing, OptionOffKeepsNominalTimes) {
@@ -219,15 +236,18 @@ void expectCellCanRunIt(const MotionPlan& motion, const Cell& cell, const Motion
       if (++stepFailures <= 5) ADD_FAILURE() << "a2 step at point " << i;
     }
   }
-  for (const MotionPoint& m : motion.points) {
-    // V turned by the positioner's forward kinematics against gravity
-    const Vec3 v = computePartInWorld(cell.positioner, m.a1, m.a2).linear() * m.deposition;
-    const double toGravity = std::acos(std::clamp(v.dot(cell.gravity.normalized()), -1.0, 1.0));
-    const Vec3 axis = (computePartInWorld(cell.positioner, 0, 0).linear().transpose() *
-                       cell.positioner.base.linear() * cell.positioner.rotationAxisDirection);
-    const double toAxis = std::acos(std::min(1.0, std::abs(axis.normalized().dot(m.deposition))));
-    if (toAxis >= motion.nearSingularBand && toGravity > 3.0 * kDeg + 1e-9) {
-      if (++residualFailures <= 5) ADD_FAILURE() << "V " << toGravity / kDeg << " deg off";
+  for (const MotionPathSpan& span : motion.paths) {
+    for (std::size_t k = span.begin; k < span.end; ++k) {
+      // the weld points: V turned by the positioner's forward kinematics against gravity
+      const MotionPoint& m = motion.points[k];
+      const Vec3 v = computePartInWorld(cell.positioner, m.a1, m.a2).linear() * m.deposition;
+      const double toGravity = std::acos(std::clamp(v.dot(cell.gravity.normalized()), -1.0, 1.0));
+      const Vec3 axis = (computePartInWorld(cell.positioner, 0, 0).linear().transpose() *
+                         cell.positioner.base.linear() * cell.positioner.rotationAxisDirection);
+      const double toAxis = std::acos(std::min(1.0, std::abs(axis.normalized().dot(m.deposition))));
+      if (toAxis >= motion.nearSingularBand && toGravity > 3.0 * kDeg + 1e-9) {
+        if (++residualFailures <= 5) ADD_FAILURE() << "V " << toGravity / kDeg << " deg off";
+      }
     }
   }
   for (const MotionPathSpan& span : motion.paths) {
