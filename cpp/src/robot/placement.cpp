@@ -110,13 +110,13 @@ Vec3 startDirection(const Plan& plan) {
   return Vec3::Zero();
 }
 
-/// Rest, first step: a part whose first layer is deposited more than 45° away from straight
+/// Rest, first step: a part whose first layer is deposited more than 30° away from straight
 /// down onto the table (its start surface faces sideways: the torch would lie across the table) (a
 /// start surface on the part's side or tilted) is turned by the smallest rotation that makes it so
 /// — the start surface faces the table, as the substrate does — and its points are centred on the
 /// rotation axis. Returns the note, or "".
 std::string faceStartSurfaceDown(const Plan& plan, Pose& tableToPart) {
-  constexpr double kStartTilt = 45.0 * 3.14159265358979323846 / 180.0;
+  constexpr double kStartTilt = 30.0 * 3.14159265358979323846 / 180.0;
   const Vec3 v = startDirection(plan);
   if (v.isZero()) return "";
   const Vec3 down = -Vec3::UnitZ();
