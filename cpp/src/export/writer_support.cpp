@@ -57,7 +57,7 @@ double jointSpeedPercent(const MotionPlan& motion, const Cell& cell, std::size_t
   if (i == 0) return kUnplannedJointSpeedPercent;
   const MotionPoint& from = motion.points[i - 1];
   const MotionPoint& to = motion.points[i];
-  const double duration = to.time - from.time - dwellAfter(motion, cell, i - 1);
+  const double duration = to.time - from.time - pathEndDwell(motion, cell, i - 1);
   if (!(duration > 0.0)) return kUnplannedJointSpeedPercent;
   double fraction = 0.0;  // of the maximum speed, the fastest axis
   for (int j = 0; j < 6; ++j) {

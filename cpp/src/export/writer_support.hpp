@@ -65,21 +65,41 @@ inline void requirePoints(const MotionPlan& motion, std::string_view format) {
   }
 }
 
-/// True if, after point i, a layer ends (i is a path end and the next point, if any, lies in
-/// another layer).
+/// True if point i is a path end and the path is its layer's last: the next weld point (the next
+/// MoveKind::Path point, past the retract / travel / approach / home points), if any, lies in
+/// another layer. Cost: the arc-off points after i.
 inline bool endsLayer(const MotionPlan& motion, std::size_t i) {
   const auto& p = motion.points[i];
-  return p.pathEnd && (i + 1 == motion.points.size() || motion.points[i + 1].layer != p.layer);
+  if (!p.pathEnd) return false;
+  for (std::size_t k = i + 1; k < motion.points.size(); ++k) {
+    if (motion.points[k].kind == MoveKind::Path) return motion.points[k].layer != p.layer;
+  }
+  return true;
 }
 
-/// Dwell (s) after point i: the path dwell after every path end plus the layer dwell after the
-/// last path of a layer.
-inline double dwellAfter(const MotionPlan& motion, const Cell& cell, std::size_t i) {
-  const auto& p = motion.points[i];
-  if (!p.pathEnd) return 0.0;
+/// Dwell (s) that belongs to point i's path end: the path dwell plus, after the last path of a
+/// layer, the layer dwell; 0 if i is no path end.
+inline double pathEndDwell(const MotionPlan& motion, const Cell& cell, std::size_t i) {
+  if (!motion.points[i].pathEnd) return 0.0;
   double dwell = cell.process.pathDwell;
   if (endsLayer(motion, i)) dwell += cell.process.layerDwell;
   return dwell;
+}
+
+/// Dwell (s) the program waits after point i: a path end's dwell (pathEndDwell) is waited with
+/// the torch lifted off the part, i.e. after the retract that follows the path end, or after the
+/// path end itself where no retract follows (a motion without travel moves).
+inline double dwellAfter(const MotionPlan& motion, const Cell& cell, std::size_t i) {
+  const auto& p = motion.points[i];
+  if (p.pathEnd) {
+    const bool retractFollows =
+        i + 1 < motion.points.size() && motion.points[i + 1].kind == MoveKind::Retract;
+    return retractFollows ? 0.0 : pathEndDwell(motion, cell, i);
+  }
+  if (p.kind == MoveKind::Retract && i > 0 && motion.points[i - 1].pathEnd) {
+    return pathEndDwell(motion, cell, i - 1);
+  }
+  return 0.0;
 }
 
 /// Reports progress every 4096 points (and cancels through Progress).
@@ -143,7 +163,8 @@ inline bool isJointMove(const MotionPlan& motion, std::size_t i) {
 }
 
 /// Joint speed (percent) of the joint move arriving at point i: the slowest that still takes no
-/// longer than the planned duration (MotionPoint::time difference minus the dwell in between),
+/// longer than the planned duration (MotionPoint::time difference minus the dwell the time
+/// parameterisation counts in between: robot/timing.hpp counts a path's dwell at its path end),
 /// i.e. 100 · max over the 6 robot joints and both positioner axes of |Δq| / (duration · max
 /// speed), rounded up to 0.01 % and kept within [1, 100]; kUnplannedJointSpeedPercent for the
 /// first move and where the plan has no positive duration (times not parameterised).

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -127,6 +128,53 @@ TEST(ArcOffMoves, GcodeRapidsHomeAndFeedsTheRest) {
   }
   EXPECT_EQ(move, motion.points.size());
   EXPECT_FALSE(arc);
+}
+
+/// The G-code waits (G4 P seconds) as (index of the G0/G1 move after which it waits, seconds).
+std::vector<std::pair<std::size_t, double>> gcodeDwells(const std::string& text) {
+  bool lf = false;
+  std::vector<std::pair<std::size_t, double>> dwells;
+  std::size_t moves = 0;
+  for (const std::string& line : splitLines(text, true, &lf)) {
+    if (startsWith(line, "G0 ") || startsWith(line, "G1 ")) ++moves;
+    if (!startsWith(line, "G4 P")) continue;
+    EXPECT_GT(moves, 0u) << "a wait before any move: " << line;
+    dwells.emplace_back(moves == 0 ? 0 : moves - 1, strictDouble(line.substr(4), line));
+  }
+  return dwells;
+}
+
+TEST(ArcOffMoves, DwellsWaitAfterTheRetractWithTheTorchOffThePartInEveryFormat) {
+  Cell cell = defaultCell();
+  cell.process.pathDwell = 2.0;
+  ASSERT_GT(cell.process.layerDwell, 0.0);
+  const MotionPlan motion = planMotion(makeSmallPlan(), cell);  // 2 layers of 2 paths
+  // Each path's dwell after the retract that follows its end; the layer dwell added after a
+  // layer's last path (the next weld lies in the next layer, or none follows).
+  std::vector<std::pair<std::size_t, double>> expected;
+  for (std::size_t s = 0; s < motion.paths.size(); ++s) {
+    const MotionPathSpan& span = motion.paths[s];
+    ASSERT_LT(span.end, motion.points.size());
+    ASSERT_EQ(motion.points[span.end].kind, MoveKind::Retract) << "path " << s;
+    const bool lastOfLayer =
+        s + 1 == motion.paths.size() || motion.paths[s + 1].layer != span.layer;
+    expected.emplace_back(span.end,
+                          cell.process.pathDwell + (lastOfLayer ? cell.process.layerDwell : 0.0));
+  }
+  ASSERT_EQ(expected.size(), 4u);
+  const auto expectDwells = [&](const std::vector<std::pair<std::size_t, double>>& dwells,
+                                const std::string& format) {
+    ASSERT_EQ(dwells.size(), expected.size()) << format;
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+      EXPECT_EQ(dwells[k].first, expected[k].first) << format << " dwell " << k;
+      EXPECT_NEAR(dwells[k].second, expected[k].second, 1e-9) << format << " dwell " << k;
+    }
+  };
+  for (ExportFormat format : kRobotFormats) {
+    expectDwells(exportAndRead(motion, cell, format).dwells, std::string(toString(format)));
+  }
+  expectDwells(gcodeDwells(exportProgram(motion, cell, ExportFormat::Gcode).files[0].text),
+               "gcode");
 }
 
 TEST(ArcOffMoves, NeutralFilesNameEveryPointsKindAndTime) {

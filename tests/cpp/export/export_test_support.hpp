@@ -231,6 +231,17 @@ inline Vec3 partPointFromRobotBase(const Cell& cell, const Pose& tcpInBase, doub
   return computePartInWorld(cell.positioner, a1, a2).inverse() * world.translation();
 }
 
+/// Part-frame position of the TCP from robot joint angles in controller degrees (a joint target:
+/// the home pose) through forward kinematics, and the positioner angles.
+inline Vec3 partPointFromJointDegrees(const Cell& cell, const std::vector<double>& degrees,
+                                      double a1, double a2) {
+  EXPECT_EQ(degrees.size(), 6u) << "a joint target states six robot joints";
+  JointVector joints{};
+  for (std::size_t j = 0; j < 6 && j < degrees.size(); ++j) joints[j] = degrees[j] * kDegT;
+  const Pose tcpInBase = computeFlangePose(cell.robot, joints) * cell.tool.tcp;
+  return partPointFromRobotBase(cell, tcpInBase, a1, a2);
+}
+
 inline Vec3 partPointFromTable(const Cell& cell, const Pose& tcpInTable, double a1, double a2) {
   const Pose world = computeTableInWorld(cell.positioner, a1, a2) * tcpInTable;
   return computePartInWorld(cell.positioner, a1, a2).inverse() * world.translation();

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -44,12 +45,19 @@ TEST(GcodeWriter, TcpModeStatesPartPointsAndTableAngles) {
   const Cell cell = defaultCell();
   const Plan plan = makeConePlan(3, 24);
   const MotionPlan motion = planMotion(plan, cell);
-  const ExportResult result = GcodeWriter().write(motion, cell, {}, {});
+  // the writer gets the cell the motion was planned in (the part where the placement put it)
+  const ExportResult result = GcodeWriter().write(motion, placedCell(cell, motion), {}, {});
   EXPECT_EQ(result.files[0].name, "WAAM.ngc");
   const std::string& text = result.files[0].text;
   EXPECT_NE(text.find("; mode: tcp"), std::string::npos);
   EXPECT_NE(text.find("; axes: A = tilt a1, sign 1; C = rotation a2, sign 1"), std::string::npos);
   EXPECT_NE(text.find("; pivot: tilt axis point 0.000 0.000 380.000 mm"), std::string::npos);
+  const std::size_t tableToPart = text.find("; table to part: translation ");
+  ASSERT_NE(tableToPart, std::string::npos);
+  std::istringstream placement(text.substr(tableToPart + 29));
+  Vec3 t;
+  placement >> t.x() >> t.y() >> t.z();
+  EXPECT_LT((t - motion.tableToPart.translation()).norm(), 0.001) << "the placement used";
   std::size_t on = 0, off = 0;
   const auto moves = parseGcode(text, &on, &off);
   ASSERT_EQ(moves.size(), motion.points.size());
@@ -57,7 +65,13 @@ TEST(GcodeWriter, TcpModeStatesPartPointsAndTableAngles) {
     EXPECT_LT((moves[i].xyz - motion.points[i].position).norm(), 0.001);
     EXPECT_NEAR(moves[i].a * kDegT, motion.points[i].a1, 1e-6);
     EXPECT_NEAR(moves[i].c * kDegT, motion.points[i].a2, 1e-6);
-    if (i > 0) {
+    // rapid (G0, no feed) to the first point and the home pose; every other move feeds at its
+    // planned speed
+    const bool rapid = i == 0 || motion.points[i].kind == MoveKind::Home;
+    EXPECT_EQ(moves[i].line.rfind(rapid ? "G0 " : "G1 ", 0), 0u) << moves[i].line;
+    if (rapid) {
+      EXPECT_EQ(moves[i].line.find(" F"), std::string::npos) << moves[i].line;
+    } else {
       EXPECT_NEAR(valueAfter(moves[i].line, " F"), motion.points[i].speed * 60.0, 0.05);
     }
   }
@@ -70,6 +84,7 @@ TEST(GcodeWriter, MachineModeInvertsThroughTheTableKinematics) {
   cell.positioner.tilt.sign = -1;  // the header records it and the angles follow it
   cell.positioner.tableToPart = makePose(Vec3(5, -3, 20), Vec3(0, 0, 0.3));
   const MotionPlan motion = planMotion(makeConePlan(2, 24), cell);
+  cell = placedCell(cell, motion);  // the cell the motion was planned in
   ExportOptions options;
   options.gcodeMode = GcodeMode::Machine;
   const std::string text = GcodeWriter().write(motion, cell, options, {}).files[0].text;

@@ -17,7 +17,9 @@ using namespace testing;
 
 struct KrlMove {
   std::string line;
-  Pose tcp;
+  bool jointTarget = false;    ///< an E6AXIS (the home pose): A1..A6 in `joints`
+  Pose tcp;                    ///< an E6POS: the TCP pose it states
+  std::vector<double> joints;  ///< deg
   double e1 = 0.0, e2 = 0.0;
 };
 
@@ -27,15 +29,33 @@ std::vector<KrlMove> parseKrlMoves(const std::string& text, bool crlf, bool* end
     if (line.rfind("PTP {", 0) != 0 && line.rfind("LIN {", 0) != 0) continue;
     KrlMove m;
     m.line = line;
-    // A about z (yaw), B about y (pitch), C about x (roll).
-    m.tcp =
-        poseFromXyzRpy(valueAfter(line, "{X "), valueAfter(line, ",Y "), valueAfter(line, ",Z "),
-                       valueAfter(line, ",C "), valueAfter(line, ",B "), valueAfter(line, ",A "));
+    m.jointTarget = line.find("{A1 ") != std::string::npos;
+    if (m.jointTarget) {
+      EXPECT_EQ(line.rfind("PTP ", 0), 0u) << "a joint target is a PTP: " << line;
+      for (const char* key : {"{A1 ", ",A2 ", ",A3 ", ",A4 ", ",A5 ", ",A6 "}) {
+        m.joints.push_back(valueAfter(line, key));
+      }
+    } else {
+      // A about z (yaw), B about y (pitch), C about x (roll).
+      m.tcp =
+          poseFromXyzRpy(valueAfter(line, "{X "), valueAfter(line, ",Y "), valueAfter(line, ",Z "),
+                         valueAfter(line, ",C "), valueAfter(line, ",B "), valueAfter(line, ",A "));
+      EXPECT_NE(line.find(",S "), std::string::npos) << line;
+      EXPECT_NE(line.find(",T "), std::string::npos) << line;
+    }
     m.e1 = valueAfter(line, ",E1 ");
     m.e2 = valueAfter(line, ",E2 ");
     moves.push_back(m);
   }
   return moves;
+}
+
+/// Part-frame point a move states: an E6POS through the table (coordinated) or world frame, an
+/// E6AXIS through forward kinematics.
+Vec3 partPointOf(const KrlMove& m, const Cell& cell, bool coordinated, double a1, double a2) {
+  if (m.jointTarget) return partPointFromJointDegrees(cell, m.joints, a1, a2);
+  return coordinated ? partPointFromTable(cell, m.tcp, a1, a2)
+                     : partPointFromWorld(cell, m.tcp.translation(), a1, a2);
 }
 
 TEST(KrlWriter, PositionsAndExternalAxesLandOnThePlannedPath) {
@@ -53,17 +73,18 @@ TEST(KrlWriter, PositionsAndExternalAxesLandOnThePlannedPath) {
   EXPECT_TRUE(lfOk);
   ASSERT_EQ(moves.size(), motion.points.size());
   EXPECT_EQ(moves[0].line.rfind("PTP ", 0), 0u) << "first motion must be PTP";
-  EXPECT_NE(moves[0].line.find(",S "), std::string::npos);
-  EXPECT_NE(moves[0].line.find(",T "), std::string::npos);
   for (std::size_t i = 0; i < moves.size(); ++i) {
     const double a1 = cell.positioner.tilt.sign * moves[i].e1 * kDegT;
     const double a2 = cell.positioner.rotation.sign * moves[i].e2 * kDegT;
     EXPECT_NEAR(a1, motion.points[i].a1, 1e-6);
     EXPECT_NEAR(a2, motion.points[i].a2, 1e-6);
-    const Vec3 p = partPointFromTable(placedCell(cell, motion), moves[i].tcp, a1, a2);
+    const Vec3 p = partPointOf(moves[i], placedCell(cell, motion), true, a1, a2);
     EXPECT_LT((p - motion.points[i].position).norm(), 0.01) << moves[i].line;
-    if (i > 0) {
-      EXPECT_EQ(moves[i].line.rfind("LIN ", 0), 0u);
+    // the home pose as a joint target (PTP E6AXIS), every other move linear
+    const bool home = motion.points[i].kind == MoveKind::Home;
+    EXPECT_EQ(moves[i].jointTarget, home) << moves[i].line;
+    if (i > 0 && !home) {
+      EXPECT_EQ(moves[i].line.rfind("LIN ", 0), 0u) << moves[i].line;
     }
   }
   EXPECT_NE(text.find("$BASE=EK(MACHINE_DEF[2].ROOT,MACHINE_DEF[2].MECH_TYPE,BASE_DATA[1])"),
@@ -100,8 +121,8 @@ TEST(KrlWriter, WorldPositionsWithoutCoordination) {
   ASSERT_EQ(moves.size(), motion.points.size());
   for (std::size_t i = 0; i < moves.size(); ++i) {
     const double a1 = moves[i].e1 * kDegT, a2 = moves[i].e2 * kDegT;
-    const Vec3 p = partPointFromWorld(placedCell(cell, motion), moves[i].tcp.translation(), a1, a2);
-    EXPECT_LT((p - motion.points[i].position).norm(), 0.01);
+    const Vec3 p = partPointOf(moves[i], placedCell(cell, motion), false, a1, a2);
+    EXPECT_LT((p - motion.points[i].position).norm(), 0.01) << moves[i].line;
   }
   EXPECT_THROW(KrlWriter().write(MotionPlan{}, cell, {}, {}), InvalidInput);
 }

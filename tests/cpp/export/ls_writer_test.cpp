@@ -50,9 +50,11 @@ TEST(LsWriter, PositionsOfBothGroupsLandOnThePlannedPath) {
       EXPECT_EQ(n, ++numbered);
       if (line.find(" L P[") != std::string::npos || line.find(" J P[") != std::string::npos) {
         ++moves;
-        const bool first = moves == 1;
-        EXPECT_EQ(line.find(" J P[") != std::string::npos, first) << line;
-        if (!first) {
+        ASSERT_LE(moves, motion.points.size()) << line;
+        // joint moves: the first (from an unknown pose) and every move to the home pose
+        const bool joint = moves == 1 || motion.points[moves - 1].kind == MoveKind::Home;
+        EXPECT_EQ(line.find(" J P[") != std::string::npos, joint) << line;
+        if (!joint) {
           EXPECT_NE(line.find(" COORD ;"), std::string::npos) << line;
         }
         EXPECT_NE(line.find("P[" + std::to_string(moves) + "]"), std::string::npos);
@@ -72,12 +74,28 @@ TEST(LsWriter, PositionsOfBothGroupsLandOnThePlannedPath) {
   for (std::size_t i = 0; i < blocks.size(); ++i) {
     const std::string& b = blocks[i];
     EXPECT_EQ(b.rfind("P[" + std::to_string(i + 1) + "]{", 0), 0u);
-    const Pose tcp =
-        poseFromXyzRpy(valueAfter(b, "X = "), valueAfter(b, "Y = "), valueAfter(b, "Z = "),
-                       valueAfter(b, "W = "), valueAfter(b, "P = "), valueAfter(b, "R = "));
-    const double a1 = valueAfter(b, "J1 = ") * kDegT, a2 = valueAfter(b, "J2 = ") * kDegT;
+    const std::size_t gp2 = b.find("GP2:");
+    ASSERT_NE(gp2, std::string::npos) << b;
+    const std::string robot = b.substr(0, gp2), station = b.substr(gp2);
+    const double a1 = valueAfter(station, "J1 = ") * kDegT;
+    const double a2 = valueAfter(station, "J2 = ") * kDegT;
+    EXPECT_NEAR(a1, motion.points[i].a1, 1e-6);
     EXPECT_NEAR(a2, motion.points[i].a2, 1e-6);
-    const Vec3 p = partPointFromTable(placedCell(cell, motion), tcp, a1, a2);
+    Vec3 p;
+    if (motion.points[i].kind == MoveKind::Home) {
+      // the home pose in joint representation, through forward kinematics
+      EXPECT_EQ(robot.find("X = "), std::string::npos) << b;
+      std::vector<double> joints;
+      for (const char* key : {"J1 = ", "J2 = ", "J3 = ", "J4 = ", "J5 = ", "J6 = "}) {
+        joints.push_back(valueAfter(robot, key));
+      }
+      p = partPointFromJointDegrees(placedCell(cell, motion), joints, a1, a2);
+    } else {
+      const Pose tcp = poseFromXyzRpy(valueAfter(robot, "X = "), valueAfter(robot, "Y = "),
+                                      valueAfter(robot, "Z = "), valueAfter(robot, "W = "),
+                                      valueAfter(robot, "P = "), valueAfter(robot, "R = "));
+      p = partPointFromTable(placedCell(cell, motion), tcp, a1, a2);
+    }
     EXPECT_LT((p - motion.points[i].position).norm(), 0.01) << b;
   }
   EXPECT_THROW(LsWriter().write(MotionPlan{}, cell, {}, {}), InvalidInput);

@@ -42,12 +42,13 @@ struct ProgramMove {
   std::string line;
 };
 
-/// A program as its reader saw it: the moves in execution order and the welds as [first, last]
+/// A program as its reader saw it: the moves in execution order, the welds as [first, last]
 /// move indices (the move onto the path start, after which the arc goes on, to the move after
-/// which it goes off).
+/// which it goes off) and the dwells as (index of the move after which it waits, seconds).
 struct ReadProgram {
   std::vector<ProgramMove> moves;
   std::vector<std::pair<std::size_t, std::size_t>> welds;
+  std::vector<std::pair<std::size_t, double>> dwells;
 };
 
 /// Records "arc on after the last move" / "arc off after the last move".
@@ -102,6 +103,13 @@ inline double strictDouble(const std::string& text, const std::string& line) {
   return value;
 }
 
+/// Records a wait of `seconds` (the text of the number) after the last move.
+inline void recordDwell(ReadProgram& program, const std::string& seconds, const std::string& line) {
+  EXPECT_FALSE(program.moves.empty()) << "a wait before any move: " << line;
+  program.dwells.emplace_back(program.moves.empty() ? 0 : program.moves.size() - 1,
+                              strictDouble(seconds, line));
+}
+
 // ---- JBI (Yaskawa INFORM) ---------------------------------------------------------------------
 
 /// RCONF l,m,n,o,p,q,…: flip, elbow down, back, R (J4) ≥ 180°, T (J6) ≥ 180°, S (J1) ≥ 180°.
@@ -141,7 +149,11 @@ inline ReadProgram readJbiProgram(const ExportResult& result, const Cell& cell) 
     EXPECT_TRUE(jobs.count(name)) << "called job missing: " << name;
     const JbiJob& job = jobs[name];
     for (const std::string& line : job.instructions) {
-      if (line == "NOP" || line == "END" || startsWith(line, "TIMER T=")) continue;
+      if (line == "NOP" || line == "END") continue;
+      if (startsWith(line, "TIMER T=")) {
+        recordDwell(program, line.substr(8), line);
+        continue;
+      }
       if (startsWith(line, "ARCON")) {
         welds.on(program, line);
         continue;
@@ -235,7 +247,11 @@ inline ReadProgram readKrlProgram(const std::string& text) {
     if (startsWith(line, "&") || startsWith(line, "DEF ") || startsWith(line, ";") ||
         startsWith(line, "$TOOL=") || startsWith(line, "$BASE=") ||
         startsWith(line, "$ACT_EX_AX=") || startsWith(line, "$VEL_AXIS[") ||
-        startsWith(line, "$VEL_EXTAX[") || startsWith(line, "WAIT SEC ") || line == "END") {
+        startsWith(line, "$VEL_EXTAX[") || line == "END") {
+      continue;
+    }
+    if (startsWith(line, "WAIT SEC ")) {
+      recordDwell(program, line.substr(9), line);
       continue;
     }
     if (startsWith(line, "$VEL.CP=")) {
@@ -340,7 +356,11 @@ inline ReadProgram readRapidProgram(const std::string& text) {
     if (startsWith(line, "MODULE ") || startsWith(line, "!") || startsWith(line, "TASK PERS ") ||
         line == "PROC main()" || line == "ConfJ \\On;" || line == "ConfL \\Off;" ||
         line == "ActUnit STN1;" || line == "DeactUnit STN1;" || line == "ENDPROC" ||
-        line == "ENDMODULE" || startsWith(line, "WaitTime ")) {
+        line == "ENDMODULE") {
+      continue;
+    }
+    if (startsWith(line, "WaitTime ") && line.back() == ';') {
+      recordDwell(program, line.substr(9, line.size() - 10), line);
       continue;
     }
     if (startsWith(line, "SetDO ")) {
@@ -467,7 +487,9 @@ inline ReadProgram readLsProgram(const std::string& text) {
       } else if (startsWith(body, "Arc End[")) {
         welds.off(program, line);
         continue;
-      } else if (startsWith(body, "WAIT ")) {
+      } else if (startsWith(body, "WAIT ") && body.size() > 12 &&
+                 body.compare(body.size() - 7, 7, "(sec) ;") == 0) {
+        recordDwell(program, body.substr(5, body.size() - 12), line);
         continue;
       } else {
         ADD_FAILURE() << "unknown /MN line: " << line;
