@@ -163,13 +163,17 @@ class TestPoses(PathTestCase):
         self.assertGreater(count, 50)
         motion = api.motion(job)
         part = [o for o in job.PosesGroup.Group if getattr(o, "PoseRole", "") == "PosePart"][0]
-        for index in (0, count // 3, count // 2, count - 1):
+        # weld points (kind 0 = path; the program starts and ends at the cell's home pose)
+        welds = [i for i in range(count) if int(motion["kind"][i]) == 0]
+        self.assertEqual(int(motion["kind"][0]), 4)  # home
+        for index in (welds[0], welds[len(welds) // 3], welds[len(welds) // 2], welds[-1]):
             a1, a2 = api.set_pose(job, index)
             self.assertAlmostEqual(a1, math.degrees(motion["a1"][index]), places=9)
             self.assertAlmostEqual(a2, math.degrees(motion["a2"][index]), places=9)
             v = FreeCAD.Vector(*motion["deposition"][index].tolist())
             turned = part.Placement.Rotation.multVec(v)
-            self.assertLess(turned.getAngle(FreeCAD.Vector(0, 0, -1)), 1e-6)
+            # on gravity within the 3 degrees the smooth positioner may leave (issue 14)
+            self.assertLess(turned.getAngle(FreeCAD.Vector(0, 0, -1)), math.radians(3.0) + 1e-9)
             self.assertLess((job.PoseDeposition - turned).Length, 1e-9)
             # The deposited direction is not vertical in the part frame: the tilt does the work.
             self.assertGreater(abs(a1), 20.0)
