@@ -83,8 +83,8 @@ TorchChecker::TorchChecker(const Cell& cell, const CollisionGeometry& geometry,
     fcl_->sections.push_back(
         std::make_shared<fcl::Capsuled>(section.radius, section.to - section.from));
   }
-  fcl_->table = std::make_shared<fcl::Cylinderd>(geometry.table.tableRadius,
-                                                 geometry.table.tableThickness);
+  fcl_->table =
+      std::make_shared<fcl::Cylinderd>(geometry.table.tableRadius, geometry.table.tableThickness);
   // the table disc in the table frame: top face at z = 0, centred on the rotation axis
   fcl::Transform3d tableInTable = fcl::Transform3d::Identity();
   tableInTable.translation() = Vec3(0.0, 0.0, -0.5 * geometry.table.tableThickness);
@@ -310,8 +310,7 @@ void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const Collision
         "over twice its widest radius): stick-out " +
         fmt(torch.stickout) + ", radius " + fmt(torch.radius) + " to " + fmt(torch.topRadius) +
         ", length " + fmt(torch.length) + ", table " + fmt(geometry.table.tableRadius) + " x " +
-        fmt(geometry.table.tableThickness) +
-        ", bead radius " + fmt(beadRadius) +
+        fmt(geometry.table.tableThickness) + ", bead radius " + fmt(beadRadius) +
         " mm; fix the cell's tool envelope / positioner geometry");
   }
   // a re-check (another envelope) replaces the verdicts of an earlier one, flags included

@@ -12,8 +12,8 @@
 #include "curvedslicer/robot/positioner.hpp"
 #include "curvedslicer/robot/robot_kinematics.hpp"
 #include "curvedslicer/robot/timing.hpp"
-#include "positioner_path.hpp"
 #include "curvedslicer/robot/travel.hpp"
+#include "positioner_path.hpp"
 
 namespace curvedslicer {
 

@@ -196,8 +196,8 @@ struct EnvelopeCapsule {
 std::vector<EnvelopeCapsule> envelopeCapsules(const TorchEnvelope& torch) {
   std::vector<EnvelopeCapsule> out;
   for (int k = 0; k < 4; ++k) {
-    const double r = torch.radius + (torch.topRadius - torch.radius) * (k + (torch.topRadius >
-                                                                             torch.radius)) / 4.0;
+    const double r = torch.radius + (torch.topRadius - torch.radius) *
+                                        (k + (torch.topRadius > torch.radius)) / 4.0;
     const double h0 = torch.stickout + torch.length * k / 4.0;
     const double h1 = torch.stickout + torch.length * (k + 1) / 4.0;
     out.push_back({k == 0 ? h0 + r : h0, k == 3 ? h1 - r : h1, r});

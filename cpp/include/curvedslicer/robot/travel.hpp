@@ -33,8 +33,8 @@ namespace curvedslicer {
 struct TravelSetup {
   HomePose home;               ///< cell.home
   CollisionGeometry geometry;  ///< collisionGeometryOf(cell)
-  double maxLift = 300.0;  ///< mm, highest lift of a route (and retract/approach) above the
-                           ///< clearance height before giving up (the collision check reports)
+  double maxLift = 300.0;      ///< mm, highest lift of a route (and retract/approach) above the
+                               ///< clearance height before giving up (the collision check reports)
 };
 
 /// The cell's home pose and collision geometry, the default maximum lift.
