@@ -477,9 +477,10 @@ void RobotKinematicsPass::setConfiguration(MotionPathSpan& span) {
       if (m.joints[j] < quadrantLow - kConfigurationTolerance ||
           m.joints[j] > quadrantLow + kPi / 2 + kConfigurationTolerance) {
         warnings_.add("joint " + std::to_string(j + 1) +
-                          " really passes a multiple of 90 deg within a weld (the weld's "
-                          "configuration keeps the quadrant of the middle of its range; ABB cf / "
-                          "KUKA sign bits of these points differ from it)",
+                          " passes a multiple of 90 deg within welds (a real motion, not rounding: "
+                          "the programs state one configuration per weld, the quadrant of the "
+                          "middle of its range, and run linear moves without configuration "
+                          "monitoring: RAPID ConfL\\Off, KRL S/T on PTP only)",
                       pointName(m));
       }
     }

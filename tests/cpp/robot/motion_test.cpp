@@ -1,6 +1,7 @@
 // Motion planning: positioner angles along paths (singular zone, branches, limits, unwrapping,
 // smoothing), world poses and robot joints, unreachable points, estimates, cancellation.
 #include "curvedslicer/robot/motion.hpp"
+#include "curvedslicer/robot/placement.hpp"
 
 #include <gtest/gtest.h>
 
@@ -151,6 +152,8 @@ TEST(Motion, BranchPreferenceAtTheFirstPoint) {
   const Cell cell = defaultCell();
   const Plan plan = linePlan({Vec3(0, 0.5, -0.8), Vec3(0, 0.5, -0.8)});
   MotionOptions options;
+  // the part as the cell places it: rest would turn a start this far from down onto the table
+  options.placement = PartPlacement::Cell;
   options.preferPositiveTilt = true;
   const MotionPlan positive = planMotion(plan, cell, options);
   options.preferPositiveTilt = false;
@@ -170,6 +173,7 @@ TEST(Motion, TiltLimitGivesBestFeasiblePoseAndWarning) {
   // the table tilted 95 deg brings its disc under the vertical torch: collisions allowed here
   MotionOptions options;
   options.allowCollisions = true;
+  options.placement = PartPlacement::Cell;  // (rest would turn the part so V points down)
   const MotionPlan motion = planMotion(linePlan({v, v, v}), cell, options);
   for (const MotionPoint& m : pathPoints(motion)) {
     EXPECT_TRUE(m.flags & kMotionTiltLimited);
@@ -192,7 +196,9 @@ TEST(Motion, RotationLimitRespected) {
   cell.positioner.rotation.limit.max = 30 * kDeg;
   // needs a2 = +-90 deg (either branch) to align exactly
   const Vec3 v(1, 0, -1);
-  const MotionPlan motion = planMotion(linePlan({v, v}), cell);
+  MotionOptions options;
+  options.placement = PartPlacement::Cell;  // (rest would turn the part so V points down)
+  const MotionPlan motion = planMotion(linePlan({v, v}), cell, options);
   for (const MotionPoint& m : pathPoints(motion)) {
     EXPECT_GE(m.a2, -30 * kDeg - 1e-12);
     EXPECT_LE(m.a2, 30 * kDeg + 1e-12);

@@ -185,7 +185,8 @@ struct MotionOptions {
   double maxA2Step = 0.0872664625997165;
   bool timeParameterise = true;  ///< respect every axis's max speed (else nominal speeds only)
   /// Where the part sits on the table (placement.hpp): Rest (default) lifts the cell's
-  /// table_to_part so the lowest bead bottom lies on the table top; Cell keeps it as given.
+  /// table_to_part so the lowest bead bottom lies on the table top (a start surface facing more
+  /// than 30° from down turned onto the table first); Cell keeps it as given.
   /// Either way a weld point below the table or outside the working volume is InvalidInput.
   PartPlacement placement = PartPlacement::Rest;
 };
