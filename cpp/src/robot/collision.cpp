@@ -2,6 +2,9 @@
 // deposit so far and the positioner table, move by move in execution order.
 #include "curvedslicer/robot/collision.hpp"
 
+// <cassert> first: FCL 0.7's convex-inl.h uses assert without including it (GCC 16, Debian sid)
+#include <cassert>
+
 #include <fcl/fcl.h>
 
 #include <algorithm>
