@@ -113,7 +113,12 @@ def run():
     os.makedirs(EXPORT, exist_ok=True)
     start_recording("session")
     doc = gui_session()
-    FreeCADGui.runCommand("Std_MacroStopRecord")
+    # FreeCAD 0.20 has Std_MacroStopRecord; from 0.22 on the recording command itself stops a
+    # running recording (the button turns into "Stop macro recording").
+    if "Std_MacroStopRecord" in FreeCADGui.listCommands():
+        FreeCADGui.runCommand("Std_MacroStopRecord")
+    else:
+        FreeCADGui.runCommand("Std_DlgMacroRecord")
     process_events()
     macro = os.path.join(MACROS, "session.FCMacro")
     check(os.path.isfile(macro), "the macro was recorded: %s" % macro)

@@ -35,7 +35,9 @@ def _differs(current, value):
 def set_view(vobj, name, value):
     """Sets a view property only when it changes: restyling a document as it was saved (after
     opening it, or after an undo) then does not mark the document modified."""
-    if name in vobj.PropertiesList and _differs(getattr(vobj, name), value):
+    # hasattr, not PropertiesList: FreeCAD 1.x lists ShapeAppearance there but still takes
+    # ShapeColor as an attribute (the layers stayed grey on 1.1 with the list test)
+    if hasattr(vobj, name) and _differs(getattr(vobj, name), value):
         setattr(vobj, name, value)
 
 
