@@ -15,9 +15,13 @@
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/robot/motion.hpp"
 #include "curvedslicer/robot/travel.hpp"
+#include "robot_test_support.hpp"
 
 namespace curvedslicer {
 namespace {
+
+using robot_test::distanceToSegment;
+using robot_test::straightPath;
 
 /// A cylinder envelope (one capsule in the check: radius 10 mm from the nozzle 15 mm above the
 /// TCP, 300 mm long) on a 250 x 40 mm table: the shape the brute-force distances below model.
@@ -30,21 +34,6 @@ CollisionGeometry capsuleGeometry() {
   g.table.tableRadius = 250.0;
   g.table.tableThickness = 40.0;
   return g;
-}
-
-/// One straight path from `a` to `b` (points 1 mm apart), V = -z, normal +z.
-PlanPath straightPath(const Vec3& a, const Vec3& b) {
-  PlanPath path;
-  const int n = std::max(2, static_cast<int>(std::ceil((b - a).norm())) + 1);
-  for (int i = 0; i < n; ++i) {
-    PathPoint p;
-    p.position = a + (b - a) * (static_cast<double>(i) / (n - 1));
-    p.normal = Vec3::UnitZ();
-    p.deposition = -Vec3::UnitZ();
-    path.points.push_back(p);
-  }
-  path.length = (b - a).norm();
-  return path;
 }
 
 /// A wall along x at y = 0, `layers` layers of 1.5 mm, then one more layer with a path at
@@ -250,12 +239,6 @@ TEST(Collision, DescribesEveryKindOfMove) {
   EXPECT_EQ(describeMove(motion, end), "retract from layer 0 path 0");
   EXPECT_EQ(describeMove(motion, motion.points.size() - 1),
             "move to the home pose after layer 1 path 0");
-}
-
-double distanceToSegment(const Vec3& x, const Vec3& a, const Vec3& b) {
-  const Vec3 d = b - a;
-  const double t = std::clamp((x - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
-  return (a + t * d - x).norm();
 }
 
 TEST(Collision, AgreesWithBruteForceOnRandomPoses) {

@@ -19,9 +19,13 @@
 #include "curvedslicer/pipeline/plan_job.hpp"
 #include "curvedslicer/robot/motion.hpp"
 #include "curvedslicer/robot/robot_kinematics.hpp"
+#include "robot_test_support.hpp"
 
 namespace curvedslicer {
 namespace {
+
+using robot_test::distanceToSegment;
+using robot_test::straightPath;
 
 // ---- plans ----------------------------------------------------------------------------------
 
@@ -72,21 +76,6 @@ Cell placedCell(const Plan& plan) {
   return cell;
 }
 
-/// One straight path from `a` to `b` (points 1 mm apart), V = -z, normal +z.
-PlanPath straightPath(const Vec3& a, const Vec3& b) {
-  PlanPath path;
-  const int n = std::max(2, static_cast<int>(std::ceil((b - a).norm())) + 1);
-  for (int i = 0; i < n; ++i) {
-    PathPoint p;
-    p.position = a + (b - a) * (static_cast<double>(i) / (n - 1));
-    p.normal = Vec3::UnitZ();
-    p.deposition = -Vec3::UnitZ();
-    path.points.push_back(p);
-  }
-  path.length = (b - a).norm();
-  return path;
-}
-
 /// A wall along x at y = 0 (`layers` layers 1.5 mm apart), then, in one more layer, a path at
 /// y = -30 and one at y = +30 on the table: the travel between them must climb over the wall.
 Plan wallPlan(int layers) {
@@ -118,14 +107,6 @@ Plan wallPlan(int layers) {
 
 bool isArcOff(const MotionPoint& m) {
   return m.kind == MoveKind::Retract || m.kind == MoveKind::Travel || m.kind == MoveKind::Approach;
-}
-
-double distanceToSegment(const Vec3& x, const Vec3& a, const Vec3& b) {
-  const Vec3 d = b - a;
-  const double len2 = d.squaredNorm();
-  double t = len2 > 0 ? (x - a).dot(d) / len2 : 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  return (a + t * d - x).norm();
 }
 
 /// The welded segments in execution order, grouped 16 at a time with a bounding sphere so the
