@@ -97,6 +97,20 @@ struct PlannerOptions {
   /// Where paths of one level come closer than 0.95·s (default: one centre bead).
   NarrowStripMode narrowStrips = NarrowStripMode::CentreBead;
   DepositionOptions deposition;
+  /// Issue 15. mm; a region (or strip) narrower than one bead but at least this wide gets a single
+  /// bead on its centre line and a note with the shortfall; narrower ones are left out and
+  /// reported with size and location; < 0 means 0.5·s.
+  double minFeatureWidth = -1.0;
+  /// Issue 15, adaptive bead width: bead widths may vary per point within
+  /// [widthMin·s, widthMax·s] (fractions of s); widthMin = widthMax = 1 is a fixed width s.
+  /// Must satisfy 0 < widthMin <= 1 <= widthMax.
+  double widthMin = 1.0;
+  double widthMax = 1.0;
+  /// Issue 15: consecutive rings of one region joined by a short step-over inside the layer into
+  /// one arc-on path (fewer arc starts).
+  bool connectInsets = true;
+  /// Issue 15: measure every layer's coverage (paths/coverage.hpp) into PlanLayer::coverage.
+  bool measureCoverage = true;
 };
 
 /// Which boundary loop of a wall surface is the edge it grows from.

@@ -30,6 +30,9 @@ struct PathPoint {
   /// already-deposited material (previous bead of the layer, previous layer, or the substrate).
   /// The positioner turns the part so that V points along gravity.
   Vec3 deposition = -Vec3::UnitZ();
+  /// Bead width at the point, mm (issue 15, adaptive bead width). 0 means the plan's bead
+  /// spacing (plans of format version 1, and every point when adaptive width is off).
+  double width = 0.0;
 };
 
 /// One weld bead.
@@ -39,6 +42,28 @@ struct PlanPath {
   bool closed = false;  ///< a ring: the last point connects back to the first with the arc on
   std::vector<PathPoint> points;  ///< deposition order; at least 2
   double length = 0.0;            ///< mm, arc-on length along the points (incl. closing segment)
+  /// s, arc-on dwell at the first point before moving (a spot deposit on a tiny island); 0 = none.
+  double dwell = 0.0;
+};
+
+/// A patch of a layer no bead covers (issue 15), for the user to find it.
+struct CoverageVoid {
+  double area = 0.0;              ///< mm² of layer surface
+  Vec3 centre = Vec3::Zero();     ///< mm, part frame, area-weighted centre of the patch
+  double size = 0.0;              ///< mm, largest extent of the patch
+};
+
+/// How well the beads of one layer cover its surface (issue 15), measured on the layer surface:
+/// a surface point is covered by a bead when it lies within half the bead's width of the bead's
+/// centre line (PathPoint::width, or the bead spacing where 0).
+struct LayerCoverage {
+  bool measured = false;      ///< false: not measured (plans of format version 1, thin walls)
+  double area = 0.0;          ///< mm², layer surface area
+  double voidShare = 0.0;     ///< [0, 1], share of the area no bead covers
+  double overlapShare = 0.0;  ///< [0, 1], share of the area two or more beads cover
+  double beadWidth = 0.0;     ///< mm, nominal bead width (the bead spacing)
+  std::size_t arcStarts = 0;  ///< paths of the layer (each path is one arc start)
+  std::vector<CoverageVoid> voids;  ///< the largest uncovered patches, largest first (at most 10)
 };
 
 /// One curved layer and its paths.
@@ -48,6 +73,7 @@ struct PlanLayer {
   std::string surface;  ///< reference to the layer surface (file name relative to the plan), or ""
   std::vector<PlanPath> paths;        ///< in deposition order
   std::vector<std::string> warnings;  ///< e.g. "no room for a bead", shown to the user
+  LayerCoverage coverage;             ///< measured after planning (paths/coverage.hpp)
 };
 
 /// Parameters the plan was made with (what a user needs to reproduce it).
