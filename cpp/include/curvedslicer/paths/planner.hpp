@@ -153,6 +153,7 @@ struct PlanStats {
   DepositionStats deposition;
   std::size_t droppedFragments = 0;  ///< iso-line pieces shorter than minPathLength
   std::size_t seamsTooClose = 0;     ///< rings whose seam could not keep the separation
+  std::size_t insetLinks = 0;        ///< connected insets: step-overs joining two rings
   double travel = 0.0;               ///< mm, straight-line travel over the whole plan
   double arcLength = 0.0;            ///< mm, deposited length
   double maxFitDeviation = 0.0;      ///< mm, largest spline-to-iso-line deviation
