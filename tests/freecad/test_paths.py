@@ -53,7 +53,8 @@ class TestPaths(PathTestCase):
         job = self.box_job(bead_spacing=4.0, width=32)
         self.assertEqual(job.LayerCount, 2)
         self.assertEqual(job.PlanLayerCount, 2)
-        self.assertGreater(job.PathCount, 2)
+        # The rings of a layer are joined into one path (connected insets): beads, not paths.
+        self.assertGreater(len(api.path_beads(job)), 2)
         spacing = api.path_spacing(job)
         self.assertTrue(spacing)
         # Contour-parallel rings on flat layers: neighbours exactly s apart (fit tolerance 0.05).
@@ -67,10 +68,10 @@ class TestPaths(PathTestCase):
         self.assertLess(abs(spacing[-1] - 5.0), 0.06, spacing)
         self.assertTrue(any("centre bead" in w for layer in json.loads(narrow.PlanJson)["layers"]
                             for w in layer["warnings"]))
-        self.assertEqual(sum(1 for p in native.plan_paths(narrow.PlanJson) if not p[2]), 2)
+        self.assertEqual(sum(1 for _, _, ring in api.path_beads(narrow) if not ring), 2)
         narrow.NarrowStrips = "Overlap"
         self.doc.recompute()
-        self.assertTrue(all(p[2] for p in native.plan_paths(narrow.PlanJson)))
+        self.assertTrue(all(ring for _, _, ring in api.path_beads(narrow)))
         self.assertEqual(json.loads(narrow.PlanJson)["parameters"]["narrow_strips"], "overlap")
         features = api.path_features(job)
         self.assertEqual(len(features), 2)
