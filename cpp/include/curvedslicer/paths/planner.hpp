@@ -16,8 +16,8 @@
 //   4. fit ("fit"): paths/path_fit.hpp (smoothing cubic B-spline within `fitTolerance`, resampled
 //      at `pointSpacing`); the points are then projected onto the layer surface and get its
 //      normal (area-weighted vertex normals interpolated on the closest triangle);
-//   5. order ("order"): paths/ordering.hpp, from where the previous layer ended, seams at least
-//      `seamSeparation` (default 2·s) from the previous layer's seams;
+//   5. order ("order"): paths/ordering.hpp, from the previous layer's end, seams `seamSeparation`
+//      (2·s) from its seams; `connectInsets` joins rings (paths/connected_insets.hpp);
 //   6. deposition ("deposition"): paths/deposition.hpp — first layer: the start surface and the
 //      earlier beads of the layer; later layers: the previous layer surface.
 // `planThinWall` (the paper's turbine base): a wall surface and one of its boundary loops (the
