@@ -124,6 +124,33 @@ TEST(ConnectedInsets, BlockedOrLongStepOverKeepsRingsApart) {
   EXPECT_EQ(connectInsets(gap, {0, 1}, away).links, 0u);
 }
 
+TEST(ConnectedInsets, SplitJoinedPathFindsRingPartsAndLinks) {
+  std::vector<PlanPath> paths = {makeCircle(28, 60), makeCircle(24.3, 50, 0.05)};
+  connectInsets(paths, {0, 1}, projectOntoPlane);
+  ASSERT_EQ(paths.size(), 1u);
+  const std::vector<JoinedPathPart> parts = splitJoinedPath(paths[0]);
+  ASSERT_EQ(parts.size(), 3u);
+  EXPECT_TRUE(parts[0].ring);
+  EXPECT_EQ(parts[0].first, 0u);
+  EXPECT_EQ(parts[0].last, 60u);  // 60 points and the first again
+  EXPECT_FALSE(parts[1].ring);    // the link shares its ends with the rings
+  EXPECT_EQ(parts[1].first, 60u);
+  EXPECT_EQ(parts[2].first, parts[1].last);
+  EXPECT_TRUE(parts[2].ring);
+  EXPECT_EQ(parts[2].last - parts[2].first, 50u);
+  EXPECT_EQ(parts[2].last + 1, paths[0].points.size());
+  // A closed ring: one ring part; an open piece: one non-ring part.
+  const std::vector<JoinedPathPart> ring = splitJoinedPath(makeCircle(10, 20));
+  ASSERT_EQ(ring.size(), 1u);
+  EXPECT_TRUE(ring[0].ring);
+  EXPECT_EQ(ring[0].last, 19u);
+  const std::vector<JoinedPathPart> open =
+      splitJoinedPath(makeSegment(Vec3(0, 0, 0), Vec3(5, 0, 0)));
+  ASSERT_EQ(open.size(), 1u);
+  EXPECT_FALSE(open[0].ring);
+  EXPECT_EQ(open[0].last, 1u);
+}
+
 TEST(ConnectedInsets, BadInput) {
   std::vector<PlanPath> paths = {makeCircle(28, 120)};
   EXPECT_THROW(connectInsets(paths, {0, 1}, projectOntoPlane), InvalidInput);
