@@ -57,8 +57,8 @@ double distanceToPath(const Vec3& p, const PlanPath& path) {
   const std::size_t segments = path.closed ? n : n - 1;
   double best = kInf;
   for (std::size_t i = 0; i < segments; ++i) {
-    best = std::min(best, distanceToSegment(p, path.points[i].position,
-                                            path.points[(i + 1) % n].position));
+    best = std::min(
+        best, distanceToSegment(p, path.points[i].position, path.points[(i + 1) % n].position));
   }
   return best;
 }
@@ -92,8 +92,7 @@ bool isAdmissibleLinkPoint(const JoinContext& c, const Vec3& chord, const Vec3& 
 /// The link from point `e` of ring `from` to point `q` (index) of ring `to`: its interior points
 /// on the surface, or none if it is not admissible.
 std::optional<std::vector<SurfacePoint>> makeLink(const JoinContext& c, const Vec3& e,
-                                                  std::size_t from, std::size_t to,
-                                                  std::size_t q) {
+                                                  std::size_t from, std::size_t to, std::size_t q) {
   const Vec3& target = c.paths[to].points[q].position;
   const double length = (target - e).norm();
   if (!(length <= c.maxLink)) return std::nullopt;
@@ -101,7 +100,7 @@ std::optional<std::vector<SurfacePoint>> makeLink(const JoinContext& c, const Ve
   std::vector<SurfacePoint> link;
   for (int j = 0; j <= pieces; ++j) {
     const Vec3 chord = e + (static_cast<double>(j) / pieces) * (target - e);
-    const SurfacePoint sp = j == 0         ? SurfacePoint{e, Vec3::UnitZ()}
+    const SurfacePoint sp = j == 0        ? SurfacePoint{e, Vec3::UnitZ()}
                             : j == pieces ? SurfacePoint{target, Vec3::UnitZ()}
                                           : c.project(chord);
     if (!isAdmissibleLinkPoint(c, chord, sp.point, e, target, from, to)) return std::nullopt;
@@ -216,9 +215,9 @@ ConnectedInsetResult connectInsets(std::vector<PlanPath>& paths, const std::vect
                                    const SurfaceProjection& project,
                                    const ConnectedInsetOptions& options) {
   if (levels.size() != paths.size()) {
-    throw InvalidInput("connected insets need one level per path: " +
-                       std::to_string(levels.size()) + " levels for " +
-                       std::to_string(paths.size()) + " paths; pass −1 for paths not to join");
+    throw InvalidInput(
+        "connected insets need one level per path: " + std::to_string(levels.size()) +
+        " levels for " + std::to_string(paths.size()) + " paths; pass −1 for paths not to join");
   }
   JoinContext c{paths, levels, project};
   resolveOptions(options, c);

@@ -429,9 +429,8 @@ class LayerTail {
                      const ConnectedInsetOptions& options, PlanLayer& layer) {
     std::vector<int> levels;
     for (const OrderedPath& o : lastOrder_.paths) levels.push_back(beadLevels[o.source]);
-    const ConnectedInsetResult joined = timer_.run(kOrder, [&] {
-      return curvedslicer::connectInsets(layer.paths, levels, project, options);
-    });
+    const ConnectedInsetResult joined = timer_.run(
+        kOrder, [&] { return curvedslicer::connectInsets(layer.paths, levels, project, options); });
     if (joined.links == 0) return;
     stats_.insetLinks += joined.links;
     previousSeams_ = joined.seams;

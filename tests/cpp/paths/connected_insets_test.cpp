@@ -46,7 +46,9 @@ PlanPath makeSegment(const Vec3& a, const Vec3& b) {
 }
 
 /// The plane z = 0: projection drops z, normal +z.
-SurfacePoint projectOntoPlane(const Vec3& p) { return {Vec3(p.x(), p.y(), 0.0), Vec3::UnitZ()}; }
+SurfacePoint projectOntoPlane(const Vec3& p) {
+  return {Vec3(p.x(), p.y(), 0.0), Vec3::UnitZ()};
+}
 
 std::set<std::tuple<double, double, double>> pointSet(const std::vector<Vec3>& points) {
   std::set<std::tuple<double, double, double>> out;
@@ -195,7 +197,8 @@ TEST(ConnectedInsets, PlannerJoinsTheSameBeadsAndStaggersSeams) {
     // Ring parts are rings of the unjoined plan (seams may differ: compare point sets).
     std::set<std::tuple<double, double, double>> all, allJoined;
     for (const PlanPath& p : a) {
-      for (const PathPoint& q : p.points) all.emplace(q.position.x(), q.position.y(), q.position.z());
+      for (const PathPoint& q : p.points)
+        all.emplace(q.position.x(), q.position.y(), q.position.z());
     }
     for (const Polyline& p : split.beads) {
       for (const Vec3& q : p.points) allJoined.emplace(q.x(), q.y(), q.z());

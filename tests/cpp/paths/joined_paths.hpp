@@ -38,10 +38,11 @@ inline SplitBeads splitLayerBeads(const std::vector<PlanPath>& paths) {
     const std::vector<JoinedPathPart> parts = splitJoinedPath(path);
     for (const JoinedPathPart& part : parts) {
       if (!part.ring) {
-        const bool isLink = parts.size() > 1 && part.first > 0 && part.last + 1 < path.points.size();
+        const bool isLink =
+            parts.size() > 1 && part.first > 0 && part.last + 1 < path.points.size();
         if (isLink) {
-          out.links.push_back({pointsOf(path, part.first, part.last), out.beads.size() - 1,
-                               out.beads.size()});
+          out.links.push_back(
+              {pointsOf(path, part.first, part.last), out.beads.size() - 1, out.beads.size()});
           continue;
         }
         out.beads.push_back(pointsOf(path, part.first, part.last));
