@@ -53,7 +53,8 @@ class TestPaths(PathTestCase):
         job = self.box_job(bead_spacing=4.0, width=32)
         self.assertEqual(job.LayerCount, 2)
         self.assertEqual(job.PlanLayerCount, 2)
-        self.assertGreater(job.PathCount, 2)
+        # The rings of a layer are joined into one path (connected insets): beads, not paths.
+        self.assertGreater(len(api.path_beads(job)), 2)
         spacing = api.path_spacing(job)
         self.assertTrue(spacing)
         # Contour-parallel rings on flat layers: neighbours exactly s apart (fit tolerance 0.05).
@@ -67,10 +68,10 @@ class TestPaths(PathTestCase):
         self.assertLess(abs(spacing[-1] - 5.0), 0.06, spacing)
         self.assertTrue(any("centre bead" in w for layer in json.loads(narrow.PlanJson)["layers"]
                             for w in layer["warnings"]))
-        self.assertEqual(sum(1 for p in native.plan_paths(narrow.PlanJson) if not p[2]), 2)
+        self.assertEqual(sum(1 for _, _, ring in api.path_beads(narrow) if not ring), 2)
         narrow.NarrowStrips = "Overlap"
         self.doc.recompute()
-        self.assertTrue(all(p[2] for p in native.plan_paths(narrow.PlanJson)))
+        self.assertTrue(all(ring for _, _, ring in api.path_beads(narrow)))
         self.assertEqual(json.loads(narrow.PlanJson)["parameters"]["narrow_strips"], "overlap")
         features = api.path_features(job)
         self.assertEqual(len(features), 2)
@@ -112,12 +113,12 @@ class TestPaths(PathTestCase):
 
     def test_path_parameter_replans_without_rerunning_the_layers(self):
         job = self.box_job(bead_spacing=4.0)
-        runs, digest, paths = job.RunCount, job.PlanDigest, job.PathCount
+        runs, digest, beads = job.RunCount, job.PlanDigest, len(api.path_beads(job))
         job.BeadSpacing = 6.0
         self.doc.recompute()
         self.assertEqual(job.RunCount, runs)  # the layers were not recomputed
         self.assertNotEqual(job.PlanDigest, digest)
-        self.assertLess(job.PathCount, paths)
+        self.assertLess(len(api.path_beads(job)), beads)  # rings joined: count beads, not paths
         self.assertLess(max(abs(d - 6.0) for d in api.path_spacing(job)), 0.06)
         self.assertEqual(sum(f.PathCount for f in api.path_features(job)), job.PathCount)
         # The corner angle reaches the fit (at 180° every ring is one smooth spline that rounds

@@ -13,6 +13,7 @@
 
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/geom/triangle_bvh.hpp"
+#include "curvedslicer/paths/connected_insets.hpp"
 #include "curvedslicer/paths/iso_lines.hpp"
 #include "curvedslicer/paths/narrow_strips.hpp"
 #include "curvedslicer/paths/path_fit.hpp"
@@ -402,9 +403,11 @@ class LayerTail {
 
   // ---- order ----
   void order(const std::vector<RawBead>& beads, PlanLayer& layer) {
-    const LayerOrder ordered = timer_.run(kOrder, [&] {
+    torchBefore_ = torch_;
+    lastOrder_ = timer_.run(kOrder, [&] {
       return orderBeads(beads, layer.index, torch_, previousSeams_, stages_.ordering, layer);
     });
+    const LayerOrder& ordered = lastOrder_;
     if (layer.paths.empty()) return;
     torch_ = ordered.end;
     previousSeams_ = ordered.seams;
@@ -416,6 +419,29 @@ class LayerTail {
                                formatMm(stages_.ordering.seamSeparation) +
                                " mm from the previous " + seamNeighbour_ + "'s seams");
     }
+  }
+
+  // ---- connected insets (volume layers, issue 15 item 4) ----
+  /// After `order`: joins consecutive rings of the layer into one path each
+  /// (paths/connected_insets.hpp) and makes the torch, the seams and the travel follow the
+  /// joined paths. `beadLevels`: the level of every bead `order` was given (−1: not a ring).
+  void connectInsets(const std::vector<int>& beadLevels, const SurfaceProjection& project,
+                     const ConnectedInsetOptions& options, PlanLayer& layer) {
+    std::vector<int> levels;
+    for (const OrderedPath& o : lastOrder_.paths) levels.push_back(beadLevels[o.source]);
+    const ConnectedInsetResult joined = timer_.run(
+        kOrder, [&] { return curvedslicer::connectInsets(layer.paths, levels, project, options); });
+    if (joined.links == 0) return;
+    stats_.insetLinks += joined.links;
+    previousSeams_ = joined.seams;
+    Vec3 torch = torchBefore_.value_or(layer.paths.front().points.front().position);
+    double travel = 0.0;
+    for (const PlanPath& p : layer.paths) {
+      travel += (p.points.front().position - torch).norm();
+      torch = p.closed ? p.points.front().position : p.points.back().position;
+    }
+    stats_.travel += travel - lastOrder_.travel;
+    torch_ = torch;
   }
 
   // ---- deposition ----
@@ -433,6 +459,8 @@ class LayerTail {
   const char* seamNeighbour_;
   std::optional<Vec3> torch_;
   std::vector<Vec3> previousSeams_;
+  std::optional<Vec3> torchBefore_;  // the torch before the last `order`
+  LayerOrder lastOrder_;             // what the last `order` decided
 };
 
 double largestFiniteDistance(const SurfaceGeodesicResult& gdtc) {
@@ -491,6 +519,8 @@ class LayerPlanner {
                              std::vector<std::vector<Polyline>>& levelLines, PlanLayer& layer);
   void noteMissingBeads(const std::vector<double>& values, double maxDistance,
                         const std::vector<RawBead>& beads, std::size_t dropped, PlanLayer& layer);
+  void connectInsetsOf(const SurfaceQuery& query, const std::vector<int>& beadLevels,
+                       PlanLayer& layer);
 
   const PlannerOptions& options_;
   const double s_;
@@ -605,14 +635,17 @@ void LayerPlanner::planOnField(const SurfaceGeodesicResult& gdtc,
   std::vector<RawBead> beads;
   std::size_t dropped = 0;
   const auto normalOf = [&](const ClosestPoint& c) { return query.normalAt(c); };
-  for (const std::vector<Polyline>& lines : levelLines) {
-    tail_.fit(lines, query.bvh, normalOf, beads, dropped);
+  std::vector<int> beadLevels;  // connected insets: the level of every bead
+  for (std::size_t k = 0; k < levelLines.size(); ++k) {
+    tail_.fit(levelLines[k], query.bvh, normalOf, beads, dropped);
+    beadLevels.resize(beads.size(), static_cast<int>(k));
     progress.check();
   }
   tail_.countDropped(dropped);
   noteMissingBeads(values, maxDistance, beads, dropped, layer);
   progress.report(0.9, kStages[kOrder]);
   tail_.order(beads, layer);
+  if (options_.connectInsets) connectInsetsOf(query, beadLevels, layer);
   progress.report(0.95, kStages[kDeposition]);
   DepositionSupport dep;
   dep.surface = support_ ? &*support_ : nullptr;
@@ -655,6 +688,20 @@ void LayerPlanner::resolveNarrowStripsOf(const SurfaceGeodesicResult& gdtc,
       kIso, [&] { return resolveNarrowStrips(levelLines, values, s_, narrowStrips_, innerEdges); });
   reportNarrowStrips(strips, layer.warnings);
   levelLines = std::move(strips.levels);
+}
+
+/// Connected insets (paths/connected_insets.hpp): link points projected onto the layer like the
+/// fit's points, with the layer's normal.
+void LayerPlanner::connectInsetsOf(const SurfaceQuery& query, const std::vector<int>& beadLevels,
+                                   PlanLayer& layer) {
+  ConnectedInsetOptions insets;
+  insets.beadSpacing = s_;
+  insets.pointSpacing = options_.pointSpacing;
+  const SurfaceProjection project = [&query](const Vec3& p) {
+    const ClosestPoint c = query.bvh.closestPoint(p);
+    return SurfacePoint{c.point, query.normalAt(c)};
+  };
+  tail_.connectInsets(beadLevels, project, insets, layer);
 }
 
 void LayerPlanner::noteMissingBeads(const std::vector<double>& values, double maxDistance,

@@ -41,7 +41,14 @@ struct ModelCase {
   double layerThickness = 1.5, voxel = 2.0, beadSpacing = 3.7, pointSpacing = 2.0;
 };
 
-MotionPlan planModelMotion(const ModelCase& c, const Cell& cell) {
+/// The motion of a model's plan, and how many connected-inset links the plan has (each joins two
+/// rings into one weld; paths/connected_insets.hpp).
+struct ModelMotion {
+  MotionPlan motion;
+  std::size_t insetLinks = 0;
+};
+
+ModelMotion planModelMotion(const ModelCase& c, const Cell& cell) {
   PlanJobOptions options;
   options.layerJob.layers.layerThickness = c.layerThickness;
   options.layerJob.voxelize.voxelSize = c.voxel;
@@ -52,7 +59,7 @@ MotionPlan planModelMotion(const ModelCase& c, const Cell& cell) {
   options.modelName = c.model;
   options.startSpec = c.start.empty() ? "plane:bottom" : c.start;
   const PlanJobResult job = runPlanJob(readMesh(modelPath(c.model)), options);
-  return planMotion(job.planned.plan, cell);
+  return {planMotion(job.planned.plan, cell), job.planned.stats.insetLinks};
 }
 
 /// True once planMotion fills MotionPathSpan::configuration (H3 of issue 14).
@@ -166,8 +173,11 @@ TEST(ModelExports, CurvedExampleStatesOneConfigurationPerWeldAndKeepsAxisSpeeds)
   c.start = "mesh:" + modelPath("custom_base_surface.obj").string();
   c.capHoles = true;
   c.pointSpacing = 5.0;
-  const MotionPlan motion = planModelMotion(c, cell);
-  ASSERT_GT(motion.paths.size(), 100u);
+  const ModelMotion planned = planModelMotion(c, cell);
+  const MotionPlan& motion = planned.motion;
+  // Over 100 rings and pieces, some rings joined into one weld (open welds over several rings).
+  ASSERT_GT(motion.paths.size() + planned.insetLinks, 100u);
+  ASSERT_GT(planned.insetLinks, 0u);
   ASSERT_TRUE(plannerSetsConfigurations(motion));
   expectConfigurationsPerWeld(motion, cell);
   expectAxisSpeedsFromCsv(motion, cell);
@@ -181,8 +191,11 @@ TEST(ModelExports, CylinderStatesOneConfigurationPerWeldAndKeepsAxisSpeeds) {
   c.voxel = 4.0;
   c.beadSpacing = 10.0;
   c.pointSpacing = 10.0;
-  const MotionPlan motion = planModelMotion(c, cell);
-  ASSERT_GT(motion.paths.size(), 100u);
+  const ModelMotion planned = planModelMotion(c, cell);
+  const MotionPlan& motion = planned.motion;
+  // Over 100 rings and pieces, some rings joined into one weld (open welds over several rings).
+  ASSERT_GT(motion.paths.size() + planned.insetLinks, 100u);
+  ASSERT_GT(planned.insetLinks, 0u);
   ASSERT_TRUE(plannerSetsConfigurations(motion));
   expectConfigurationsPerWeld(motion, cell);
   expectAxisSpeedsFromCsv(motion, cell);

@@ -20,6 +20,7 @@
 #include "curvedslicer/paths/planner.hpp"
 #include "curvedslicer/paths/surface_curves.hpp"
 #include "curvedslicer/paths/surface_geodesic.hpp"
+#include "paths/joined_paths.hpp"
 #include "paths/revolution_meshes.hpp"
 
 namespace curvedslicer {
@@ -298,11 +299,11 @@ TEST(ContourPaths, PlannerReportsTheCentreBead) {
   const PlanResult result = planLayers({layer}, TriMesh{});
   ASSERT_EQ(result.plan.layers.size(), 1u);
   const PlanLayer& planned = result.plan.layers[0];
-  // Four closed rings and one open centre bead.
-  ASSERT_EQ(planned.paths.size(), 5u);
-  int open = 0;
-  for (const PlanPath& p : planned.paths) open += p.closed ? 0 : 1;
-  EXPECT_EQ(open, 1);
+  // Four closed rings (joined into one path by the connected insets) and one open centre bead.
+  const testing::SplitBeads beads = testing::splitLayerBeads(planned.paths);
+  ASSERT_EQ(beads.beads.size(), 5u);
+  EXPECT_EQ(beads.rings, 4u);
+  EXPECT_EQ(planned.paths.size(), 2u);
   bool reported = false;
   for (const std::string& w : planned.warnings) {
     reported = reported || w.find("centre bead") != std::string::npos;
@@ -349,12 +350,17 @@ TEST(ContourPaths, AnyRectangleKeepsTheSpacingWithTheDefaultPlanner) {
       options.narrowStrips = mode;
       const PlanResult result = planLayers({layer}, TriMesh{}, options);
       ASSERT_EQ(result.plan.layers.size(), 1u);
-      std::vector<Polyline> paths;
-      for (const PlanPath& p : result.plan.layers[0].paths) {
-        Polyline line;
-        line.closed = p.closed;
-        for (const PathPoint& q : p.points) line.points.push_back(q.position);
-        paths.push_back(std::move(line));
+      // Connected insets: the ring parts of a joined path are measured as the rings they are;
+      // a link keeps s/2 from every bead but the two it joins.
+      const testing::SplitBeads split = testing::splitLayerBeads(result.plan.layers[0].paths);
+      const std::vector<Polyline>& paths = split.beads;
+      for (const testing::LinkPart& link : split.links) {
+        for (std::size_t i = 0; i < paths.size(); ++i) {
+          if (i == link.before || i == link.after) continue;
+          for (const Vec3& q : link.line.points) {
+            EXPECT_GE(closestPointOnPolyline(paths[i], q).distance, 0.5 * s) << "width " << width;
+          }
+        }
       }
       double closest = kInf, outer = kInf;
       for (std::size_t i = 0; i < paths.size(); ++i) {

@@ -13,6 +13,7 @@
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/paths/planner.hpp"
 #include "curvedslicer/plan/plan_io.hpp"
+#include "paths/joined_paths.hpp"
 
 namespace curvedslicer {
 namespace {
@@ -87,11 +88,12 @@ TEST(Planner, FlatFirstLayerAbovePlate) {
   const PlanResult result = planLayers(layers, plate, options);
   const Plan& plan = result.plan;
   ASSERT_EQ(plan.layers.size(), 1u);
-  // Contour-parallel rings at (k + ½)·s from the edge: the short side (30 mm) fits 4 rings.
-  EXPECT_EQ(plan.layers[0].paths.size(), 4u);
+  // Contour-parallel rings at (k + ½)·s from the edge: the short side (30 mm) fits 4 rings,
+  // deposited as one path (connected insets).
+  EXPECT_EQ(plan.layers[0].paths.size(), 1u);
+  EXPECT_EQ(testing::splitLayerBeads(plan.layers[0].paths).rings, 4u);
   std::size_t points = 0;
   for (const PlanPath& path : plan.layers[0].paths) {
-    EXPECT_TRUE(path.closed);
     EXPECT_GT(path.length, 0.0);
     for (const PathPoint& q : path.points) {
       ++points;
@@ -133,7 +135,7 @@ TEST(Planner, SphericalShellLayersPointRadiallyInward) {
   const PlanResult result = planLayers(layers, testing::makeSphere(c, r1, 5), options);
   double worst = 0.0;
   for (const PlanLayer& layer : result.plan.layers) {
-    EXPECT_GT(layer.paths.size(), 6u) << "layer " << layer.index;
+    EXPECT_GT(testing::splitLayerBeads(layer.paths).rings, 6u) << "layer " << layer.index;
     for (const PlanPath& path : layer.paths) {
       for (const PathPoint& q : path.points) {
         const Vec3 inward = (c - q.position).normalized();
@@ -158,17 +160,21 @@ TEST(Planner, SeamsOfConsecutiveLayersAreApart) {
   options.beadSpacing = s;
   const PlanResult result = planLayers(layers, {}, options);
   const Plan& plan = result.plan;
+  // Every arc start keeps 2·s from where the previous layer's ring parts start (its arc starts
+  // and where its links reach a ring).
+  std::size_t arcStarts = 0;
   for (std::size_t l = 1; l < plan.layers.size(); ++l) {
+    const testing::SplitBeads previous = testing::splitLayerBeads(plan.layers[l - 1].paths);
     for (const PlanPath& path : plan.layers[l].paths) {
-      if (!path.closed) continue;
-      for (const PlanPath& prev : plan.layers[l - 1].paths) {
-        const double d = (path.points.front().position - prev.points.front().position).norm();
-        if (path.length > 8.0 * s) {
-          EXPECT_GE(d, 2.0 * s) << "layer " << l << " path " << path.index;
-        }
+      if (path.length <= 8.0 * s) continue;
+      ++arcStarts;
+      for (const Polyline& prev : previous.beads) {
+        const double d = (path.points.front().position - prev.points.front()).norm();
+        EXPECT_GE(d, 2.0 * s) << "layer " << l << " path " << path.index;
       }
     }
   }
+  EXPECT_GE(arcStarts, plan.layers.size() - 1);
   EXPECT_EQ(result.stats.seamsTooClose, 0u);
   // Layers bottom to top, paths indexed in order.
   for (std::size_t l = 0; l < plan.layers.size(); ++l) {

@@ -333,6 +333,12 @@ def path_features(job):
     return path_stage.path_objects(job)
 
 
+def path_beads(job):
+    """The beads of the stored plan, [(layer, points (k,3) mm, ring)]: ring parts of joined paths
+    (connected insets) apart, links left out (stages/paths.py)."""
+    return path_stage.plan_beads(job)
+
+
 def path_spacing(job):
     """Measured distances between neighbouring beads of the stored plan, mm (stages/paths.py)."""
     return path_stage.plan_spacing(job)

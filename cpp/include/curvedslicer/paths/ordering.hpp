@@ -11,7 +11,8 @@
 // torch; if no point qualifies (the ring is too short or lies among the previous seams) the point
 // farthest from them is taken and the path is counted in `seamsTooClose`. The seams of open paths
 // are their first points (not movable). Each path is one arc start, so the number of arc starts
-// equals the number of paths; nothing is merged.
+// equals the number of paths; nothing is merged here — the planner then joins consecutive rings
+// (paths/connected_insets.hpp), whose joined path starts at its first ring's seam chosen here.
 // Preconditions: every path has at least 2 points (closed rings at least 3), finite coordinates.
 // Cost: O(n²·m) for n paths of m points (greedy entry search) plus O(n²) per 2-opt pass.
 #pragma once

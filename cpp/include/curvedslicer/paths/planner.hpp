@@ -16,8 +16,8 @@
 //   4. fit ("fit"): paths/path_fit.hpp (smoothing cubic B-spline within `fitTolerance`, resampled
 //      at `pointSpacing`); the points are then projected onto the layer surface and get its
 //      normal (area-weighted vertex normals interpolated on the closest triangle);
-//   5. order ("order"): paths/ordering.hpp, from where the previous layer ended, seams at least
-//      `seamSeparation` (default 2·s) from the previous layer's seams;
+//   5. order ("order"): paths/ordering.hpp, from the previous layer's end, seams `seamSeparation`
+//      (2·s) from its seams; `connectInsets` joins rings (paths/connected_insets.hpp);
 //   6. deposition ("deposition"): paths/deposition.hpp — first layer: the start surface and the
 //      earlier beads of the layer; later layers: the previous layer surface.
 // `planThinWall` (the paper's turbine base): a wall surface and one of its boundary loops (the
@@ -153,6 +153,7 @@ struct PlanStats {
   DepositionStats deposition;
   std::size_t droppedFragments = 0;  ///< iso-line pieces shorter than minPathLength
   std::size_t seamsTooClose = 0;     ///< rings whose seam could not keep the separation
+  std::size_t insetLinks = 0;        ///< connected insets: step-overs joining two rings
   double travel = 0.0;               ///< mm, straight-line travel over the whole plan
   double arcLength = 0.0;            ///< mm, deposited length
   double maxFitDeviation = 0.0;      ///< mm, largest spline-to-iso-line deviation

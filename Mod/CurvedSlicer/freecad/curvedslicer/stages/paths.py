@@ -313,13 +313,49 @@ def prune_unused_paths(job):
     prune_unused_features(job.PathsGroup)
 
 
+def bead_parts(points, closed):
+    """The beads of one planned path as [(points (k,3), ring)]: a path joined from rings
+    (connected insets, paths/connected_insets.hpp) splits into its ring parts, each from a point
+    to the next exact repeat of it (repeat included), and the links between them are left out;
+    any other path is one bead (ring = closed)."""
+    if closed:
+        return [(points, True)]
+    n = len(points)
+    following, seen = [None] * n, {}
+    for i in range(n - 1, -1, -1):
+        key = tuple(points[i])
+        following[i] = seen.get(key)
+        seen[key] = i
+
+    def repeat_of(i):
+        return following[i]
+
+    parts, i = [], 0
+    while i + 1 < n:
+        end = repeat_of(i)
+        if end is None:
+            if not parts:
+                parts.append((points[i:], False))
+            break
+        parts.append((points[i:end + 1], True))
+        i = next((k for k in range(end + 1, n) if repeat_of(k) is not None), n)
+    return parts
+
+
+def plan_beads(job):
+    """The beads of the stored plan as [(layer, points (k,3), ring)] (see bead_parts)."""
+    return [(path[0], points, ring) for path in native.plan_paths(job.PlanJson)
+            for points, ring in bead_parts(path[3], path[2])]
+
+
 def plan_spacing(job):
     """Distances between neighbouring beads measured on the stored plan (mm): thin wall, the
-    median distance of each bead's points to the previous bead; curved layers, per path the
-    smallest median distance of its points to another path of the same layer."""
+    median distance of each bead's points to the previous bead; curved layers, per bead (a ring
+    part of a joined path counts as a bead of its own, see bead_parts) the smallest median
+    distance of its points to another bead of the same layer."""
     import numpy as np
 
-    paths = native.plan_paths(job.PlanJson)
+    paths = [(layer, None, None, points) for layer, points, _ in plan_beads(job)]
     result = []
 
     def distance_to_polyline(points, line):
