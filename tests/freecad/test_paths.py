@@ -222,7 +222,7 @@ class TestExport(PathTestCase):
         self.doc.saveAs(path)
         programs = {}
         for name in ("jbi", "krl", "csv"):
-            result = api.export(job, None, format=name)
+            result = api.export(job, None, format=name, allow_foreign_cell=True)
             programs[name] = [(n, text.decode("latin-1")) for (n, text, _) in result["files"]]
         out = cs_testing.run_in_new_process(
             "import FreeCAD\nfrom freecad.curvedslicer import api\n"
@@ -230,7 +230,7 @@ class TestExport(PathTestCase):
             "touched = [o.Name for o in doc.Objects if 'Touched' in o.State]\n"
             "progs = {}\n"
             "for name in ('jbi', 'krl', 'csv'):\n"
-            "    r = api.export(job, None, format=name)\n"
+            "    r = api.export(job, None, format=name, allow_foreign_cell=True)\n"
             "    progs[name] = [(n, t.decode('latin-1')) for (n, t, _) in r['files']]\n"
             "print('RESULT ' + json.dumps({'touched': touched, 'programs': progs, "
             "'runs': job.RunCount, 'paths': len(api.path_features(job)), "
