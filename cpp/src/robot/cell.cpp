@@ -298,9 +298,9 @@ RobotDescription readRobot(Field& top, std::string_view origin) {
   robot.base = readPose(r, "base", "give the robot base frame in world");
   robot.kinematics = readKinematics(r);
   readJoints(r, robot, origin);
-  robot.j3RelativeToHorizontal = r.boolean(
-      "j3_relative_to_horizontal", false,
-      "true when the controller's J3 is the forearm's angle to the horizontal (Fanuc)");
+  robot.j3RelativeToHorizontal =
+      r.boolean("j3_relative_to_horizontal", false,
+                "true when the controller's J3 is the forearm's angle to the horizontal (Fanuc)");
   if (r.has("pulses_per_degree")) {
     const auto ppd = r.numbers("pulses_per_degree", 6, "give six pulses-per-degree values");
     for (double v : ppd) {

@@ -53,8 +53,8 @@ TEST(ExportCommand, AnotherVendorsLanguageNeedsTheOptionOrExitsTwo) {
   const fs::path plan = dir / "plan.json";
   writePlanJson(plan, makeConePlan(2, 16));
   const fs::path out = dir / "part.src";
-  const std::string command = "export '" + plan.string() + "' --format krl -q -o '" +
-                              out.string() + "'";
+  const std::string command =
+      "export '" + plan.string() + "' --format krl -q -o '" + out.string() + "'";
   EXPECT_EQ(runCli(dir, command), 2);  // the default cell is Yaskawa's
   const std::string err = readFile((dir / "stderr.txt").string());
   EXPECT_NE(err.find("the cell is for a yaskawa controller but the format krl is for kuka"),
@@ -66,9 +66,9 @@ TEST(ExportCommand, AnotherVendorsLanguageNeedsTheOptionOrExitsTwo) {
       << readFile((dir / "stderr.txt").string());
   EXPECT_TRUE(fs::exists(out));
   // A KUKA cell writes KRL without the option and refuses JBI.
-  const std::string kuka = (fs::path(CURVEDSLICER_SOURCE_DIR) / "resources" / "cells" /
-                            "kuka_kr16_r1610_2_dkp400.json")
-                               .string();
+  const std::string kuka =
+      (fs::path(CURVEDSLICER_SOURCE_DIR) / "resources" / "cells" / "kuka_kr16_r1610_2_dkp400.json")
+          .string();
   fs::remove(out);
   EXPECT_EQ(runCli(dir, command + " --cell '" + kuka + "'"), 0)
       << readFile((dir / "stderr.txt").string());
@@ -92,7 +92,8 @@ TEST(ExportCommand, CurvedExampleExportsWithEachVendorsCell) {
   ASSERT_EQ(runCli(dir, "plan '" + (models / "custom_base_geom_to_slice.obj").string() +
                             "' --start 'mesh:" + (models / "custom_base_surface.obj").string() +
                             "' --cap-holes --layer-thickness 1.5 --voxel 2 --bead-spacing 3.7 -q "
-                            "-o '" + (dir / "base").string() + "'"),
+                            "-o '" +
+                            (dir / "base").string() + "'"),
             0)
       << readFile((dir / "stderr.txt").string());
   const std::pair<const char*, const char*> cells[] = {
@@ -101,8 +102,8 @@ TEST(ExportCommand, CurvedExampleExportsWithEachVendorsCell) {
       {"abb_irb1660id_irbp_a250.json", "rapid"},
       {"fanuc_arcmate100ic_2axis_positioner.json", "ls"}};
   for (const auto& [file, language] : cells) {
-    const std::string cell = (fs::path(CURVEDSLICER_SOURCE_DIR) / "resources" / "cells" / file)
-                                 .string();
+    const std::string cell =
+        (fs::path(CURVEDSLICER_SOURCE_DIR) / "resources" / "cells" / file).string();
     for (const char* format : {"csv", language}) {
       SCOPED_TRACE(std::string(file) + " " + format);
       const fs::path out = dir / (std::string(file) + "." + format);

@@ -53,11 +53,11 @@ class SchemaSubsetValidator {
     const nlohmann::json& schema = resolve(rawSchema);
     for (const auto& item : schema.items()) {
       static const std::vector<std::string> known = {
-          "$schema", "$id",      "title",    "description", "$defs",      "$ref",
-          "type",    "const",    "enum",     "required",    "properties", "additionalProperties",
-          "items",   "minItems", "maxItems", "minimum",     "maximum",
-          "exclusiveMinimum",  "minLength", "maxLength",  "pattern",  "allOf",
-          "anyOf",   "not",      "if",       "then",        "else"};
+          "$schema",   "$id",       "title",    "description", "$defs",      "$ref",
+          "type",      "const",     "enum",     "required",    "properties", "additionalProperties",
+          "items",     "minItems",  "maxItems", "minimum",     "maximum",    "exclusiveMinimum",
+          "minLength", "maxLength", "pattern",  "allOf",       "anyOf",      "not",
+          "if",        "then",      "else"};
       if (std::find(known.begin(), known.end(), item.key()) == known.end()) {
         throw std::runtime_error("schema keyword outside the supported subset: " + item.key());
       }

@@ -204,7 +204,8 @@ TEST(VendorCells, InverseKinematicsReproducesRandomJointsWithinLimits) {
         expectSamePose(computeFlangePose(cell.robot, s.joints), flange, "solution");
         if (s.wristSingular) continue;
         bool same = true;
-        for (int j = 0; j < 6; ++j) same = same && std::abs(angleDifference(s.joints[j], q[j])) < 1e-7;
+        for (int j = 0; j < 6; ++j)
+          same = same && std::abs(angleDifference(s.joints[j], q[j])) < 1e-7;
         if (same) {
           found = true;
           EXPECT_TRUE(s.withinLimits);
@@ -234,8 +235,8 @@ TEST(VendorCells, HomePosesAreWithinLimitsVerticalAndClearOfTheTable) {
     for (int k = 0; k <= 100; ++k) {
       const Vec3 world = tcp.translation() - (env.stickout + env.length * k / 100.0) * z;
       const double radius = env.radius + (env.topRadius - env.radius) * k / 100.0;
-      closest = std::min(closest, robot_test::distanceFromTableAndVolume(
-                                      cell.positioner.geometry, table.inverse() * world) -
+      closest = std::min(closest, robot_test::distanceFromTableAndVolume(cell.positioner.geometry,
+                                                                         table.inverse() * world) -
                                       radius);
     }
     EXPECT_GT(closest, 50.0) << "the torch at home keeps 50 mm from the table and working volume";

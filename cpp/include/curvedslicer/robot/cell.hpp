@@ -193,9 +193,9 @@ enum class RobotVendor { Unknown, Yaskawa, Kuka, Abb, Fanuc };
 
 struct Cell {
   std::string name;
-  RobotVendor vendor = RobotVendor::Unknown;  ///< Unknown: the file names no vendor (a note says so)
-  std::string description;        ///< free text, incl. sources of the numbers
-  Vec3 gravity = -Vec3::UnitZ();  ///< unit, world frame
+  RobotVendor vendor = RobotVendor::Unknown;  ///< Unknown: no "vendor" given (a note says so)
+  std::string description;                    ///< free text, incl. sources of the numbers
+  Vec3 gravity = -Vec3::UnitZ();              ///< unit, world frame
   RobotDescription robot;
   ToolDescription tool;
   PositionerDescription positioner;
