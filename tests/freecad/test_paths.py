@@ -215,6 +215,20 @@ class TestExport(PathTestCase):
             api.export(job, cs_testing.tmp_path("x.prg"), format="fanuc-karel")
         with self.assertRaises(api.InvalidInput):
             api.export(job, cs_testing.tmp_path("x.JBI"), cell_file=__file__)  # not a cell
+        # KRL is KUKA's language; the Job's cell (the default) is a Yaskawa cell: refused, no
+        # file, unless allowed; a KUKA cell writes it.
+        krl = cs_testing.tmp_path("foreign.src")
+        with self.assertRaisesRegex(api.InvalidInput,
+                                    "cell is for a yaskawa controller but the format krl"):
+            api.export(job, krl, format="krl")
+        self.assertFalse(os.path.exists(krl))
+        self.assertGreater(api.export(job, krl, format="krl",
+                                      allow_foreign_cell=True)["total_bytes"], 0)
+        kuka = os.path.join(os.environ.get("CURVEDSLICER_SOURCE_DIR", ""), "resources",
+                            "cells", "kuka_kr16_r1610_2_dkp400.json")
+        self.assertGreater(api.export(job, None, format="krl", cell_file=kuka)["total_bytes"], 0)
+        with self.assertRaisesRegex(api.InvalidInput, "kuka controller but the format jbi"):
+            api.export(job, None, format="jbi", cell_file=kuka)
 
     def test_reopened_document_reexports_identical_programs_without_recompute(self):
         job = self.box_job()
