@@ -194,11 +194,13 @@ py::dict exportResultDict(const ExportResult& result) {
 // nothing (writeExportFiles), so nothing is written unless every step succeeded.
 py::dict exportProgramPy(const std::string& planJson, const std::string& cellJson,
                          const std::string& format, const std::optional<std::string>& path,
-                         ExportOptions options, MotionOptions motion, const py::object& progress) {
+                         ExportOptions options, MotionOptions motion, bool allowForeignCell,
+                         const py::object& progress) {
   const ExportFormat f = parseExportFormat(format);
   const Plan plan = parsePlanJson(planJson, "plan");
   checkExportSize(plan.pointCount());
   const Cell cell = parseCell(cellJson, "cell");
+  checkCellVendor(cell, toString(f), allowForeignCell);
   const ExportResult result = runWithProgress(progress, [&](Progress p) {
     const MotionPlan planned = planMotion(plan, cell, motion, p.sub(0.0, 0.7));
     ExportResult r = exportProgram(planned, withPartPlacement(cell, planned.tableToPart), f,
@@ -353,10 +355,12 @@ void registerPlanBindings(py::module_& m) {
         "ExportOptions (its default date is fixed, so re-exports are byte-identical). Returns "
         "{format, files [(name, bytes, lines)], motion_count, arc_count, warnings, "
         "total_bytes}. With path: also writes the files all or nothing (path receives the main "
-        "file, others go beside it).",
+        "file, others go beside it). A vendor's language (jbi yaskawa, krl kuka, rapid abb, ls "
+        "fanuc) for another vendor's cell raises InvalidInput unless allow_foreign_cell.",
         py::arg("plan_json"), py::arg("cell_json"), py::kw_only(), py::arg("format") = "jbi",
         py::arg("path") = py::none(), py::arg("options") = ExportOptions{},
-        py::arg("motion") = MotionOptions{}, py::arg("progress") = py::none());
+        py::arg("motion") = MotionOptions{}, py::arg("allow_foreign_cell") = false,
+        py::arg("progress") = py::none());
 }
 
 }  // namespace curvedslicer::bindings

@@ -98,6 +98,7 @@ int runExportCommand(const ExportArguments& args) {
     const Plan plan = readPlanJson(fs::path(args.plan));
     checkExportSize(plan.pointCount());
     const Cell cell = args.cell.empty() ? defaultCell() : readCell(fs::path(args.cell));
+    checkCellVendor(cell, toString(format), args.allowForeignCell);
 
     // ---- motion --------------------------------------------------------------------------------
     MotionOptions motionOptions;

@@ -20,6 +20,7 @@ struct ExportArguments {
   std::string gcodeMode;  ///< empty = ExportOptions{}.gcodeMode
   std::string date;       ///< empty = the fixed default (reproducible files)
   bool warnUnreachable = false;
+  bool allowForeignCell = false;  ///< write one vendor's language with another vendor's cell
   bool quiet = false;
   /// --clearance, --allow-collisions, --no-home, --merge-tolerance, --max-a2-step, --placement:
   /// one binding per motion option (export_options.cpp); options not given keep

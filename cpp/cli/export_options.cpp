@@ -30,8 +30,12 @@ Summary: the part's placement on the table (table_to_part), notes (e.g. defaults
 older cell file), where the weld speed drops below the cell's (and which axis limits it) and,
 with --allow-collisions, the remaining collisions.
 
+Cells: resources/cells/ has one per vendor (yaskawa, kuka, abb, fanuc); a cell's language is
+jbi, krl, rapid or ls (gcode, csv and json fit every cell).
+
 Exit codes: 0 success, 2 invalid input (bad plan or cell, unreachable point, joint limit,
-part below the table or outside the working volume, collision; including usage errors),
+part below the table or outside the working volume, collision, another vendor's language
+without --allow-foreign-cell; including usage errors),
 3 file I/O error, 130 interrupted (Ctrl-C), 1 other.)";
 
 /// The motion planner's options: one line each (see docs/ADDING-AN-OPTION.md).
@@ -100,6 +104,10 @@ void addExportOptions(CLI::App& cmd, ExportArguments& args) {
                  "Date written into program headers, \"YYYY/MM/DD HH:MM\". Default: a\n"
                  "fixed date (2000/01/01 00:00), so the same plan gives identical files.")
       ->type_name("DATE");
+  cmd.add_flag("--allow-foreign-cell", args.allowForeignCell,
+               "Write a vendor's program language for another vendor's cell (jbi:\n"
+               "yaskawa, krl: kuka, rapid: abb, ls: fanuc; the cell's \"vendor\"). Default:\n"
+               "stop with exit code 2 naming the cell's vendor and the format.");
   cmd.add_flag("--allow-unreachable", args.warnUnreachable,
                "Do not stop at points the robot cannot reach: keep the closest pose and\n"
                "warn (default: stop with an error naming the points). A point beyond a\n"

@@ -194,7 +194,8 @@ class TestExport(PathTestCase):
         os.makedirs(folder, exist_ok=True)
         for name, extension in api.export_formats():
             target = os.path.join(folder, "BOX" + extension)
-            result = api.export(job, target, format=name)
+            # the Job's cell is the (Yaskawa) default: KRL, RAPID and LS need the option
+            result = api.export(job, target, format=name, allow_foreign_cell=True)
             self.assertEqual(result["format"], name)
             self.assertGreater(result["motion_count"], 0)
             with open(target, "rb") as f:
@@ -216,6 +217,20 @@ class TestExport(PathTestCase):
             api.export(job, cs_testing.tmp_path("x.prg"), format="fanuc-karel")
         with self.assertRaises(api.InvalidInput):
             api.export(job, cs_testing.tmp_path("x.JBI"), cell_file=__file__)  # not a cell
+        # KRL is KUKA's language; the Job's cell (the default) is a Yaskawa cell: refused, no
+        # file, unless allowed; a KUKA cell writes it.
+        krl = cs_testing.tmp_path("foreign.src")
+        with self.assertRaisesRegex(api.InvalidInput,
+                                    "cell is for a yaskawa controller but the format krl"):
+            api.export(job, krl, format="krl")
+        self.assertFalse(os.path.exists(krl))
+        self.assertGreater(api.export(job, krl, format="krl",
+                                      allow_foreign_cell=True)["total_bytes"], 0)
+        kuka = os.path.join(os.environ.get("CURVEDSLICER_SOURCE_DIR", ""), "resources",
+                            "cells", "kuka_kr16_r1610_2_dkp400.json")
+        self.assertGreater(api.export(job, None, format="krl", cell_file=kuka)["total_bytes"], 0)
+        with self.assertRaisesRegex(api.InvalidInput, "kuka controller but the format jbi"):
+            api.export(job, None, format="jbi", cell_file=kuka)
 
     def test_reopened_document_reexports_identical_programs_without_recompute(self):
         job = self.box_job()
@@ -223,7 +238,7 @@ class TestExport(PathTestCase):
         self.doc.saveAs(path)
         programs = {}
         for name in ("jbi", "krl", "csv"):
-            result = api.export(job, None, format=name)
+            result = api.export(job, None, format=name, allow_foreign_cell=True)
             programs[name] = [(n, text.decode("latin-1")) for (n, text, _) in result["files"]]
         out = cs_testing.run_in_new_process(
             "import FreeCAD\nfrom freecad.curvedslicer import api\n"
@@ -231,7 +246,7 @@ class TestExport(PathTestCase):
             "touched = [o.Name for o in doc.Objects if 'Touched' in o.State]\n"
             "progs = {}\n"
             "for name in ('jbi', 'krl', 'csv'):\n"
-            "    r = api.export(job, None, format=name)\n"
+            "    r = api.export(job, None, format=name, allow_foreign_cell=True)\n"
             "    progs[name] = [(n, t.decode('latin-1')) for (n, t, _) in r['files']]\n"
             "print('RESULT ' + json.dumps({'touched': touched, 'programs': progs, "
             "'runs': job.RunCount, 'paths': len(api.path_features(job)), "

@@ -213,7 +213,12 @@ PositionerAxis readAxis(Field& parent, std::string_view key, bool mayBeEndless) 
   if (axis.endless && !mayBeEndless) {
     f.fail("endless", "is only allowed for the rotation axis", "true", "set it to false");
   }
-  axis.pulsesPerDegree = f.positive("pulses_per_degree", "give the encoder pulses per degree");
+  // Pulses are the Yaskawa station's unit (JBI); other controllers take degrees, so a cell may
+  // leave them out (0: not known; a JBI export then stops and asks for them).
+  axis.pulsesPerDegree =
+      f.has("pulses_per_degree")
+          ? f.positive("pulses_per_degree", "give the encoder pulses per degree (or leave it out)")
+          : 0.0;
   axis.sign = f.sign("sign", "1 if the controller turns the same way as the model axis, else -1");
   f.rejectUnknown();
   return axis;
@@ -245,7 +250,7 @@ Json limitJson(const JointLimit& limit) {
 Json axisJson(const PositionerAxis& axis) {
   Json j = limitJson(axis.limit);
   j["endless"] = axis.endless;
-  j["pulses_per_degree"] = axis.pulsesPerDegree;
+  if (axis.pulsesPerDegree > 0.0) j["pulses_per_degree"] = axis.pulsesPerDegree;
   j["sign"] = axis.sign;
   return j;
 }
@@ -293,6 +298,9 @@ RobotDescription readRobot(Field& top, std::string_view origin) {
   robot.base = readPose(r, "base", "give the robot base frame in world");
   robot.kinematics = readKinematics(r);
   readJoints(r, robot, origin);
+  robot.j3RelativeToHorizontal =
+      r.boolean("j3_relative_to_horizontal", false,
+                "true when the controller's J3 is the forearm's angle to the horizontal (Fanuc)");
   if (r.has("pulses_per_degree")) {
     const auto ppd = r.numbers("pulses_per_degree", 6, "give six pulses-per-degree values");
     for (double v : ppd) {
@@ -548,6 +556,22 @@ ExportDescription readExport(Field& top) {
   return ex;
 }
 
+/// "vendor": optional in every version; without it the vendor is Unknown and a note says so.
+RobotVendor readVendor(Field& top, std::vector<std::string>& notes) {
+  if (!top.has("vendor")) {
+    notes.push_back(
+        "cell names no vendor: programs are not checked against the controller family; add "
+        "\"vendor\": \"yaskawa\", \"kuka\", \"abb\" or \"fanuc\"");
+    return RobotVendor::Unknown;
+  }
+  return top.choice<RobotVendor>("vendor",
+                                 {{"yaskawa", RobotVendor::Yaskawa},
+                                  {"kuka", RobotVendor::Kuka},
+                                  {"abb", RobotVendor::Abb},
+                                  {"fanuc", RobotVendor::Fanuc}},
+                                 "the robot controller's maker (decides the program languages)");
+}
+
 Cell readCellDocument(const Json& root, std::string_view origin) {
   if (!root.is_object()) {
     throw InvalidInput(std::string(origin) + ": the cell description must be a JSON object: " +
@@ -564,6 +588,7 @@ Cell readCellDocument(const Json& root, std::string_view origin) {
                                   "versions 1 and 2 are known; write 2 (see "
                                   "resources/schema/cell.schema.json)");
   cell.name = top.string("name", "give the cell a name");
+  cell.vendor = readVendor(top, cell.notes);
   cell.description = top.string("description", "", "free text");
   cell.gravity = top.direction("gravity", "give gravity as a direction in world, e.g. [0, 0, -1]");
   cell.robot = readRobot(top, origin);
@@ -604,6 +629,43 @@ Vec3 rollPitchYaw(const Mat3& r) {
     yaw = std::atan2(r(1, 0), r(0, 0));
   }
   return Vec3(roll, pitch, yaw);
+}
+
+std::string_view toString(RobotVendor vendor) {
+  switch (vendor) {
+    case RobotVendor::Yaskawa:
+      return "yaskawa";
+    case RobotVendor::Kuka:
+      return "kuka";
+    case RobotVendor::Abb:
+      return "abb";
+    case RobotVendor::Fanuc:
+      return "fanuc";
+    case RobotVendor::Unknown:
+      break;
+  }
+  return "unknown";
+}
+
+RobotVendor vendorOfFormat(std::string_view format) {
+  if (format == "jbi") return RobotVendor::Yaskawa;
+  if (format == "krl") return RobotVendor::Kuka;
+  if (format == "rapid") return RobotVendor::Abb;
+  if (format == "ls") return RobotVendor::Fanuc;
+  return RobotVendor::Unknown;
+}
+
+void checkCellVendor(const Cell& cell, std::string_view format, bool allowForeign) {
+  const RobotVendor language = vendorOfFormat(format);
+  if (allowForeign || language == RobotVendor::Unknown || cell.vendor == RobotVendor::Unknown ||
+      cell.vendor == language) {
+    return;
+  }
+  throw InvalidInput("the cell is for a " + std::string(toString(cell.vendor)) +
+                     " controller but the format " + std::string(format) + " is for " +
+                     std::string(toString(language)) + ": cell '" + cell.name +
+                     "'; choose a cell of that vendor (resources/cells/), the format of yours, "
+                     "or --allow-foreign-cell to write it anyway");
 }
 
 std::string_view toString(SpeedUnit unit) {
@@ -665,6 +727,7 @@ std::string writeCellJson(const Cell& cell) {
   j["format"] = "curvedslicer-cell";
   j["version"] = kCellFormatVersion;
   j["name"] = cell.name;
+  if (cell.vendor != RobotVendor::Unknown) j["vendor"] = std::string(toString(cell.vendor));
   j["description"] = cell.description;
   j["gravity"] = vecJson(cell.gravity);
   const RobotDescription& r = cell.robot;
@@ -689,6 +752,7 @@ std::string writeCellJson(const Cell& cell) {
                       {"c4", k.c4}}},
                     {"joints", joints}};
   if (!r.pulsesPerDegree.empty()) j["robot"]["pulses_per_degree"] = r.pulsesPerDegree;
+  if (r.j3RelativeToHorizontal) j["robot"]["j3_relative_to_horizontal"] = true;
   const TorchEnvelope& env = cell.tool.envelope;
   j["tool"] = Json{{"name", cell.tool.name},
                    {"number", cell.tool.number},
@@ -756,6 +820,7 @@ Cell defaultCell() {
   // resources/cells/motoman_hp20d_tilt_rotate.json (a test checks it).
   Cell cell;
   cell.name = "Motoman HP20D with two-axis tilt-rotate positioner";
+  cell.vendor = RobotVendor::Yaskawa;
   cell.description =
       "The paper's cell (section 4.1). Robot dimensions from the HP20D datasheet; positioner "
       "after the D500B-class numbers in resources/cells/README.md; placement is an example.";

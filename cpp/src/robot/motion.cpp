@@ -215,6 +215,12 @@ MotionEstimate estimatePlan(const Plan& plan, const ProcessDescription& process,
 }
 
 long long positionerPulses(const PositionerAxis& axis, double angle) {
+  if (!(axis.pulsesPerDegree > 0.0)) {
+    throw InvalidInput(
+        "positioner pulses per degree are not given in the cell: 0; add "
+        "positioner/tilt/pulses_per_degree and positioner/rotation/pulses_per_degree (the "
+        "station's parameters) to write station pulses");
+  }
   return axis.sign * std::llround(angle / kDeg * axis.pulsesPerDegree);
 }
 

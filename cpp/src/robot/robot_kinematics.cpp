@@ -35,12 +35,15 @@ double wrapPi(double angle) {
 JointVector toModel(const RobotDescription& robot, const JointVector& controller) {
   JointVector q;
   for (int i = 0; i < 6; ++i) q[i] = robot.jointSigns[i] * controller[i] + robot.jointOffsets[i];
+  if (robot.j3RelativeToHorizontal) q[2] -= q[1];  // J3 measured from the horizontal
   return q;
 }
 
 JointVector toController(const RobotDescription& robot, const JointVector& model) {
+  JointVector m = model;
+  if (robot.j3RelativeToHorizontal) m[2] += m[1];
   JointVector t;
-  for (int i = 0; i < 6; ++i) t[i] = robot.jointSigns[i] * (model[i] - robot.jointOffsets[i]);
+  for (int i = 0; i < 6; ++i) t[i] = robot.jointSigns[i] * (m[i] - robot.jointOffsets[i]);
   return t;
 }
 

@@ -1,12 +1,15 @@
 // Test helper: a validator for the subset of JSON Schema (2020-12) that
-// resources/schema/plan.schema.json uses — type (object, array, string, number, integer, boolean),
-// const, enum, required, properties, additionalProperties (boolean), items, minItems, maxItems,
-// minimum, maximum, and $ref to "#/$defs/<name>". Unknown keywords other than annotations ($schema,
+// resources/schema/plan.schema.json and cell.schema.json use — type (object, array, string,
+// number, integer, boolean), const, enum, required, properties, additionalProperties (boolean),
+// items, minItems, maxItems, minimum, maximum, exclusiveMinimum, minLength, maxLength, pattern
+// (ECMAScript, unanchored), allOf, anyOf, not, if/then/else, and $ref to "#/$defs/<name>".
+// Unknown keywords other than annotations ($schema,
 // $id, title, description, $defs) are reported as errors, so the schema cannot silently use more
 // than this checks. Returns the list of violations with their JSON pointers (empty = valid).
 #pragma once
 
 #include <algorithm>
+#include <regex>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -50,9 +53,11 @@ class SchemaSubsetValidator {
     const nlohmann::json& schema = resolve(rawSchema);
     for (const auto& item : schema.items()) {
       static const std::vector<std::string> known = {
-          "$schema", "$id",      "title",    "description", "$defs",      "$ref",
-          "type",    "const",    "enum",     "required",    "properties", "additionalProperties",
-          "items",   "minItems", "maxItems", "minimum",     "maximum"};
+          "$schema",   "$id",       "title",    "description", "$defs",      "$ref",
+          "type",      "const",     "enum",     "required",    "properties", "additionalProperties",
+          "items",     "minItems",  "maxItems", "minimum",     "maximum",    "exclusiveMinimum",
+          "minLength", "maxLength", "pattern",  "allOf",       "anyOf",      "not",
+          "if",        "then",      "else"};
       if (std::find(known.begin(), known.end(), item.key()) == known.end()) {
         throw std::runtime_error("schema keyword outside the supported subset: " + item.key());
       }
@@ -79,6 +84,12 @@ class SchemaSubsetValidator {
         v.get<double>() > schema["maximum"].get<double>()) {
       errors.push_back(where + ": above the maximum " + schema["maximum"].dump());
     }
+    if (schema.contains("exclusiveMinimum") && v.is_number() &&
+        v.get<double>() <= schema["exclusiveMinimum"].get<double>()) {
+      errors.push_back(where + ": not above " + schema["exclusiveMinimum"].dump());
+    }
+    if (v.is_string()) checkString(schema, v.get<std::string>(), where, errors);
+    checkCombinations(schema, v, at, errors);
     if (v.is_object()) {
       if (schema.contains("required")) {
         for (const auto& key : schema["required"]) {
@@ -109,6 +120,48 @@ class SchemaSubsetValidator {
           check(schema["items"], v[i], at + "/" + std::to_string(i), errors);
         }
       }
+    }
+  }
+
+  bool isValid(const nlohmann::json& schema, const nlohmann::json& v, const std::string& at) const {
+    std::vector<std::string> errors;
+    check(schema, v, at, errors);
+    return errors.empty();
+  }
+
+  static void checkString(const nlohmann::json& schema, const std::string& s,
+                          const std::string& where, std::vector<std::string>& errors) {
+    if (schema.contains("minLength") && s.size() < schema["minLength"].get<std::size_t>()) {
+      errors.push_back(where + ": shorter than " + schema["minLength"].dump());
+    }
+    if (schema.contains("maxLength") && s.size() > schema["maxLength"].get<std::size_t>()) {
+      errors.push_back(where + ": longer than " + schema["maxLength"].dump());
+    }
+    if (schema.contains("pattern") &&
+        !std::regex_search(s, std::regex(schema["pattern"].get<std::string>()))) {
+      errors.push_back(where + ": does not match " + schema["pattern"].dump());
+    }
+  }
+
+  void checkCombinations(const nlohmann::json& schema, const nlohmann::json& v,
+                         const std::string& at, std::vector<std::string>& errors) const {
+    const std::string where = at.empty() ? "/" : at;
+    if (schema.contains("allOf")) {
+      for (const auto& sub : schema["allOf"]) check(sub, v, at, errors);
+    }
+    if (schema.contains("anyOf")) {
+      const auto& subs = schema["anyOf"];
+      if (std::none_of(subs.begin(), subs.end(),
+                       [&](const nlohmann::json& sub) { return isValid(sub, v, at); })) {
+        errors.push_back(where + ": matches none of anyOf");
+      }
+    }
+    if (schema.contains("not") && isValid(schema["not"], v, at)) {
+      errors.push_back(where + ": matches the schema under not");
+    }
+    if (schema.contains("if")) {
+      const char* branch = isValid(schema["if"], v, at) ? "then" : "else";
+      if (schema.contains(branch)) check(schema[branch], v, at, errors);
     }
   }
 

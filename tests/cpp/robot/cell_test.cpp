@@ -15,11 +15,13 @@
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/robot/positioner.hpp"
 #include "curvedslicer/robot/robot_kinematics.hpp"
+#include "robot_test_support.hpp"
 
 namespace curvedslicer {
 namespace {
 
 using Json = nlohmann::json;
+using robot_test::distanceFromTableAndVolume;
 
 std::filesystem::path defaultCellFile() {
   return std::filesystem::path(CURVEDSLICER_SOURCE_DIR) / "resources" / "cells" /
@@ -139,6 +141,9 @@ TEST(Cell, EachBadFieldHasItsOwnError) {
       {"/home/positioner_deg", Json::array({0}), "array of 2"},
       {"/home/positioner_deg", Json::array({100, 0}), "tilt outside its limits"},
       {"/home/joints_deg", Json::array({0}), "is not a known field"},
+      {"/vendor", "motoman", "must be one of yaskawa, kuka, abb, fanuc"},
+      {"/vendor", 7, "must be a string"},
+      {"/robot/j3_relative_to_horizontal", "yes", "must be true or false"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.pointer);
@@ -228,15 +233,6 @@ TEST(Cell, VersionTwoRoundTripKeepsEnvelopeGeometryAndHome) {
   EXPECT_NEAR(back.home.a1, -0.5, 1e-9);
   EXPECT_NEAR(back.home.a2, 7.0, 7.0 * 1e-9 * 1.5);  // 401.07... deg written to 9 digits
   EXPECT_TRUE(back.notes.empty());
-}
-
-/// Distance of a point (table frame) from the solid cylinder made of the table disc and the
-/// working volume above it.
-double distanceFromTableAndVolume(const PositionerGeometry& g, const Vec3& p) {
-  const double radius = std::max(g.tableRadius, g.maxPartRadius);
-  const double dr = std::max(std::hypot(p.x(), p.y()) - radius, 0.0);
-  const double dz = std::max({-g.tableThickness - p.z(), p.z() - g.maxPartHeight, 0.0});
-  return std::hypot(dr, dz);
 }
 
 TEST(Cell, DefaultHomeIsReachableAndClearOfTableAndWorkingVolume) {

@@ -1,5 +1,6 @@
-// Test helpers shared by the robot tests (travel, collision): straight synthetic paths and the
-// brute-force point-to-segment distance the independent checks use.
+// Test helpers shared by the robot tests (travel, collision, cells): straight synthetic paths, the
+// brute-force point-to-segment distance the independent checks use, and the distance of a point
+// from a positioner's table and working volume.
 #pragma once
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 
 #include "curvedslicer/core/types.hpp"
 #include "curvedslicer/plan/plan.hpp"
+#include "curvedslicer/robot/cell.hpp"
 
 namespace curvedslicer::robot_test {
 
@@ -31,6 +33,15 @@ inline double distanceToSegment(const Vec3& x, const Vec3& a, const Vec3& b) {
   const double len2 = d.squaredNorm();
   const double t = std::clamp(len2 > 0 ? (x - a).dot(d) / len2 : 0.0, 0.0, 1.0);
   return (a + t * d - x).norm();
+}
+
+/// Distance of a point (table frame) from the solid cylinder made of the table disc and the
+/// working volume above it.
+inline double distanceFromTableAndVolume(const PositionerGeometry& g, const Vec3& p) {
+  const double radius = std::max(g.tableRadius, g.maxPartRadius);
+  const double dr = std::max(std::hypot(p.x(), p.y()) - radius, 0.0);
+  const double dz = std::max({-g.tableThickness - p.z(), p.z() - g.maxPartHeight, 0.0});
+  return std::hypot(dr, dz);
 }
 
 }  // namespace curvedslicer::robot_test

@@ -294,7 +294,8 @@ def plan(job):
 
 
 def export(job, path=None, format="jbi", program_name="", date="", gcode_mode="tcp",
-           arc_output=1, warn_unreachable=False, cell_file=None, tool_along_travel=None):
+           arc_output=1, warn_unreachable=False, cell_file=None, tool_along_travel=None,
+           allow_foreign_cell=False):
     """Writes the robot program of the stored plan (no recompute) for the Job's cell.
 
     job: a Job or a list of Jobs (deposited in that order, one program). format: one of
@@ -305,7 +306,9 @@ def export(job, path=None, format="jbi", program_name="", date="", gcode_mode="t
     tool_along_travel: True = torch x axis along the travel direction; False (the core's
     default) keeps a fixed torch orientation while the positioner turns the part (no wrist
     wind-up on long rings); None = the (first) Job's ToolAlongTravel. cell_file:
-    None = the (first) Job's CellFile. Returns {format, files [(name, bytes, lines)],
+    None = the (first) Job's CellFile. allow_foreign_cell: write a vendor's language (jbi
+    yaskawa, krl kuka, rapid abb, ls fanuc) for another vendor's cell (default: InvalidInput
+    naming the cell's vendor and the format). Returns {format, files [(name, bytes, lines)],
     motion_count, arc_count, warnings, total_bytes}."""
     jobs = _jobs(job)
     path = arguments.output_path(path)
@@ -325,7 +328,7 @@ def export(job, path=None, format="jbi", program_name="", date="", gcode_mode="t
                                   unreachable="warn" if warn_unreachable else "throw",
                                   tool_along_travel=bool(tool_along_travel))
     return native.export_program(text, cell, format=format, path=path, options=options,
-                                 motion=motion)
+                                 motion=motion, allow_foreign_cell=bool(allow_foreign_cell))
 
 
 def path_features(job):

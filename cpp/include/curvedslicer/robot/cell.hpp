@@ -21,7 +21,12 @@
 //
 // Robot joint angles in C++ are the controller's joint angles (rad), as the pendant shows them;
 // `RobotDescription::jointSigns/jointOffsets` map them to the kinematic model of
-// robot_kinematics.hpp (θ_model = sign · θ_controller + offset).
+// robot_kinematics.hpp (θ_model = sign · θ_controller + offset; with
+// `RobotDescription::j3RelativeToHorizontal` (Fanuc), θ_model3 = sign3 · J3 + offset3 − θ_model2).
+//
+// Vendor: `Cell::vendor` names the controller family the cell is for (Yaskawa, KUKA, ABB, Fanuc);
+// `checkCellVendor` refuses to write one vendor's program language for another vendor's cell.
+// A file without "vendor" loads with RobotVendor::Unknown and a note (Cell::notes).
 //
 // Versions: version 2 (written by writeCellJson) adds the torch envelope (`tool/envelope`), the
 // positioner's geometry (`positioner/geometry`) and the home pose (`home`). A version-1 file (the
@@ -80,6 +85,9 @@ struct RobotDescription {
   std::array<JointLimit, 6> joints;                      ///< controller convention
   std::array<double, 6> jointSigns{1, 1, 1, 1, 1, 1};    ///< ±1: θ_model = sign·θ_ctrl + offset
   std::array<double, 6> jointOffsets{0, 0, 0, 0, 0, 0};  ///< rad
+  /// Fanuc: the controller's J3 is the forearm's angle to the horizontal (J2's motion does not
+  /// move it), so the model's joint 3 (relative to the upper arm) is sign3·J3 + offset3 − θ_model2.
+  bool j3RelativeToHorizontal = false;
   /// Encoder pulses per degree of each controller joint angle (pulse = round(deg · ppd));
   /// empty when not known — exporters must then write Cartesian robot positions.
   std::vector<double> pulsesPerDegree;
@@ -109,7 +117,7 @@ struct ToolDescription {
 struct PositionerAxis {
   JointLimit limit;              ///< rad, rad/s (ignored range when endless)
   bool endless = false;          ///< unlimited rotation (rotation axis only)
-  double pulsesPerDegree = 0.0;  ///< > 0: pulse = sign · round(deg · ppd)
+  double pulsesPerDegree = 0.0;  ///< > 0: pulse = sign · round(deg · ppd); 0: not known
   int sign = 1;                  ///< ±1, controller direction relative to the model direction
 };
 
@@ -179,10 +187,15 @@ struct ExportDescription {
   int userFrame = 1;             ///< user frame number for PositionType::User
 };
 
+/// The controller family a cell is for; decides which program languages fit it (jbi: Yaskawa,
+/// krl: KUKA, rapid: ABB, ls: Fanuc; gcode, csv and json fit every cell).
+enum class RobotVendor { Unknown, Yaskawa, Kuka, Abb, Fanuc };
+
 struct Cell {
   std::string name;
-  std::string description;        ///< free text, incl. sources of the numbers
-  Vec3 gravity = -Vec3::UnitZ();  ///< unit, world frame
+  RobotVendor vendor = RobotVendor::Unknown;  ///< Unknown: no "vendor" given (a note says so)
+  std::string description;                    ///< free text, incl. sources of the numbers
+  Vec3 gravity = -Vec3::UnitZ();              ///< unit, world frame
   RobotDescription robot;
   ToolDescription tool;
   PositionerDescription positioner;
@@ -220,7 +233,19 @@ std::string writeCellJson(const Cell& cell);
 /// parseCell(resources/cells/motoman_hp20d_tilt_rotate.json).
 Cell defaultCell();
 
+/// Throws InvalidInput when `format` (an export format name: jbi, krl, rapid, ls, gcode, csv,
+/// json) is one vendor's program language and the cell is another vendor's, unless
+/// `allowForeign`; the message names the cell's vendor and the format. Also refuses jbi for a cell
+/// whose positioner axes have no pulses_per_degree (JBI station positions are pulses). Neutral
+/// formats and cells of unknown vendor pass.
+void checkCellVendor(const Cell& cell, std::string_view format, bool allowForeign);
+
+/// The vendor whose controller runs `format` (jbi → Yaskawa, krl → KUKA, rapid → ABB,
+/// ls → Fanuc); Unknown for the neutral formats (gcode, csv, json) and unknown names.
+RobotVendor vendorOfFormat(std::string_view format);
+
 /// Names used in the JSON form, for messages and exporters.
+std::string_view toString(RobotVendor vendor);
 std::string_view toString(SpeedUnit unit);
 std::string_view toString(ArcControl control);
 std::string_view toString(PositionType type);

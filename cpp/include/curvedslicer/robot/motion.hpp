@@ -225,7 +225,7 @@ MotionPlan planMotion(const Plan& plan, const Cell& cell, const MotionOptions& o
 MotionEstimate estimatePlan(const Plan& plan, const ProcessDescription& process,
                             std::vector<MotionEstimate>* layers = nullptr);
 
-/// Controller pulses of a positioner angle (model convention, rad): sign · round(deg · ppd).
+/// Station pulses of a positioner angle (model, rad): sign·round(deg·ppd); InvalidInput if ppd 0.
 long long positionerPulses(const PositionerAxis& axis, double angle);
 
 /// Controller pulses of robot joints (controller convention, rad); throws InvalidInput if the

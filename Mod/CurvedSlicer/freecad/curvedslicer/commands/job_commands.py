@@ -265,6 +265,11 @@ class ExportDialog(QtGui.QDialog):
                                    "controller does the kinematics); machine: X Y Z through "
                                    "the table's kinematics")
         form.addRow("G-code mode", self.gcode_mode)
+        self.allow_foreign_cell = QtGui.QCheckBox("Write it for another vendor's cell")
+        self.allow_foreign_cell.setToolTip(
+            "JBI is for Yaskawa, KRL for KUKA, RAPID for ABB and LS for Fanuc cells (the cell's "
+            "\"vendor\"); by default an export in another vendor's language is refused")
+        form.addRow("Foreign cell", self.allow_foreign_cell)
         buttons = QtGui.QDialogButtonBox(QtGui.QDialogButtonBox.Ok |
                                          QtGui.QDialogButtonBox.Cancel)
         buttons.accepted.connect(self.accept)
@@ -292,10 +297,12 @@ class ExportDialog(QtGui.QDialog):
         name = self.filters[self.format.currentIndex()][1]
         return {"path": self.path.text().strip(), "format": name,
                 "program_name": self.program_name.text().strip(),
-                "gcode_mode": self.gcode_mode.currentText() if name == "gcode" else "tcp"}
+                "gcode_mode": self.gcode_mode.currentText() if name == "gcode" else "tcp",
+                "allow_foreign_cell": self.allow_foreign_cell.isChecked()}
 
 
-def export_selected_job(job=None, path=None, format=None, program_name="", gcode_mode="tcp"):
+def export_selected_job(job=None, path=None, format=None, program_name="", gcode_mode="tcp",
+                        allow_foreign_cell=False):
     """Exports through the macro API, recorded as freecad.curvedslicer.api.export(...); returns
     {files, motion_count, ...} or None. Without `path` the export dialog asks."""
     job = job or selected_job()
@@ -308,11 +315,13 @@ def export_selected_job(job=None, path=None, format=None, program_name="", gcode
         options = dialog.options()
         path, format = options["path"], options["format"]
         program_name, gcode_mode = options["program_name"], options["gcode_mode"]
+        allow_foreign_cell = options["allow_foreign_cell"]
     if format is None:
         format = next((f[1] for f in export_filters() if path.lower().endswith(f[2].lower())),
                       "jbi")
     extras = "".join(", %s=%r" % (k, v) for (k, v, default) in (
-        ("program_name", program_name, ""), ("gcode_mode", gcode_mode, "tcp")) if v != default)
+        ("program_name", program_name, ""), ("gcode_mode", gcode_mode, "tcp"),
+        ("allow_foreign_cell", bool(allow_foreign_cell), False)) if v != default)
     try:
         QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
         try:
