@@ -20,6 +20,7 @@ import sys
 
 import FreeCAD
 import FreeCADGui
+from PySide import QtGui
 
 sys.path.insert(0, os.environ.get("CURVEDSLICER_TEST_DIR", os.path.dirname(__file__)))
 from gui_testing import TMP, check, finish, process_events, report_view  # noqa: E402
@@ -279,6 +280,9 @@ def run():
     for name in ("CurvedSlicer_InspectLayers", "CurvedSlicer_ToggleCell",
                  "CurvedSlicer_Simulate"):
         check(name in FreeCADGui.listCommands(), "command %s exists" % name)
+        pixmap = job_commands.COMMANDS[name]().GetResources()["Pixmap"]
+        check(os.path.isfile(pixmap) and not QtGui.QIcon(pixmap).isNull(),
+              "command %s has its icon %s" % (name, os.path.basename(pixmap)))
     doc = FreeCAD.newDocument("SimulationTest")
     box = doc.addObject("Part::Box", "Box")
     box.Length, box.Width, box.Height = 30, 20, 12

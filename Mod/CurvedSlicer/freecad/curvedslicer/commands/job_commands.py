@@ -203,7 +203,7 @@ class ToggleCell:
     it sits in cell coordinates, so Fit All frames the part only without it."""
 
     def GetResources(self):
-        return {"Pixmap": icon_path("Workbench"), "MenuText": "Show/hide the cell",
+        return {"Pixmap": icon_path("Cell"), "MenuText": "Show/hide the cell",
                 "ToolTip": "Show or hide the positioner, robot and torch at the pose (hidden, "
                            "Fit All frames the part)"}
 
@@ -223,7 +223,7 @@ class Simulate:
     """The pose simulation player: play/pause, speed, scrub; joints and flags of the point."""
 
     def GetResources(self):
-        return {"Pixmap": icon_path("Run"), "MenuText": "Simulate…",
+        return {"Pixmap": icon_path("Simulate"), "MenuText": "Simulate…",
                 "ToolTip": "Play the robot, torch and positioner through the plan, the deposit "
                            "growing (play/pause, speed, scrub)"}
 
@@ -532,6 +532,12 @@ COMMANDS = {
 # importable in the GUI) and the commands' group stays "CurvedSlicer".
 _ADD_COMMAND = compile("FreeCADGui.addCommand(name, command)", "/Mod/CurvedSlicer/FreeCADGui",
                        "exec")
+
+
+#: The toolbar: the everyday commands (the menu has them all).
+TOOLBAR = ["CurvedSlicer_CreateJob", "CurvedSlicer_EditJob", "CurvedSlicer_RunJob",
+           "CurvedSlicer_LayerRange", "CurvedSlicer_InspectLayers", "CurvedSlicer_ToggleCell",
+           "CurvedSlicer_Simulate"]
 
 
 def register():
