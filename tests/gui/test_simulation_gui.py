@@ -31,6 +31,22 @@ def visible_objects(doc):
             and hasattr(o, "Shape") and not o.Shape.isNull()]
 
 
+def render_svg(path, name):
+    """Renders an SVG icon to TMP/<name>.png as FreeCAD does (QSvgRenderer; a QIcon needs Qt's
+    SVG image plugin, which a minimal Qt 6 install lacks); False if it is not valid SVG."""
+    from PySide import QtSvg
+
+    renderer = QtSvg.QSvgRenderer(path)
+    if not renderer.isValid():
+        return False
+    image = QtGui.QImage(64, 64, QtGui.QImage.Format_ARGB32)
+    image.fill(QtGui.QColor("white"))
+    painter = QtGui.QPainter(image)
+    renderer.render(painter)
+    painter.end()
+    return image.save(os.path.join(TMP, name + ".png"))
+
+
 def grab(widget, name):
     """A dialog as TMP/<name>.png (the main window's grab does not hold top-level dialogs)."""
     path = os.path.join(TMP, name + ".png")
@@ -281,7 +297,7 @@ def run():
                  "CurvedSlicer_Simulate"):
         check(name in FreeCADGui.listCommands(), "command %s exists" % name)
         pixmap = job_commands.COMMANDS[name]().GetResources()["Pixmap"]
-        check(os.path.isfile(pixmap) and not QtGui.QIcon(pixmap).isNull(),
+        check(os.path.isfile(pixmap) and render_svg(pixmap, "icon_%s" % name),
               "command %s has its icon %s" % (name, os.path.basename(pixmap)))
     doc = FreeCAD.newDocument("SimulationTest")
     box = doc.addObject("Part::Box", "Box")

@@ -68,14 +68,12 @@ def robot_shape(cell, joints):
     arm = native.robot_arm_points(cell, [float(j) for j in joints])
     names = ["base", "shoulder", "elbow", "wrist", "flange"]
     points = [FreeCAD.Vector(*arm[n]) for n in names]
-    points.append(_matrix(arm["tcp"]).multiply(FreeCAD.Vector(0, 0, 0)))
-    radii = [90.0, 70.0, 55.0, 40.0, 25.0]
+    radii = [70.0, 55.0, 40.0, 25.0]  # mm, links base-shoulder, upper arm, forearm, wrist
     shapes = [Part.makeCylinder(160.0, 120.0, points[0], FreeCAD.Vector(0, 0, 1))]
-    for (a, b, r) in zip(points[:4], points[1:5], radii[1:]):
+    for (a, b, r) in zip(points[:4], points[1:5], radii):
         if (b - a).Length > 1e-6:
             shapes.append(Part.makeCylinder(r, (b - a).Length, a, b - a))
-    for p, r in zip(points[1:5], radii[1:]):
-        shapes.append(Part.makeSphere(r * 1.15, p))
+        shapes.append(Part.makeSphere(r * 1.15, b))  # the joint at the link's end
     return Part.makeCompound(shapes)
 
 
