@@ -7,7 +7,9 @@
 # layers); positioner motion in the paper's cell (Motoman HP20D + tilt-rotate positioner).
 # resources/examples/turbine_render.py then renders the 3D view (xvfb-run + freecad).
 # Output: out/example/ — turbine.FCStd (layers, paths, poses, plan), TURBINE.JBI (+ sub-jobs),
-# summary.json, turbine.png (layers and paths), turbine_pose.png (positioner at a pose).
+# summary.json, turbine.png (layers and paths), turbine_pose.png (the blades on the positioner
+# table at a pose, the torch at the motion point, the deposit up to it), turbine_cell.png (the
+# same with the robot).
 # Run scripts/setup.sh first (it installs the dependencies and builds build/).
 # Environment: CURVEDSLICER_BUILD_DIR (default build/), CURVEDSLICER_VOXEL (blade layers' voxel
 # size, mm, default 1.0).
@@ -68,5 +70,5 @@ print("  program:     %s (%d files, %d motions)"
       % (s["program"], len(s["program_files"]), s["program_motions"]))
 print("  document:    %s (layers, paths, poses, plan JSON)" % s["document"])
 EOF
-echo "  renders:     $out/turbine.png, $out/turbine_pose.png"
+echo "  renders:     $out/turbine.png, $out/turbine_pose.png, $out/turbine_cell.png"
 echo "  wall time:   $((plan_time - start_time)) s plan + $((end_time - plan_time)) s render"

@@ -19,6 +19,7 @@
 #include "curvedslicer/robot/configuration.hpp"
 #include "curvedslicer/robot/motion.hpp"
 #include "curvedslicer/robot/positioner.hpp"
+#include "curvedslicer/robot/robot_kinematics.hpp"
 
 namespace curvedslicer::bindings {
 
@@ -117,6 +118,8 @@ py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
   py::array_t<bool> arcOn(n), pathStart(n), pathEnd(n);
   py::array_t<double> position({n, py::ssize_t{3}}), deposition({n, py::ssize_t{3}}),
       used({n, py::ssize_t{3}}), normal({n, py::ssize_t{3}});
+  py::array_t<double> toolInWorld({n, py::ssize_t{4}, py::ssize_t{4}});
+  py::array_t<std::int32_t> configuration(n);
   for (py::ssize_t i = 0; i < n; ++i) {
     const MotionPoint& p = motion.points[static_cast<std::size_t>(i)];
     layer.mutable_at(i) = p.layer;
@@ -140,6 +143,10 @@ py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
       used.mutable_at(i, k) = p.usedDeposition[k];
       normal.mutable_at(i, k) = p.normal[k];
     }
+    const Eigen::Matrix4d tool = p.toolInWorld.matrix();
+    for (py::ssize_t r = 0; r < 4; ++r)
+      for (py::ssize_t c = 0; c < 4; ++c) toolInWorld.mutable_at(i, r, c) = tool(r, c);
+    configuration.mutable_at(i) = p.configuration;
   }
   py::dict d;
   d["layer"] = layer;
@@ -161,6 +168,8 @@ py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
   d["deposition"] = deposition;
   d["used_deposition"] = used;
   d["normal"] = normal;
+  d["tool_in_world"] = toolInWorld;
+  d["configuration"] = configuration;
   d["warnings"] = motion.warnings;
   d["max_residual"] = motion.maxResidual;
   d["singular_points"] = motion.singularPoints;
@@ -282,6 +291,23 @@ py::dict positionerFramesPy(const std::string& cellJson, double a1, double a2) {
   return d;
 }
 
+// The robot arm's joint points in world (mm) for controller joints (rad): for drawing the arm.
+py::dict robotArmPointsPy(const std::string& cellJson, const JointVector& joints) {
+  const Cell cell = parseCell(cellJson, "cell");
+  const ArmPoints arm = computeArmPoints(cell.robot, joints);
+  const Pose base = cell.robot.base;
+  const Pose tcp = base * computeFlangePose(cell.robot, joints) * cell.tool.tcp;
+  auto point = [](const Vec3& v) { return py::make_tuple(v.x(), v.y(), v.z()); };
+  py::dict d;
+  d["base"] = point(base * arm.base);
+  d["shoulder"] = point(base * arm.shoulder);
+  d["elbow"] = point(base * arm.elbow);
+  d["wrist"] = point(base * arm.wrist);
+  d["flange"] = point(base * arm.flange);
+  d["tcp"] = poseMatrix(tcp);
+  return d;
+}
+
 }  // namespace
 
 void registerPlanBindings(py::module_& m) {
@@ -327,7 +353,9 @@ void registerPlanBindings(py::module_& m) {
         "(codes into kind_names: path, retract, travel, approach, home), a1, a2 (rad), joints "
         "(n,6, rad), residual (rad), speed (mm/s of the arriving move), time (s from the start, "
         "axis speed limits respected), arc_on, path_start, path_end, flags, "
-        "position/normal/deposition/used_deposition (n,3) in the part frame; warnings, notes, "
+        "position/normal/deposition/used_deposition (n,3) in the part frame, tool_in_world (n,4,4 "
+        "mm: the TCP pose in world), configuration (IK branch bits: 1 back, 2 elbow down, 4 "
+        "wrist flip); warnings, notes, "
         "max_residual, singular_points, limited_points, near_singular_band (rad), paths "
         "(layer, path, begin, end, configuration), speed_reductions (layer, path, first_index, "
         "last_index, min_speed, axis), collisions (point, what, depth), total (estimates; "
@@ -335,6 +363,12 @@ void registerPlanBindings(py::module_& m) {
         "part placement used, MotionOptions.placement).",
         py::arg("plan_json"), py::arg("cell_json"), py::kw_only(),
         py::arg("options") = MotionOptions{}, py::arg("progress") = py::none());
+
+  m.def("robot_arm_points", &robotArmPointsPy,
+        "Forward kinematics of the cell's robot for controller joints (rad, 6): joint points in "
+        "world (mm) base, shoulder, elbow, wrist (centre), flange, and tcp (4x4, mm: the tool "
+        "centre point's pose in world).",
+        py::arg("cell_json"), py::arg("joints"));
 
   m.def(
       "export_formats",

@@ -66,8 +66,10 @@ def main():
     program = os.path.join(out, "TURBINE" + extension)
     exported = api.export([base, blades], program, format=fmt, program_name="TURBINE",
                           warn_unreachable=True)
-    # Show a pose in the middle of the blades on the saved document.
-    api.set_pose(blades, api.pose_count(blades) // 2)
+    # Show a pose in the middle of the blades on the saved document: the middle welded point,
+    # so the torch is on a bead with the deposit up to it.
+    welded = [i for i, on in enumerate(api.motion(blades)["arc_on"]) if on]
+    api.set_pose(blades, welded[len(welded) // 2] if welded else api.pose_count(blades) // 2)
     path = os.path.join(out, "turbine.FCStd")
     doc.saveAs(path)
     summary = {

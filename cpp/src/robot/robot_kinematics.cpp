@@ -86,6 +86,21 @@ Pose computeFlangePose(const RobotDescription& robot, const JointVector& joints)
   return pose;
 }
 
+ArmPoints computeArmPoints(const RobotDescription& robot, const JointVector& joints) {
+  const RobotKinematics& k = robot.kinematics;
+  const JointVector q = toModel(robot, joints);
+  const Mat3 r1 = rotZ(q[0]);
+  const Vec3 shoulder(k.a1, k.b, k.c1);
+  const Vec3 elbow = shoulder + rotY(q[1]) * Vec3(0, 0, k.c2);
+  const Vec3 wrist = elbow + rotY(q[1] + q[2]) * Vec3(k.c3, 0, k.a2);
+  ArmPoints points;
+  points.shoulder = r1 * shoulder;
+  points.elbow = r1 * elbow;
+  points.wrist = r1 * wrist;
+  points.flange = computeFlangePose(robot, joints).translation();
+  return points;
+}
+
 IkResult solveInverseKinematics(const RobotDescription& robot, const Pose& flange,
                                 double wristReference) {
   const RobotKinematics& k = robot.kinematics;

@@ -43,6 +43,41 @@ TEST(RobotKinematics, ZeroPose) {
   EXPECT_TRUE(flange.linear().col(0).isApprox(-Vec3::UnitZ(), 1e-12));
 }
 
+TEST(RobotKinematics, ArmPointsZeroPose) {
+  const RobotDescription r = defaultCell().robot;
+  const ArmPoints p = computeArmPoints(r, JointVector{});
+  // shoulder (a1, 0, c1), elbow c2 above it, wrist centre (a1 + c3, 0, c1 + c2 + a2), flange c4
+  // further along +x (the cell's numbers: a1 150, c1 505, c2 760, a2 140, c3 795, c4 100)
+  EXPECT_TRUE(p.base.isApprox(Vec3::Zero()));
+  EXPECT_TRUE(p.shoulder.isApprox(Vec3(150, 0, 505), 1e-12));
+  EXPECT_TRUE(p.elbow.isApprox(Vec3(150, 0, 505 + 760), 1e-12));
+  EXPECT_TRUE(p.wrist.isApprox(Vec3(150 + 795, 0, 505 + 760 + 140), 1e-12));
+  EXPECT_TRUE(p.flange.isApprox(Vec3(150 + 795 + 100, 0, 505 + 760 + 140), 1e-12));
+}
+
+TEST(RobotKinematics, ArmPointsFollowTheJoints) {
+  const RobotDescription r = offsetRobot();
+  const RobotKinematics& k = r.kinematics;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> angle(-kPi, kPi);
+  for (int trial = 0; trial < 50; ++trial) {
+    JointVector q;
+    for (double& v : q) v = angle(rng);
+    const ArmPoints p = computeArmPoints(r, q);
+    const Pose flange = computeFlangePose(r, q);
+    EXPECT_LT((p.flange - flange.translation()).norm(), 1e-9);
+    // link lengths are fixed: upper arm c2, forearm hypot(c3, a2), wrist to flange c4
+    EXPECT_NEAR((p.elbow - p.shoulder).norm(), k.c2, 1e-9);
+    EXPECT_NEAR((p.wrist - p.elbow).norm(), std::hypot(k.c3, k.a2), 1e-9);
+    EXPECT_NEAR((p.flange - p.wrist).norm(), k.c4, 1e-9);
+    // the wrist centre lies c4 behind the flange along the flange's z axis
+    EXPECT_LT((p.wrist - (flange.translation() - k.c4 * flange.linear().col(2))).norm(), 1e-9);
+    // the shoulder turns with joint 1 only, at height c1
+    EXPECT_NEAR(p.shoulder.z(), k.c1, 1e-9);
+    EXPECT_NEAR(std::hypot(p.shoulder.x(), p.shoulder.y()), std::hypot(k.a1, k.b), 1e-9);
+  }
+}
+
 TEST(RobotKinematics, ControllerDirections) {
   const RobotDescription r = defaultCell().robot;
   const Vec3 zero = computeFlangePose(r, JointVector{}).translation();

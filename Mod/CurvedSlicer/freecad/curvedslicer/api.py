@@ -19,12 +19,13 @@ from .core import (Cancelled, CurvedSlicerError, InvalidInput, IoError, NotAvail
 from .objects import job as job_module
 from .stages import layers as layer_stage
 from .stages import paths as path_stage
-from .stages import poses
+from .stages import poses, simulation, views
 
 __all__ = ["make_job", "run", "recompute", "estimate", "layers", "set_layer_range", "export",
            "export_formats", "plan", "plan_json", "path_features", "path_spacing", "motion",
-           "set_pose", "pose_count", "report", "is_job", "CurvedSlicerError", "InvalidInput",
-           "IoError", "ResourceLimit", "Cancelled", "NotAvailable"]
+           "set_pose", "pose_count", "show_layer", "layer_info", "show_results", "show_solid",
+           "show_cell", "cell_shown", "pose_info", "report", "is_job", "CurvedSlicerError",
+           "InvalidInput", "IoError", "ResourceLimit", "Cancelled", "NotAvailable"]
 
 is_job = job_module.is_job
 layers = layer_stage.layer_objects
@@ -239,9 +240,56 @@ def estimate(job, voxel_size=None, grid_alignment=None, memory_budget_mb=None, d
 
 
 def set_layer_range(job, first, last):
-    """Shows layers first..last (1-based, inclusive) and hides the others."""
-    for feature in layers(job):
-        feature.Visibility = first <= feature.LayerIndex <= last
+    """Shows layers first..last (1-based, inclusive), their surfaces and their paths, and hides
+    the others (the travel is shown only with every plan layer in the range)."""
+    views.show_layer_range(job, first, last)
+
+
+def show_layer(job, index):
+    """Shows only layer `index` (1-based): its surface and its paths; 0 shows every layer.
+    Returns layer_info(job, index) (or None for 0)."""
+    views.show_layer(job, int(index))
+    return views.layer_info(job, int(index)) if index else None
+
+
+def layer_info(job, index):
+    """Layer `index` (1-based) of the stored plan: dict index, count (plan layers), height (mm),
+    paths, points, warnings (the plan's and the motion's for this layer), coverage (the plan's
+    per-layer coverage object, None when the plan has none)."""
+    return views.layer_info(job, int(index))
+
+
+def show_results(job):
+    """After a run: the solid hidden, the layers, paths and travel shown, the cell (positioner,
+    robot, torch, deposit) hidden so that Fit All frames the part. show_solid / show_cell
+    restore them."""
+    views.show_results(job)
+
+
+def show_solid(job, visible=True):
+    """Shows (or hides) the Job's solid."""
+    views.show_solid(job, bool(visible))
+
+
+def show_cell(job, visible=True):
+    """Shows (or hides) the cell at the pose: positioner carrying the part, robot, torch and
+    deposit (they sit in cell coordinates, far from the part's own frame). The layers, paths
+    and travel in the part's frame go the other way: hidden with the cell shown, every layer
+    shown again with it hidden."""
+    views.show_cell(job, bool(visible))
+
+
+def cell_shown(job):
+    """True if the cell at the pose is shown."""
+    return views.cell_shown(job)
+
+
+def pose_info(job, index=None):
+    """Motion point `index` (default: the one shown, PosePoint): dict index, count, kind, layer,
+    path (1-based), a1/a2 (deg), joints (deg, 6), configuration (IK branch names), flags (names),
+    tcp (world, mm), time (s), speed (mm/s), arc_on, deposit_moves (welded moves up to it)."""
+    motion_ = poses.motion(job)
+    return simulation.point_info(motion_, job.PosePoint if index is None else int(index))
 
 
 def export_formats():

@@ -18,7 +18,7 @@ class CurvedSlicerWorkbench(FreeCADGui.Workbench):
 
         FreeCADGui.addIconPath(ICON_DIR)  # preferences-curvedslicer.svg: the page's icon
         names = job_commands.register()
-        self.appendToolbar("CurvedSlicer", names[:4])
+        self.appendToolbar("CurvedSlicer", job_commands.TOOLBAR)
         self.appendMenu("CurvedSlicer", names)
         FreeCADGui.addPreferencePage(PreferencesPage, "CurvedSlicer")
 

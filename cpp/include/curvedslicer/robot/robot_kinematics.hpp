@@ -24,6 +24,20 @@ namespace curvedslicer {
 /// Flange pose in the robot base frame for controller joint angles (rad).
 Pose computeFlangePose(const RobotDescription& robot, const JointVector& joints);
 
+/// The arm's joint points in the robot base frame (mm) for controller joint angles (rad), for
+/// drawing the arm: base origin, shoulder (joint 2 axis), elbow (joint 3 axis), wrist centre,
+/// flange origin (= computeFlangePose(robot, joints).translation()).
+struct ArmPoints {
+  Vec3 base = Vec3::Zero();
+  Vec3 shoulder = Vec3::Zero();
+  Vec3 elbow = Vec3::Zero();
+  Vec3 wrist = Vec3::Zero();
+  Vec3 flange = Vec3::Zero();
+};
+
+/// Joint points of the arm for controller joint angles (rad), robot base frame (mm).
+ArmPoints computeArmPoints(const RobotDescription& robot, const JointVector& joints);
+
 /// One inverse-kinematics solution.
 struct IkSolution {
   JointVector joints{};   ///< rad, controller convention, each in (-π, π] before unwrapping

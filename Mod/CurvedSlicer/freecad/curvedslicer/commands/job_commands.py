@@ -1,6 +1,8 @@
-"""Commands: create a Job from the selection, edit it, run it (progress + Cancel), show a layer
-range, export the robot program (a dialog with file, format, program name and G-code mode; the
-document's folder by default), step and animate the positioner poses, and preferences.
+"""Commands: create a Job from the selection, edit it, run it (progress + Cancel; then the
+results shown and the solid hidden), show a layer range, inspect one layer (surface, paths,
+coverage, warnings), show/hide the cell, simulate the poses (torch, robot, deposit), export
+the robot program (a dialog with file, format, program name and G-code mode; the document's
+folder by default), step and animate the positioner poses, and preferences.
 
 Document changes are made by running the macro API's own lines through FreeCADGui.doCommand
 (after FreeCADGui.addModule("freecad.curvedslicer.api")), so a recorded macro holds exactly the
@@ -150,9 +152,17 @@ def run_selected_job(job=None):
         doc.commitTransaction()
         show_error("the Job could not run", error)
         return False
+    do_api("show_results(%s)" % _ref(job))
     doc.commitTransaction()
-    FreeCADGui.updateGui()
+    fit_view()
     return True
+
+
+def fit_view():
+    """Fit All in the active 3D view (after the shown objects changed)."""
+    FreeCADGui.updateGui()
+    if FreeCADGui.ActiveDocument is not None:
+        FreeCADGui.SendMsgToActiveView("ViewFit")
 
 
 class LayerRange:
@@ -169,8 +179,76 @@ class LayerRange:
         dialog.show()
 
 
+class InspectLayers:
+    def GetResources(self):
+        return {"Pixmap": icon_path("Layers"), "MenuText": "Inspect layers…",
+                "ToolTip": "Show one layer's surface and paths at a time, with its height, "
+                           "coverage and warnings"}
+
+    def IsActive(self):
+        job = selected_job()
+        return job is not None and bool(job.PlanJson)
+
+    def Activated(self):
+        from ..taskpanels.layer_dialog import LayerDialog
+
+        dialog = LayerDialog(selected_job(), _main_window())
+        dialog.show()
+        fit_view()
+        return dialog
+
+
+class ToggleCell:
+    """Shows or hides the cell at the pose (positioner with the part, robot, torch, deposit):
+    it sits in cell coordinates, so Fit All frames the part only without it."""
+
+    def GetResources(self):
+        return {"Pixmap": icon_path("Cell"), "MenuText": "Show/hide the cell",
+                "ToolTip": "Show or hide the positioner, robot and torch at the pose (hidden, "
+                           "Fit All frames the part)"}
+
+    def IsActive(self):
+        job = selected_job()
+        return job is not None and job.PosesGroup is not None
+
+    def Activated(self):
+        from .. import api
+
+        job = selected_job()
+        do_api("show_cell(%s, %r)" % (_ref(job), not api.cell_shown(job)))
+        fit_view()
+
+
+class Simulate:
+    """The pose simulation player: play/pause, speed, scrub; joints and flags of the point."""
+
+    def GetResources(self):
+        return {"Pixmap": icon_path("Simulate"), "MenuText": "Simulate…",
+                "ToolTip": "Play the robot, torch and positioner through the plan, the deposit "
+                           "growing (play/pause, speed, scrub)"}
+
+    def IsActive(self):
+        job = selected_job()
+        return job is not None and bool(job.PlanJson)
+
+    def Activated(self):
+        from ..taskpanels.simulation_dialog import SimulationDialog
+
+        job = selected_job()
+        try:
+            do_api("show_cell(%s, True)" % _ref(job))
+            dialog = SimulationDialog(job, _main_window())
+        except CurvedSlicerError as error:
+            show_error("the simulation cannot start", error)
+            return None
+        dialog.show()
+        fit_view()
+        return dialog
+
+
 class LayerRangeDialog(QtGui.QDialog):
-    """Two sliders (first, last layer); the view follows as they move."""
+    """Two sliders (first, last layer) with their numbers; the view follows as they move
+    (layer surfaces and their paths)."""
 
     def __init__(self, job, parent=None):
         super().__init__(parent)
@@ -186,8 +264,11 @@ class LayerRangeDialog(QtGui.QDialog):
             s.setValue(v)
             s.valueChanged.connect(self.apply)
         self.label = QtGui.QLabel()
+        self.first_label, self.last_label = QtGui.QLabel(), QtGui.QLabel()
         layout.addRow("First", self.first)
+        layout.addRow("", self.first_label)
         layout.addRow("Last", self.last)
+        layout.addRow("", self.last_label)
         layout.addRow(self.label)
         self.apply()
 
@@ -196,7 +277,18 @@ class LayerRangeDialog(QtGui.QDialog):
         if last < first:
             first, last = last, first
         do_api("set_layer_range(%s, %d, %d)" % (_ref(self.job), first, last))
+        heights = {f.LayerIndex: float(f.Height) for f in layer_features(self.job)}
+        for label, slider in ((self.first_label, self.first), (self.last_label, self.last)):
+            k = slider.value()
+            label.setText("layer %d%s" % (k, " · height %.2f mm" % heights[k] if k in heights
+                                          else ""))
         self.label.setText("layers %d to %d of %d" % (first, last, self.job.LayerCount))
+
+
+def layer_features(job):
+    from .. import api
+
+    return api.layers(job)
 
 
 class ExportProgram:
@@ -435,6 +527,9 @@ COMMANDS = {
     "CurvedSlicer_Export": ExportProgram,
     "CurvedSlicer_StepPose": StepPose,
     "CurvedSlicer_AnimatePoses": AnimatePoses,
+    "CurvedSlicer_InspectLayers": InspectLayers,
+    "CurvedSlicer_ToggleCell": ToggleCell,
+    "CurvedSlicer_Simulate": Simulate,
     "CurvedSlicer_Preferences": Preferences,
 }
 
@@ -446,6 +541,12 @@ COMMANDS = {
 # importable in the GUI) and the commands' group stays "CurvedSlicer".
 _ADD_COMMAND = compile("FreeCADGui.addCommand(name, command)", "/Mod/CurvedSlicer/FreeCADGui",
                        "exec")
+
+
+#: The toolbar: the everyday commands (the menu has them all).
+TOOLBAR = ["CurvedSlicer_CreateJob", "CurvedSlicer_EditJob", "CurvedSlicer_RunJob",
+           "CurvedSlicer_LayerRange", "CurvedSlicer_InspectLayers", "CurvedSlicer_ToggleCell",
+           "CurvedSlicer_Simulate"]
 
 
 def register():

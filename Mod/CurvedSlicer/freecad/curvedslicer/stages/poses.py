@@ -1,7 +1,8 @@
 """Positioner poses of a Job (paper §3.2, eq. 16): a schematic two-axis positioner — base,
 tilting cradle, rotary table — built from the cell (robot/cell.hpp), carrying the part (an
 App::Link to the Job's solid), placed at the planned angles (robot/motion.hpp planMotion: a1 tilt,
-a2 rotation) of the motion point ``PosePoint``.
+a2 rotation) of the motion point ``PosePoint``, with the torch, the robot and the deposit up to
+that point (stages/simulation.py).
 
 Shapes are built once in the table-zero frame T0 (x axis the tilt axis, z axis the rotation
 axis, origin on the table) and carried by placements: base T0, cradle T_cradle(a1) = T_table(a1,
@@ -24,6 +25,7 @@ from .. import defaults
 from ..core import InvalidInput, native
 from .features import ensure_group, group_members
 from .pose_placement import part_placement
+from .simulation import update_simulation
 
 POSE_PARTS = ["PositionerBase", "PositionerCradle", "PositionerTable", "PosePart"]
 
@@ -219,6 +221,7 @@ def update_poses(job, progress=None):
     objects["PositionerBase"].Placement = placement(frames["table_zero"])
     objects["PositionerCradle"].Placement = placement(frames["cradle"])
     objects["PositionerTable"].Placement = placement(frames["table"])
+    update_simulation(job, group, pose_objects(job), m, index, part_placement(m, frames))
     for o in pose_objects(job).values():
         o.Label = "%s %s" % (job.Label, o.PoseRole)
         o.purgeTouched()

@@ -1,6 +1,7 @@
 """View provider of the Job: icon, double-click opens the task panel, and the styling of the
 Job's result features: layers coloured by height (blue at the start surface to red at the top),
-paths as coloured lines, travel dashed, the positioner in greys.
+paths as coloured lines, travel dashed, the positioner in greys, the robot, torch and deposit of
+the pose simulation.
 
 The stages (App side) never style; the view provider restyles when a stage's result property
 changes (``updateData``), deferred to the event loop so that an undo or redo in progress (whose
@@ -22,6 +23,12 @@ def height_color(fraction):
             t = (f - f0) / (f1 - f0)
             return tuple(a + t * (b - a) for a, b in zip(c0, c1))
     return stops[-1][1]
+
+
+def path_color(fraction):
+    """The line colour of a path layer: its layer's colour, darker, so beads stand out on their
+    own layer's surface (the layer inspector shows the two together)."""
+    return tuple(0.55 * c for c in height_color(fraction))
 
 
 def _differs(current, value):
@@ -62,8 +69,8 @@ def color_layers(job):
 
 
 def style_paths(job):
-    """Arc-on beads as solid lines coloured by plan layer height, arc-off travel as thin dashed
-    grey lines, positioner parts in neutral greys (no-op headless)."""
+    """Arc-on beads as solid lines coloured by plan layer height (path_color), arc-off travel
+    as thin dashed grey lines, the cell's parts by style_cell (no-op headless)."""
     if not FreeCAD.GuiUp:
         return
     from ..stages import paths as path_stage
@@ -75,7 +82,7 @@ def style_paths(job):
         vobj = feature.ViewObject
         if vobj is None:
             continue
-        set_view(vobj, "LineColor", height_color(i / max(count - 1, 1)))
+        set_view(vobj, "LineColor", path_color(i / max(count - 1, 1)))
         set_view(vobj, "LineWidth", 2.0)
         set_view(vobj, "DrawStyle", "Solid")
     travel = path_stage.travel_object(job)
@@ -83,11 +90,52 @@ def style_paths(job):
         set_view(travel.ViewObject, "LineColor", (0.45, 0.45, 0.45))
         set_view(travel.ViewObject, "LineWidth", 1.0)
         set_view(travel.ViewObject, "DrawStyle", "Dashed")
-    greys = {"PositionerBase": (0.35, 0.35, 0.38), "PositionerCradle": (0.55, 0.55, 0.6),
-             "PositionerTable": (0.75, 0.75, 0.78)}
-    for role, obj in poses.pose_objects(job).items():
-        if role in greys and obj.ViewObject is not None:
-            set_view(obj.ViewObject, "ShapeColor", greys[role])
+    style_cell(poses.pose_objects(job))
+
+
+#: Shape colours of the cell's parts: the positioner in greys, the robot in a robot's orange,
+#: the torch in copper.
+CELL_COLORS = {"PositionerBase": (0.35, 0.35, 0.38), "PositionerCradle": (0.55, 0.55, 0.6),
+               "PositionerTable": (0.75, 0.75, 0.78), "Robot": (0.95, 0.55, 0.1),
+               "Torch": (0.72, 0.45, 0.2)}
+DEPOSIT_COLOR = (0.85, 0.1, 0.1)
+
+
+def style_cell(objects):
+    """Colours of the pose view's parts ({role: object}); the deposit as thick red lines."""
+    for role, obj in objects.items():
+        vobj = obj.ViewObject
+        if vobj is None:
+            continue
+        if role in CELL_COLORS:
+            set_view(vobj, "ShapeColor", CELL_COLORS[role])
+        elif role == "PosePart":
+            see_through(obj)
+        elif role == "Deposit":
+            set_view(vobj, "LineColor", DEPOSIT_COLOR)
+            set_view(vobj, "PointColor", DEPOSIT_COLOR)
+            set_view(vobj, "LineWidth", 4.0)
+            set_view(vobj, "PointSize", 1.0)
+
+
+#: Transparency of the part carried by the positioner (0..1): the deposit inside it stays visible.
+PART_TRANSPARENCY = 0.5
+
+
+def see_through(obj):
+    """Shows `obj` (a shape feature or an App::Link to one) transparent, so the deposit and the
+    torch tip inside it can be seen."""
+    vobj = obj.ViewObject
+    if vobj is None:
+        return
+    if hasattr(vobj, "ShapeMaterial") and hasattr(vobj, "OverrideMaterial"):  # App::Link
+        material = vobj.ShapeMaterial
+        if not vobj.OverrideMaterial or abs(material.Transparency - PART_TRANSPARENCY) > 0.01:
+            material.Transparency = PART_TRANSPARENCY
+            vobj.ShapeMaterial = material
+            vobj.OverrideMaterial = True
+    else:
+        set_view(vobj, "Transparency", int(round(100 * PART_TRANSPARENCY)))
 
 
 #: Result properties after whose change the Job's features are restyled: the layer stage sets
