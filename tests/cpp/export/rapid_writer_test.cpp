@@ -139,5 +139,21 @@ TEST(RapidWriter, ACellWithoutRapidSettingsIsRefusedNamingTheFieldAndFile) {
   }
 }
 
+TEST(RapidWriter, ASignalThatIsNoRapidNameIsRefusedWhenTheCellIsRead) {
+  std::string json = writeCellJson(defaultCell());
+  const std::string field = "\"arc_signal\": \"doArcOn\"";
+  ASSERT_NE(json.find(field), std::string::npos) << json;
+  json.replace(json.find(field), field.size(), "\"arc_signal\": \"do Arc;\"");
+  try {
+    parseCell(json, "abb.json");
+    ADD_FAILURE() << "read a signal name with a space and a semicolon";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("abb.json: field /controller/rapid/arc_signal must be a "
+                                         "RAPID name"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace curvedslicer
