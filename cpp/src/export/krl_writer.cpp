@@ -110,11 +110,11 @@ void writeAxisSpeeds(ProgramText& text, double percent) {
 /// Upper bound of the .src lines point i needs (motion, speeds, arc and wire-feed lines, dwell).
 std::size_t pointLines(const MotionPlan& motion, const Cell& cell, std::size_t i) {
   const MotionPoint& p = motion.points[i];
-  std::size_t lines = 2;                        // $VEL.CP and the motion
-  if (p.kind == MoveKind::Home) lines += 8;     // $VEL_AXIS / $VEL_EXTAX
-  if (p.pathStart) lines += 3;                  // arc on, wait, wire feed
-  if (p.arcOn) lines += 2;                      // arc on trigger, wire feed trigger
-  if (p.pathEnd) lines += 1;                    // arc off trigger
+  std::size_t lines = 2;                     // $VEL.CP and the motion
+  if (p.kind == MoveKind::Home) lines += 8;  // $VEL_AXIS / $VEL_EXTAX
+  if (p.pathStart) lines += 3;               // arc on, wait, wire feed
+  if (p.arcOn) lines += 2;                   // arc on trigger, wire feed trigger
+  if (p.pathEnd) lines += 1;                 // arc off trigger
   if (dwellAfter(motion, cell, i) > 0.0) ++lines;
   return lines;
 }
@@ -124,10 +124,10 @@ std::size_t pointLines(const MotionPlan& motion, const Cell& cell, std::size_t i
 double wireFeedFraction(const Cell& cell, const KrlController& krl, const MotionPoint& p) {
   const double wfs = wireFeedOf(cell, p);
   if (wfs > krl.wireFeedFullScale) {
-    throw InvalidInput("KRL export: wire feed beyond the analog output's full scale: " +
-                       formatFixed(wfs, 3) + " m/min > " + formatFixed(krl.wireFeedFullScale, 3) +
-                       " m/min; raise /controller/krl/wire_feed_full_scale_m_min in " +
-                       cell.controller.source);
+    throw InvalidInput(
+        "KRL export: wire feed beyond the analog output's full scale: " + formatFixed(wfs, 3) +
+        " m/min > " + formatFixed(krl.wireFeedFullScale, 3) +
+        " m/min; raise /controller/krl/wire_feed_full_scale_m_min in " + cell.controller.source);
   }
   return wfs / krl.wireFeedFullScale;
 }
@@ -137,8 +137,13 @@ class KrlPartWriter {
  public:
   KrlPartWriter(const MotionPlan& motion, const Cell& cell, const KrlController& krl,
                 const PointConfigurations& configurations, ProgramText& src, ProgramText& dat)
-      : motion_(motion), cell_(cell), krl_(krl), configurations_(configurations), src_(src),
-        dat_(dat), out_("$OUT[" + std::to_string(krl.arcOnOutput) + "]") {}
+      : motion_(motion),
+        cell_(cell),
+        krl_(krl),
+        configurations_(configurations),
+        src_(src),
+        dat_(dat),
+        out_("$OUT[" + std::to_string(krl.arcOnOutput) + "]") {}
 
   void writePoint(std::size_t i, ExportResult& result);
 

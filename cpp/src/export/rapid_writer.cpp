@@ -114,8 +114,12 @@ class RapidPartWriter {
   RapidPartWriter(const MotionPlan& motion, const Cell& cell, const RapidController& rapid,
                   const RapidNames& names, const PointConfigurations& configurations,
                   ProgramText& text)
-      : motion_(motion), cell_(cell), rapid_(rapid), names_(names),
-        configurations_(configurations), text_(text) {}
+      : motion_(motion),
+        cell_(cell),
+        rapid_(rapid),
+        names_(names),
+        configurations_(configurations),
+        text_(text) {}
 
   void writePoint(std::size_t i, ExportResult& result);
 

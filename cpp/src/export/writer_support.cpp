@@ -84,9 +84,10 @@ std::vector<ProgramPart> splitIntoParts(const MotionPlan& motion,
   for (std::size_t k = 0; k < chunks.size(); ++k) {
     std::string name = makeSubJobName(mainName, k + 1, chunks.size(), nameLimit);
     if (name == mainName) {
-      throw InvalidInput(std::string(format) + " export: a sub-program would have the main "
-                         "program's name: " + name +
-                         "; choose a program name that does not end in digits");
+      throw InvalidInput(std::string(format) +
+                         " export: a sub-program would have the main "
+                         "program's name: " +
+                         name + "; choose a program name that does not end in digits");
     }
     parts.push_back({std::move(name), chunks[k]});
   }

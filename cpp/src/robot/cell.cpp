@@ -559,8 +559,8 @@ KrlController readKrlController(Field& c) {
   krl.wireFeedAnalogOutput =
       k.integer("wire_feed_analog_output", 0, 0, 32, "$ANOUT[n] for the wire feed; 0 = none");
   if (krl.wireFeedAnalogOutput > 0) {
-    krl.wireFeedFullScale = k.positive("wire_feed_full_scale_m_min",
-                                       "give the wire feed (m/min) at $ANOUT = 1.0");
+    krl.wireFeedFullScale =
+        k.positive("wire_feed_full_scale_m_min", "give the wire feed (m/min) at $ANOUT = 1.0");
   }
   krl.approximationDistance =
       k.number("approximation_mm", 1.0, "C_DIS approximation distance in mm ($APO.CDIS)");
@@ -583,7 +583,8 @@ KrlController readKrlController(Field& c) {
 std::string readRapidName(Field& f, std::string_view key, bool required, std::string_view hint) {
   const std::string name = required ? f.string(key, hint) : f.string(key, "", hint);
   if (!required && name.empty()) return name;
-  bool valid = !name.empty() && name.size() <= 32 && std::isalpha(static_cast<unsigned char>(name[0]));
+  bool valid =
+      !name.empty() && name.size() <= 32 && std::isalpha(static_cast<unsigned char>(name[0]));
   for (char ch : name) valid = valid && (std::isalnum(static_cast<unsigned char>(ch)) || ch == '_');
   if (!valid) {
     f.fail(key, "must be a RAPID name (a letter, then letters, digits or '_', at most 32)",
@@ -595,7 +596,8 @@ std::string readRapidName(Field& f, std::string_view key, bool required, std::st
 RapidController readRapidController(Field& c, bool coordinated) {
   Field r = c.object("rapid", "give the ABB RAPID settings");
   RapidController rapid;
-  rapid.arcSignal = readRapidName(r, "arc_signal", true, "the digital output that switches the arc");
+  rapid.arcSignal =
+      readRapidName(r, "arc_signal", true, "the digital output that switches the arc");
   rapid.arcEstablishedSignal =
       readRapidName(r, "arc_established_signal", false, "digital input set once the arc burns");
   rapid.wireFeedSignal =
@@ -637,7 +639,8 @@ Json controllerJson(const ControllerDescription& controller) {
                     {"approximation_mm", clean(k->approximationDistance)},
                     {"base_number", k->baseNumber},
                     {"max_lines_per_file", k->maxLinesPerFile}};
-    if (k->wireFeedAnalogOutput > 0) j["krl"]["wire_feed_full_scale_m_min"] = clean(k->wireFeedFullScale);
+    if (k->wireFeedAnalogOutput > 0)
+      j["krl"]["wire_feed_full_scale_m_min"] = clean(k->wireFeedFullScale);
   }
   if (const auto& r = controller.rapid) {
     j["rapid"] = Json{{"arc_signal", r->arcSignal},
@@ -845,7 +848,8 @@ std::string writeCellJson(const Cell& cell) {
                      {"job_name", e.jobName},
                      {"max_name_length", e.maxNameLength},
                      {"user_frame", e.userFrame}};
-  if (cell.controller.krl || cell.controller.rapid) j["controller"] = controllerJson(cell.controller);
+  if (cell.controller.krl || cell.controller.rapid)
+    j["controller"] = controllerJson(cell.controller);
   Json homeJoints = Json::array();
   for (double q : cell.home.robot) homeJoints.push_back(clean(q / kDeg));
   j["home"] = Json{{"robot_joints_deg", homeJoints},

@@ -143,9 +143,8 @@ TEST(Golden, EveryFormatMatchesItsGoldenFile) {
   Cell cell = defaultCell();
   cell.process.pathDwell = 1.5;
   const MotionPlan motion = makeGoldenMotion(cell);
-  for (ExportFormat f :
-       {ExportFormat::Jbi, ExportFormat::Ls, ExportFormat::Gcode, ExportFormat::Csv,
-        ExportFormat::Json}) {
+  for (ExportFormat f : {ExportFormat::Jbi, ExportFormat::Ls, ExportFormat::Gcode,
+                         ExportFormat::Csv, ExportFormat::Json}) {
     const ExportResult r = exportProgram(motion, cell, f);
     ASSERT_EQ(r.files.size(), 1u);
     compareWithGolden("small_" + std::string(toString(f)) + std::string(fileExtension(f)),

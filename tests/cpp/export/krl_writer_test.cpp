@@ -24,7 +24,8 @@ std::size_t countLines(const ExportResult& result, const std::string& prefix) {
   std::size_t n = 0;
   for (const ExportFile& f : result.files) {
     bool ok = false;
-    for (const std::string& line : splitLines(f.text, f.text.find('\r') != std::string::npos, &ok)) {
+    for (const std::string& line :
+         splitLines(f.text, f.text.find('\r') != std::string::npos, &ok)) {
       if (line.rfind(prefix, 0) == 0) ++n;
     }
   }

@@ -27,12 +27,19 @@
 
 namespace curvedslicer::testing {
 
+/// strictDouble that must also be finite (a program must never state nan or inf).
+inline double finiteDouble(const std::string& text, const std::string& line) {
+  const double value = strictDouble(text, line);
+  EXPECT_TRUE(std::isfinite(value)) << "not a finite number: '" << text << "' in " << line;
+  return value;
+}
+
 /// A target as a program states it: joints (deg) or a TCP pose, and the positioner (deg).
 struct ReadPosition {
   bool jointTarget = false;
-  std::vector<double> joints;  ///< deg, controller convention
+  std::vector<double> joints;   ///< deg, controller convention
   Pose tcp = Pose::Identity();  ///< in the table (coordinated) or world frame
-  double e1 = 0.0, e2 = 0.0;   ///< positioner tilt and rotation, controller degrees
+  double e1 = 0.0, e2 = 0.0;    ///< positioner tilt and rotation, controller degrees
   std::optional<StatedConfiguration> configuration;  ///< KRL: S and T of an E6POS
 };
 
@@ -42,16 +49,16 @@ struct ReadExport {
   std::vector<ReadPosition> positions;  ///< one per move
   /// Wire feed (m/min) in force during each move (NaN where the program sets none).
   std::vector<double> wireFeed;
-  std::size_t arcWaits = 0;             ///< arc-established waits
-  std::size_t programs = 0;             ///< programs / modules with motions
+  std::size_t arcWaits = 0;  ///< arc-established waits
+  std::size_t programs = 0;  ///< programs / modules with motions
 };
 
 /// Lines of `file` with the cell's line ending (a wrong ending is a failure) and at most `limit`.
 inline std::vector<std::string> strictLines(const ExportFile& file, const Cell& cell,
                                             std::size_t limit) {
   bool endings = false;
-  const auto lines = splitLines(file.text, cell.exportOptions.lineEnding == LineEnding::Crlf,
-                                &endings);
+  const auto lines =
+      splitLines(file.text, cell.exportOptions.lineEnding == LineEnding::Crlf, &endings);
   EXPECT_TRUE(endings) << file.name << ": line endings";
   EXPECT_EQ(lines.size(), file.lines) << file.name << ": line count stated in ExportFile";
   EXPECT_LE(lines.size(), limit) << file.name << ": more lines than the cell allows";
@@ -98,8 +105,7 @@ inline void expectRoundTrip(const ReadExport& read, const MotionPlan& motion, co
 
 /// Reads a KRL .dat: DEFDAT <stem>, declarations "DECL E6POS|E6AXIS XP<k>={…}", ENDDAT.
 inline std::map<std::string, ReadPosition> readKrlData(const ExportFile& file, const Cell& cell,
-                                                       std::size_t limit,
-                                                       const std::string& stem) {
+                                                       std::size_t limit, const std::string& stem) {
   std::map<std::string, ReadPosition> positions;
   const auto lines = strictLines(file, cell, limit);
   EXPECT_GE(lines.size(), 4u) << file.name;
@@ -108,8 +114,8 @@ inline std::map<std::string, ReadPosition> readKrlData(const ExportFile& file, c
   EXPECT_EQ(lines[1], "&REL 1") << file.name;
   EXPECT_EQ(lines[2], "DEFDAT " + stem) << file.name << ": DEFDAT name = file name";
   EXPECT_EQ(lines.back(), "ENDDAT") << file.name;
-  const std::vector<std::string> e6pos{"X", "Y", "Z", "A", "B", "C", "S", "T",
-                                       "E1", "E2", "E3", "E4", "E5", "E6"};
+  const std::vector<std::string> e6pos{"X", "Y",  "Z",  "A",  "B",  "C",  "S",
+                                       "T", "E1", "E2", "E3", "E4", "E5", "E6"};
   const std::vector<std::string> e6axis{"A1", "A2", "A3", "A4", "A5", "A6",
                                         "E1", "E2", "E3", "E4", "E5", "E6"};
   for (std::size_t k = 3; k + 1 < lines.size(); ++k) {
@@ -128,7 +134,7 @@ inline std::map<std::string, ReadPosition> readKrlData(const ExportFile& file, c
     std::vector<double> values;
     for (const auto& [key, value] : fields) {
       keys.push_back(key);
-      values.push_back(strictDouble(value, line));
+      values.push_back(finiteDouble(value, line));
     }
     ReadPosition p;
     p.jointTarget = axis;
@@ -217,12 +223,12 @@ inline ReadExport readKrlExport(const ExportResult& result, const Cell& cell) {
         continue;
       }
       if (startsWith(line, "$APO.CDIS=")) {
-        EXPECT_GT(strictDouble(line.substr(10), line), 0.0) << line;
+        EXPECT_GT(finiteDouble(line.substr(10), line), 0.0) << line;
         state.apoSet = true;
         continue;
       }
       if (startsWith(line, "$VEL_AXIS[") || startsWith(line, "$VEL_EXTAX[")) {
-        const double percent = strictDouble(line.substr(line.find('=') + 1), line);
+        const double percent = finiteDouble(line.substr(line.find('=') + 1), line);
         EXPECT_TRUE(percent >= 1.0 && percent <= 100.0) << line;
         continue;
       }
@@ -231,13 +237,14 @@ inline ReadExport readKrlExport(const ExportResult& result, const Cell& cell) {
         continue;
       }
       if (startsWith(line, "$VEL.CP=")) {
-        state.velCp = strictDouble(line.substr(8), line) * 1000.0;
+        state.velCp = finiteDouble(line.substr(8), line) * 1000.0;
         EXPECT_GT(state.velCp, 0.0) << line;
         continue;
       }
       if (line == "TRIGGER WHEN DISTANCE=0 DELAY=0 DO " + out + "=TRUE") {
         EXPECT_EQ(krl.arcEstablishedInput, 0) << "with an arc-established input the program "
-                                                 "must stop and wait: " << line;
+                                                 "must stop and wait: "
+                                              << line;
         state.welds.on(read.program, line);
         state.onPending = true;
         continue;
@@ -261,7 +268,7 @@ inline ReadExport readKrlExport(const ExportResult& result, const Cell& cell) {
       }
       const bool anTrigger = startsWith(line, "TRIGGER WHEN DISTANCE=0 DELAY=0 DO " + anout);
       if (krl.wireFeedAnalogOutput > 0 && (anTrigger || startsWith(line, anout))) {
-        const double v = strictDouble(line.substr(line.rfind('=') + 1), line);
+        const double v = finiteDouble(line.substr(line.rfind('=') + 1), line);
         EXPECT_TRUE(v >= 0.0 && v <= 1.0) << line;
         (anTrigger ? state.pendingWireFeed : state.wireFeed) = v * krl.wireFeedFullScale;
         continue;
@@ -328,12 +335,12 @@ inline ReadExport readKrlExport(const ExportResult& result, const Cell& cell) {
 // ---- RAPID ------------------------------------------------------------------------------------
 
 /// A robtarget / jointtarget literal's groups as numbers (9E9 allowed), every value finite.
-inline std::vector<std::vector<double>> numericGroups(const std::vector<std::vector<std::string>>& g,
-                                                      const std::string& line) {
+inline std::vector<std::vector<double>> numericGroups(
+    const std::vector<std::vector<std::string>>& g, const std::string& line) {
   std::vector<std::vector<double>> out;
   for (const auto& group : g) {
     std::vector<double> values;
-    for (const auto& v : group) values.push_back(strictDouble(v, line));
+    for (const auto& v : group) values.push_back(finiteDouble(v, line));
     out.push_back(values);
   }
   return out;
@@ -357,7 +364,7 @@ inline void expectToolData(const std::string& literal, const Cell& cell,
   ASSERT_EQ(tokens.size(), 19u) << literal;
   EXPECT_EQ(tokens[0], "TRUE") << literal;
   std::vector<double> v;
-  for (std::size_t k = 1; k < tokens.size(); ++k) v.push_back(strictDouble(tokens[k], literal));
+  for (std::size_t k = 1; k < tokens.size(); ++k) v.push_back(finiteDouble(tokens[k], literal));
   EXPECT_NEAR((Vec3(v[0], v[1], v[2]) - cell.tool.tcp.translation()).norm(), 0.0, 1e-3) << literal;
   const Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
   EXPECT_NEAR(q.norm(), 1.0, 1e-6) << literal;
@@ -375,7 +382,7 @@ inline ReadExport readRapidExport(const ExportResult& result, const Cell& cell) 
       rapid.maxLinesPerModule > 0 ? rapid.maxLinesPerModule : cell.exportOptions.maxLinesPerJob);
   const bool coordinated = cell.exportOptions.coordinated;
   std::map<std::string, std::vector<std::string>> procedures;  // name -> body lines
-  std::set<std::string> declared;                             // tooldata / wobjdata names
+  std::set<std::string> declared;                              // tooldata / wobjdata names
   std::string mainStem;
   for (std::size_t f = 0; f < result.files.size(); ++f) {
     const ExportFile& file = result.files[f];
@@ -467,9 +474,10 @@ inline ReadExport readRapidExport(const ExportResult& result, const Cell& cell) 
         ++read.arcWaits;
         continue;
       }
-      if (!rapid.wireFeedSignal.empty() && startsWith(line, "SetAO " + rapid.wireFeedSignal + ", ")) {
+      if (!rapid.wireFeedSignal.empty() &&
+          startsWith(line, "SetAO " + rapid.wireFeedSignal + ", ")) {
         const std::size_t at = rapid.wireFeedSignal.size() + 8;
-        wireFeed = strictDouble(line.substr(at, line.size() - at - 1), line);
+        wireFeed = finiteDouble(line.substr(at, line.size() - at - 1), line);
         EXPECT_GT(wireFeed, 0.0) << line;
         continue;
       }
@@ -515,8 +523,8 @@ inline ReadExport readRapidExport(const ExportResult& result, const Cell& cell) 
         p.tcp.translation() = Vec3(target[0][0], target[0][1], target[0][2]);
         StatedConfiguration c;
         const auto& cf = target[2];
-        c.text = std::to_string(cf[0]) + "," + std::to_string(cf[1]) + "," +
-                 std::to_string(cf[2]) + "," + std::to_string(cf[3]);
+        c.text = std::to_string(cf[0]) + "," + std::to_string(cf[1]) + "," + std::to_string(cf[2]) +
+                 "," + std::to_string(cf[3]);
         c.quadrant[0] = static_cast<int>(cf[0]);
         c.quadrant[3] = static_cast<int>(cf[1]);
         c.quadrant[5] = static_cast<int>(cf[2]);
@@ -560,8 +568,8 @@ inline void expectKrlAndRapidReadBack(const MotionPlan& motion, const Cell& cell
     for (const ExportFile& file : result.files) {
       EXPECT_LE(file.text.size(), maxBytes) << file.name;
     }
-    const ReadExport read = format == ExportFormat::Krl ? readKrlExport(result, cell)
-                                                         : readRapidExport(result, cell);
+    const ReadExport read =
+        format == ExportFormat::Krl ? readKrlExport(result, cell) : readRapidExport(result, cell);
     EXPECT_EQ(read.program.welds.size(), motion.paths.size());
     expectRoundTrip(read, motion, placedCell(cell, motion));
   }
