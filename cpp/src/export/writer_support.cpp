@@ -53,6 +53,47 @@ std::string describeBranchMismatches(const MotionPlan& motion) {
          first + "; the controller may refuse or flip there: re-plan the motion";
 }
 
+std::vector<ProgramPart> splitIntoParts(const MotionPlan& motion,
+                                        const std::vector<std::size_t>& costs,
+                                        const std::string& mainName, std::size_t limit,
+                                        std::size_t headerLines, std::size_t nameLimit,
+                                        std::string_view format) {
+  const std::size_t count = motion.points.size();
+  std::size_t maxCost = 0, total = headerLines;
+  std::vector<bool> breaks(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    breaks[i] = !motion.points[i].arcOn;
+    maxCost = std::max(maxCost, costs[i]);
+    total += costs[i];
+  }
+  if (limit < headerLines + maxCost) {
+    throw InvalidInput(std::string(format) + " export: the line limit per program is too small: " +
+                       std::to_string(limit) + " lines, a program needs up to " +
+                       std::to_string(headerLines + maxCost) +
+                       " for its header and one point; raise the cell's line limit");
+  }
+  if (total <= limit) return {{mainName, {0, count}}};
+  const std::vector<IndexRange> chunks = splitAtLimit(costs, breaks, limit - headerLines);
+  if (chunks.size() + headerLines > limit) {
+    throw InvalidInput(std::string(format) +
+                       " export: the main program cannot call all sub-programs: " +
+                       std::to_string(chunks.size()) + " calls, at most " +
+                       std::to_string(limit - headerLines) + " lines; raise the cell's line limit");
+  }
+  std::vector<ProgramPart> parts;
+  for (std::size_t k = 0; k < chunks.size(); ++k) {
+    std::string name = makeSubJobName(mainName, k + 1, chunks.size(), nameLimit);
+    if (name == mainName) {
+      throw InvalidInput(std::string(format) +
+                         " export: a sub-program would have the main "
+                         "program's name: " +
+                         name + "; choose a program name that does not end in digits");
+    }
+    parts.push_back({std::move(name), chunks[k]});
+  }
+  return parts;
+}
+
 double jointSpeedPercent(const MotionPlan& motion, const Cell& cell, std::size_t i) {
   if (i == 0) return kUnplannedJointSpeedPercent;
   const MotionPoint& from = motion.points[i - 1];

@@ -189,6 +189,33 @@ inline bool speedReduced(const MotionPoint& p) {
   return (p.flags & kMotionSpeedReduced) != 0u;
 }
 
+/// Wire feed (m/min) of the move arriving at point p: MotionPoint::wireFeed where the motion
+/// plan sets it (> 0), else the cell's process wire feed.
+inline double wireFeedOf(const Cell& cell, const MotionPoint& p) {
+  return p.wireFeed > 0.0 ? p.wireFeed : cell.process.wireFeed;
+}
+
+/// One program of a split export: its name and the motion points it moves through.
+struct ProgramPart {
+  std::string name;
+  IndexRange points;
+};
+
+/// Splits the motion into programs of at most `limit` lines: `costs[i]` = lines point i needs
+/// (an upper bound), `headerLines` = lines every program adds (declarations, DEF/END, …). Cuts
+/// go before arc-off points (a path start, retract, travel, approach, home) and inside a weld
+/// only where one weld alone is longer than a program. One part named `mainName` if everything
+/// fits, else parts named makeSubJobName(mainName, k, count, nameLimit) (called from a main
+/// program the writer adds).
+/// @throws InvalidInput if `limit` leaves no room for a point after the header, if a sub-program
+///         name would equal `mainName`, or if the main program could not call all parts within
+///         `limit` lines (`format` names the writer in messages).
+std::vector<ProgramPart> splitIntoParts(const MotionPlan& motion,
+                                        const std::vector<std::size_t>& costs,
+                                        const std::string& mainName, std::size_t limit,
+                                        std::size_t headerLines, std::size_t nameLimit,
+                                        std::string_view format);
+
 /// For every motion point, the MotionPlan::paths index of the weld it belongs to (the points of a
 /// MotionPathSpan from its first point, the path start, to its end), or -1 for arc-off points
 /// (retract, travel, approach, home). Cost: O(points).

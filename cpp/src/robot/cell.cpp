@@ -572,6 +572,114 @@ RobotVendor readVendor(Field& top, std::vector<std::string>& notes) {
                                  "the robot controller's maker (decides the program languages)");
 }
 
+
+// ---- controller (vendor-specific program settings) -------------------------------------------
+
+KrlController readKrlController(Field& c) {
+  Field k = c.object("krl", "give the KUKA KRL settings");
+  KrlController krl;
+  krl.arcOnOutput = k.integer("arc_on_output", 1, 4096, "the $OUT[n] that switches the arc on");
+  krl.arcEstablishedInput =
+      k.integer("arc_established_input", 0, 0, 4096, "$IN[m] set once the arc burns; 0 = none");
+  krl.wireFeedAnalogOutput =
+      k.integer("wire_feed_analog_output", 0, 0, 32, "$ANOUT[n] for the wire feed; 0 = none");
+  if (krl.wireFeedAnalogOutput > 0) {
+    krl.wireFeedFullScale =
+        k.positive("wire_feed_full_scale_m_min", "give the wire feed (m/min) at $ANOUT = 1.0");
+  }
+  krl.approximationDistance =
+      k.number("approximation_mm", 1.0, "C_DIS approximation distance in mm ($APO.CDIS)");
+  if (!(krl.approximationDistance > 0.0)) {
+    k.fail("approximation_mm", "must be positive", formatNumber(krl.approximationDistance),
+           "use e.g. 1.0");
+  }
+  krl.baseNumber = k.integer("base_number", 1, 1, 32, "BASE_DATA[n] of the table frame");
+  krl.maxLinesPerFile =
+      k.integer("max_lines_per_file", 0, 0, 1000000, "lines per .src; 0 = max_lines_per_job");
+  if (krl.maxLinesPerFile > 0 && krl.maxLinesPerFile < 20) {
+    k.fail("max_lines_per_file", "must be 0 or at least 20", std::to_string(krl.maxLinesPerFile),
+           "use e.g. 5000");
+  }
+  k.rejectUnknown();
+  return krl;
+}
+
+/// A RAPID identifier: a letter, then letters, digits or '_', at most 32 characters.
+std::string readRapidName(Field& f, std::string_view key, bool required, std::string_view hint) {
+  const std::string name = required ? f.string(key, hint) : f.string(key, "", hint);
+  if (!required && name.empty()) return name;
+  bool valid =
+      !name.empty() && name.size() <= 32 && std::isalpha(static_cast<unsigned char>(name[0]));
+  for (char ch : name) valid = valid && (std::isalnum(static_cast<unsigned char>(ch)) || ch == '_');
+  if (!valid) {
+    f.fail(key, "must be a RAPID name (a letter, then letters, digits or '_', at most 32)",
+           abbreviateJson(Json(name)), hint);
+  }
+  return name;
+}
+
+RapidController readRapidController(Field& c, bool coordinated) {
+  Field r = c.object("rapid", "give the ABB RAPID settings");
+  RapidController rapid;
+  rapid.arcSignal =
+      readRapidName(r, "arc_signal", true, "the digital output that switches the arc");
+  rapid.arcEstablishedSignal =
+      readRapidName(r, "arc_established_signal", false, "digital input set once the arc burns");
+  rapid.wireFeedSignal =
+      readRapidName(r, "wire_feed_signal", false, "analog output of the wire feed in m/min");
+  if (coordinated || r.has("mech_unit")) {
+    rapid.mechUnit = readRapidName(r, "mech_unit", true,
+                                   "the positioner's mechanical unit, e.g. \"STN1\" (coordinated "
+                                   "export needs it)");
+  }
+  rapid.toolMass = r.positive("tool_mass_kg", "give the torch mass in kg (tooldata load)");
+  rapid.toolCog = r.vec3("tool_cog_mm", "give the torch's centre of gravity in the flange frame");
+  rapid.maxLinesPerModule =
+      r.integer("max_lines_per_module", 0, 0, 1000000, "lines per module; 0 = max_lines_per_job");
+  if (rapid.maxLinesPerModule > 0 && rapid.maxLinesPerModule < 20) {
+    r.fail("max_lines_per_module", "must be 0 or at least 20",
+           std::to_string(rapid.maxLinesPerModule), "use e.g. 5000");
+  }
+  r.rejectUnknown();
+  return rapid;
+}
+
+ControllerDescription readController(Field& top, std::string_view origin, bool coordinated) {
+  ControllerDescription controller;
+  controller.source = std::string(origin);
+  if (!top.has("controller")) return controller;
+  Field c = top.object("controller", "give the vendor-specific program settings");
+  if (c.has("krl")) controller.krl = readKrlController(c);
+  if (c.has("rapid")) controller.rapid = readRapidController(c, coordinated);
+  c.rejectUnknown();
+  return controller;
+}
+
+Json controllerJson(const ControllerDescription& controller) {
+  Json j = Json::object();
+  if (const auto& k = controller.krl) {
+    j["krl"] = Json{{"arc_on_output", k->arcOnOutput},
+                    {"arc_established_input", k->arcEstablishedInput},
+                    {"wire_feed_analog_output", k->wireFeedAnalogOutput},
+                    {"approximation_mm", clean(k->approximationDistance)},
+                    {"base_number", k->baseNumber},
+                    {"max_lines_per_file", k->maxLinesPerFile}};
+    if (k->wireFeedAnalogOutput > 0)
+      j["krl"]["wire_feed_full_scale_m_min"] = clean(k->wireFeedFullScale);
+  }
+  if (const auto& r = controller.rapid) {
+    j["rapid"] = Json{{"arc_signal", r->arcSignal},
+                      {"arc_established_signal", r->arcEstablishedSignal},
+                      {"wire_feed_signal", r->wireFeedSignal},
+                      {"tool_mass_kg", clean(r->toolMass)},
+                      {"tool_cog_mm", vecJson(r->toolCog)},
+                      {"max_lines_per_module", r->maxLinesPerModule}};
+    if (!r->mechUnit.empty()) j["rapid"]["mech_unit"] = r->mechUnit;
+  }
+  return j;
+}
+// ---- end controller --------------------------------------------------------------------------
+
 Cell readCellDocument(const Json& root, std::string_view origin) {
   if (!root.is_object()) {
     throw InvalidInput(std::string(origin) + ": the cell description must be a JSON object: " +
@@ -596,6 +704,7 @@ Cell readCellDocument(const Json& root, std::string_view origin) {
   cell.positioner = readPositioner(top, version, cell.notes);
   cell.process = readProcess(top);
   cell.exportOptions = readExport(top);
+  cell.controller = readController(top, origin, cell.exportOptions.coordinated);
   cell.home = readHome(top, version, cell, cell.notes);
   if (cell.exportOptions.positionType == PositionType::Pulse &&
       cell.robot.pulsesPerDegree.empty()) {
@@ -804,6 +913,8 @@ std::string writeCellJson(const Cell& cell) {
                      {"job_name", e.jobName},
                      {"max_name_length", e.maxNameLength},
                      {"user_frame", e.userFrame}};
+  if (cell.controller.krl || cell.controller.rapid)
+    j["controller"] = controllerJson(cell.controller);
   Json homeJoints = Json::array();
   for (double q : cell.home.robot) homeJoints.push_back(clean(q / kDeg));
   j["home"] = Json{{"robot_joints_deg", homeJoints},
@@ -878,6 +989,22 @@ Cell defaultCell() {
   e.jobName = "WAAM";
   e.maxNameLength = 8;
   e.userFrame = 1;
+  // Controller settings for exporting KRL and RAPID programs with this cell (examples; sources
+  // and how to adapt them in resources/cells/README.md).
+  KrlController krl;
+  krl.arcOnOutput = 1;
+  krl.arcEstablishedInput = 1;
+  krl.approximationDistance = 1.0;
+  krl.baseNumber = 1;
+  cell.controller.krl = krl;
+  RapidController rapid;
+  rapid.arcSignal = "doArcOn";
+  rapid.arcEstablishedSignal = "diArcEst";
+  rapid.wireFeedSignal = "aoWireFeed";
+  rapid.mechUnit = "STN1";
+  rapid.toolMass = 2.0;
+  rapid.toolCog = Vec3(0, 0, 150);
+  cell.controller.rapid = rapid;
   // Torch vertical, TCP at (648.7, 0, 995.1) mm in world: 100 mm outside the working volume's
   // radius and 465 mm above the table top (checked by a test with the robot's FK).
   cell.home.robot = {0.0, -20 * kDeg, -10 * kDeg, 0.0, -100 * kDeg, 0.0};

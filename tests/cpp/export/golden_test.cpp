@@ -143,9 +143,8 @@ TEST(Golden, EveryFormatMatchesItsGoldenFile) {
   Cell cell = defaultCell();
   cell.process.pathDwell = 1.5;
   const MotionPlan motion = makeGoldenMotion(cell);
-  for (ExportFormat f :
-       {ExportFormat::Jbi, ExportFormat::Krl, ExportFormat::Rapid, ExportFormat::Ls,
-        ExportFormat::Gcode, ExportFormat::Csv, ExportFormat::Json}) {
+  for (ExportFormat f : {ExportFormat::Jbi, ExportFormat::Ls, ExportFormat::Gcode,
+                         ExportFormat::Csv, ExportFormat::Json}) {
     const ExportResult r = exportProgram(motion, cell, f);
     ASSERT_EQ(r.files.size(), 1u);
     compareWithGolden("small_" + std::string(toString(f)) + std::string(fileExtension(f)),
@@ -165,6 +164,35 @@ TEST(Golden, SplitJbiMatchesItsGoldenFiles) {
   const ExportResult r = exportProgram(makeGoldenMotion(cell), cell, ExportFormat::Jbi);
   ASSERT_GT(r.files.size(), 2u);
   for (const ExportFile& f : r.files) compareWithGolden("split_" + f.name, f.text);
+}
+
+/// KRL and RAPID (several files each): every file as golden_<format>_<file name>; the motion
+/// with a per-point wire feed on layer 1 (as a bead model sets it), KRL with the wire feed on an
+/// analog output; then split at a small line limit (split_<format>_<file name>).
+TEST(Golden, KrlAndRapidMatchTheirGoldenFiles) {
+  Cell cell = defaultCell();
+  cell.process.pathDwell = 1.5;
+  cell.controller.krl->wireFeedAnalogOutput = 2;
+  cell.controller.krl->wireFeedFullScale = 20.0;
+  MotionPlan motion = makeGoldenMotion(cell);
+  for (MotionPoint& p : motion.points) {
+    if (p.arcOn && p.layer == 1) p.wireFeed = 4.0 + 0.5 * p.index;
+  }
+  for (ExportFormat f : {ExportFormat::Krl, ExportFormat::Rapid}) {
+    const ExportResult r = exportProgram(motion, cell, f);
+    for (const ExportFile& file : r.files) {
+      compareWithGolden("small_" + std::string(toString(f)) + "_" + file.name, file.text);
+    }
+  }
+  cell.controller.krl->maxLinesPerFile = 30;
+  cell.controller.rapid->maxLinesPerModule = 24;
+  for (ExportFormat f : {ExportFormat::Krl, ExportFormat::Rapid}) {
+    const ExportResult r = exportProgram(motion, cell, f);
+    ASSERT_GT(r.files.size(), 2u);
+    for (const ExportFile& file : r.files) {
+      compareWithGolden("split_" + std::string(toString(f)) + "_" + file.name, file.text);
+    }
+  }
 }
 
 }  // namespace

@@ -23,6 +23,7 @@
 #include "curvedslicer/pipeline/plan_job.hpp"
 #include "export_test_support.hpp"
 #include "program_readers.hpp"
+#include "program_readers_krl_rapid.hpp"
 #include "synthetic_motion.hpp"
 
 namespace curvedslicer {
@@ -181,6 +182,7 @@ TEST(ModelExports, CurvedExampleStatesOneConfigurationPerWeldAndKeepsAxisSpeeds)
   ASSERT_TRUE(plannerSetsConfigurations(motion));
   expectConfigurationsPerWeld(motion, cell);
   expectAxisSpeedsFromCsv(motion, cell);
+  expectKrlAndRapidReadBack(motion, cell);
 }
 
 TEST(ModelExports, CylinderStatesOneConfigurationPerWeldAndKeepsAxisSpeeds) {
@@ -199,6 +201,7 @@ TEST(ModelExports, CylinderStatesOneConfigurationPerWeldAndKeepsAxisSpeeds) {
   ASSERT_TRUE(plannerSetsConfigurations(motion));
   expectConfigurationsPerWeld(motion, cell);
   expectAxisSpeedsFromCsv(motion, cell);
+  expectKrlAndRapidReadBack(motion, cell);
 }
 
 }  // namespace

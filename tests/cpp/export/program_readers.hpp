@@ -1,10 +1,11 @@
 // Strict readers of the robot programs for the configuration and arc-off tests: each reads every
-// motion line of a JBI, KRL, RAPID or LS program (in execution order; JBI through the main job's
-// CALLs), the configuration it states (RCONF, S/T, confdata, CONFIG), whether it is a joint or a
-// linear move, its linear speed, and where the arc goes on and off. A line a reader does not know
-// is a test failure, so a writer cannot slip in an instruction the tests do not see. The readers
-// parse text only and share nothing with the writers; the decoding of each format's configuration
-// fields is written out here from the controller documentation, independently of the writers.
+// motion line of a JBI or LS program (in execution order; JBI through the main job's CALLs; KRL
+// and RAPID: program_readers_krl_rapid.hpp), the configuration it states (RCONF, S/T, confdata,
+// CONFIG), whether it is a joint or a linear move, its linear speed, and where the arc goes on
+// and off. A line a reader does not know is a test failure, so a writer cannot slip in an
+// instruction the tests do not see. The readers parse text only and share nothing with the
+// writers; the decoding of each format's configuration fields is written out here from the
+// controller documentation, independently of the writers.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -236,80 +237,6 @@ inline StatedConfiguration decodeStatusTurn(int s, int t, const std::string& lin
   return c;
 }
 
-inline ReadProgram readKrlProgram(const std::string& text) {
-  bool endings = false;
-  const auto lines = splitLines(text, true, &endings);
-  ReadProgram program;
-  WeldTracker welds;
-  double velCp = std::numeric_limits<double>::quiet_NaN();
-  bool onPending = false, offPending = false;
-  for (const std::string& line : lines) {
-    if (startsWith(line, "&") || startsWith(line, "DEF ") || startsWith(line, ";") ||
-        startsWith(line, "$TOOL=") || startsWith(line, "$BASE=") ||
-        startsWith(line, "$ACT_EX_AX=") || startsWith(line, "$VEL_AXIS[") ||
-        startsWith(line, "$VEL_EXTAX[") || line == "END") {
-      continue;
-    }
-    if (startsWith(line, "WAIT SEC ")) {
-      recordDwell(program, line.substr(9), line);
-      continue;
-    }
-    if (startsWith(line, "$VEL.CP=")) {
-      velCp = strictDouble(line.substr(8), line) * 1000.0;
-      continue;
-    }
-    if (startsWith(line, "TRIGGER WHEN DISTANCE=0 DELAY=0 DO $OUT[")) {
-      EXPECT_NE(line.find("]=TRUE"), std::string::npos) << line;
-      welds.on(program, line);  // the arc goes on as the next LIN leaves the path start
-      onPending = true;
-      continue;
-    }
-    if (startsWith(line, "TRIGGER WHEN DISTANCE=1 DELAY=0 DO $OUT[")) {
-      EXPECT_NE(line.find("]=FALSE"), std::string::npos) << line;
-      offPending = true;  // off at the end of the next LIN
-      continue;
-    }
-    const bool ptp = startsWith(line, "PTP {"), lin = startsWith(line, "LIN {");
-    if (!ptp && !lin) {
-      ADD_FAILURE() << "unknown KRL line: " << line;
-      continue;
-    }
-    const std::string tail = line.substr(line.find('}') + 1);
-    EXPECT_TRUE(tail.empty() || (lin && tail == " C_DIS")) << line;
-    ProgramMove move;
-    move.line = line;
-    move.joint = ptp;
-    const auto fields = aggregateFields(line);
-    std::vector<std::string> keys;
-    for (const auto& [k, v] : fields) {
-      keys.push_back(k);
-      strictDouble(v, line);
-    }
-    const std::vector<std::string> e6pos{"X", "Y", "Z", "A", "B", "C", "S", "T", "E1", "E2"};
-    const std::vector<std::string> e6axis{"A1", "A2", "A3", "A4", "A5", "A6", "E1", "E2"};
-    if (ptp && keys == e6axis) {
-      move.jointTarget = true;
-    } else if (keys == e6pos) {
-      move.configuration = decodeStatusTurn(strictInt(fields[6].second, line),
-                                            strictInt(fields[7].second, line), line);
-    } else {
-      ADD_FAILURE() << "unexpected aggregate fields: " << line;
-    }
-    if (lin) move.speed = velCp;
-    program.moves.push_back(std::move(move));
-    if (onPending) {
-      EXPECT_TRUE(lin) << "the arc must go on with a LIN: " << line;
-      onPending = false;
-    }
-    if (offPending) {
-      welds.off(program, line);
-      offPending = false;
-    }
-  }
-  welds.finish();
-  return program;
-}
-
 // ---- RAPID (ABB) ------------------------------------------------------------------------------
 
 /// The leaves of a nested [..] literal starting at `text[at]`, grouped by innermost bracket;
@@ -344,79 +271,6 @@ inline std::vector<std::vector<std::string>> bracketGroups(const std::string& te
   }
   ADD_FAILURE() << "unclosed bracket: " << text;
   return groups;
-}
-
-inline ReadProgram readRapidProgram(const std::string& text) {
-  bool endings = false;
-  const auto lines = splitLines(text, true, &endings);
-  ReadProgram program;
-  WeldTracker welds;
-  for (const std::string& raw : lines) {
-    const std::string line = raw.substr(std::min(raw.find_first_not_of(' '), raw.size()));
-    if (startsWith(line, "MODULE ") || startsWith(line, "!") || startsWith(line, "TASK PERS ") ||
-        line == "PROC main()" || line == "ConfJ \\On;" || line == "ConfL \\Off;" ||
-        line == "ActUnit STN1;" || line == "DeactUnit STN1;" || line == "ENDPROC" ||
-        line == "ENDMODULE") {
-      continue;
-    }
-    if (startsWith(line, "WaitTime ") && line.back() == ';') {
-      recordDwell(program, line.substr(9, line.size() - 10), line);
-      continue;
-    }
-    if (startsWith(line, "SetDO ")) {
-      if (line.size() > 4 && line.compare(line.size() - 4, 4, ", 1;") == 0) {
-        welds.on(program, line);
-      } else if (line.size() > 4 && line.compare(line.size() - 4, 4, ", 0;") == 0) {
-        welds.off(program, line);
-      } else {
-        ADD_FAILURE() << "unknown SetDO: " << line;
-      }
-      continue;
-    }
-    const bool absJ = startsWith(line, "MoveAbsJ ["), moveJ = startsWith(line, "MoveJ ["),
-               moveL = startsWith(line, "MoveL [");
-    if (!absJ && !moveJ && !moveL) {
-      ADD_FAILURE() << "unknown RAPID line: " << line;
-      continue;
-    }
-    ProgramMove move;
-    move.line = line;
-    move.joint = absJ || moveJ;
-    std::size_t at = line.find('[');
-    const auto target = bracketGroups(line, at);
-    EXPECT_EQ(line.compare(at, 2, ", "), 0) << line;
-    at += 2;
-    const auto speed = bracketGroups(line, at);
-    EXPECT_EQ(speed.size(), 1u) << line;
-    if (!speed.empty() && speed[0].size() == 4) move.speed = strictDouble(speed[0][0], line);
-    for (const auto& g : target) {
-      for (const auto& v : g) strictDouble(v, line);
-    }
-    if (absJ) {
-      move.jointTarget = true;
-      EXPECT_TRUE(target.size() == 2 && target[0].size() == 6 && target[1].size() == 6) << line;
-    } else {
-      EXPECT_TRUE(target.size() == 4 && target[0].size() == 3 && target[1].size() == 4 &&
-                  target[2].size() == 4 && target[3].size() == 6)
-          << line;
-      if (target.size() == 4 && target[2].size() == 4) {
-        StatedConfiguration c;
-        const auto& cf = target[2];
-        c.text = cf[0] + "," + cf[1] + "," + cf[2] + "," + cf[3];
-        c.quadrant[0] = strictInt(cf[0], line);
-        c.quadrant[3] = strictInt(cf[1], line);
-        c.quadrant[5] = strictInt(cf[2], line);
-        c.branchMask = 7;
-        c.branch = strictInt(cf[3], line);
-        move.configuration = c;
-      }
-    }
-    const std::string rest = line.substr(at);
-    EXPECT_TRUE(startsWith(rest, ", fine, tool") || startsWith(rest, ", z1, tool")) << line;
-    program.moves.push_back(std::move(move));
-  }
-  welds.finish();
-  return program;
 }
 
 // ---- LS (Fanuc) -------------------------------------------------------------------------------

@@ -1,5 +1,8 @@
-// Tests of export/rapid_writer.hpp: robtargets with extax parsed back land on the planned path;
-// coordinated work object, ActUnit, one SetDO pair per path.
+// Tests of export/rapid_writer.hpp, read back by the strict reader of
+// program_readers_krl_rapid.hpp: robtargets with extax land on the planned path through the
+// cell's forward kinematics; declared tooldata (the cell's TCP and load) and coordinated wobjdata
+// with ActUnit; SetDO/WaitDI/SetAO on the cell's signals; modules per split called from main; a
+// cell without RAPID settings or without the mechanical unit.
 #include "curvedslicer/export/rapid_writer.hpp"
 
 #include <gtest/gtest.h>
@@ -9,25 +12,22 @@
 
 #include "curvedslicer/core/error.hpp"
 #include "export_test_support.hpp"
+#include "program_readers_krl_rapid.hpp"
 
 namespace curvedslicer {
 namespace {
 
 using namespace testing;
 
-/// The numbers of the inline robtarget of a MoveJ/MoveL line, in order.
-std::vector<double> robtargetNumbers(const std::string& line) {
-  const std::size_t begin = line.find("[[");
-  const std::size_t end = line.find("]]", begin);
-  std::string inner = line.substr(begin, end - begin);
-  for (char& c : inner) {
-    if (c == '[' || c == ']') c = ',';
+std::size_t countText(const ExportResult& result, const std::string& text) {
+  std::size_t n = 0;
+  for (const ExportFile& f : result.files) {
+    for (std::size_t at = f.text.find(text); at != std::string::npos;
+         at = f.text.find(text, at + 1)) {
+      ++n;
+    }
   }
-  std::vector<double> values;
-  for (const auto& f : splitFields(inner, ',')) {
-    if (!f.empty()) values.push_back(std::stod(f));
-  }
-  return values;
+  return n;
 }
 
 TEST(RapidWriter, RobtargetsAndExtaxLandOnThePlannedPath) {
@@ -37,58 +37,122 @@ TEST(RapidWriter, RobtargetsAndExtaxLandOnThePlannedPath) {
   const ExportResult result = RapidWriter().write(motion, cell, {}, {});
   ASSERT_EQ(result.files.size(), 1u);
   EXPECT_EQ(result.files[0].name, "WAAM.mod");
-  const std::string& text = result.files[0].text;
-  bool crlf = false;
-  const auto lines = splitLines(text, true, &crlf);
-  EXPECT_TRUE(crlf);
-  EXPECT_EQ(lines.front(), "MODULE WAAM");
-  EXPECT_EQ(lines.back(), "ENDMODULE");
-  EXPECT_NE(text.find("[FALSE, FALSE, \"STN1\","), std::string::npos);
-  EXPECT_NE(text.find("ActUnit STN1;"), std::string::npos);
-  std::size_t move = 0, on = 0, off = 0;
-  for (const std::string& line : lines) {
-    if (line.find("SetDO doArc1, 1;") != std::string::npos) ++on;
-    if (line.find("SetDO doArc1, 0;") != std::string::npos) ++off;
-    const bool j = line.find("MoveJ [[") != std::string::npos;
-    const bool l = line.find("MoveL [[") != std::string::npos;
-    const bool absJ = line.find("MoveAbsJ [[") != std::string::npos;
-    if (!j && !l && !absJ) continue;
-    ASSERT_LT(move, motion.points.size());
-    // the home pose as a jointtarget (MoveAbsJ), every other move a robtarget (the first MoveJ)
-    const bool home = motion.points[move].kind == MoveKind::Home;
-    EXPECT_EQ(absJ, home) << line;
-    EXPECT_EQ(j, move == 0 && !home) << line;
-    const std::vector<double> v = robtargetNumbers(line);
-    Vec3 p;
-    double a1 = 0.0, a2 = 0.0;
-    if (absJ) {
-      ASSERT_EQ(v.size(), 12u) << line;  // 6 + 6
-      EXPECT_EQ(v[8], 9e9);
-      a1 = v[6] * kDegT;
-      a2 = v[7] * kDegT;
-      p = partPointFromJointDegrees(placedCell(cell, motion), {v.begin(), v.begin() + 6}, a1, a2);
-    } else {
-      EXPECT_NE(line.find("\\WObj:=wobjTable;"), std::string::npos);
-      ASSERT_EQ(v.size(), 17u) << line;  // 3 + 4 + 4 + 6
-      EXPECT_EQ(v[13], 9e9);
-      const Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
-      EXPECT_NEAR(q.norm(), 1.0, 1e-7);
-      Pose tcp = Pose::Identity();
-      tcp.linear() = q.normalized().toRotationMatrix();
-      tcp.translation() = Vec3(v[0], v[1], v[2]);
-      a1 = v[11] * kDegT;
-      a2 = v[12] * kDegT;
-      p = partPointFromTable(placedCell(cell, motion), tcp, a1, a2);
-    }
-    EXPECT_NEAR(a1, motion.points[move].a1, 1e-6);
-    EXPECT_NEAR(a2, motion.points[move].a2, 1e-6);
-    EXPECT_LT((p - motion.points[move].position).norm(), 0.01) << line;
-    ++move;
+  const ReadExport read = readRapidExport(result, cell);
+  expectRoundTrip(read, motion, placedCell(cell, motion));
+  ASSERT_EQ(read.program.moves.size(), motion.points.size());
+  for (std::size_t i = 0; i < motion.points.size(); ++i) {
+    const bool home = motion.points[i].kind == MoveKind::Home;
+    EXPECT_EQ(read.program.moves[i].jointTarget, home) << read.program.moves[i].line;
+    EXPECT_EQ(read.program.moves[i].joint, home || i == 0) << read.program.moves[i].line;
   }
-  EXPECT_EQ(move, motion.points.size());
-  EXPECT_EQ(on, plan.pathCount());
-  EXPECT_EQ(off, plan.pathCount());
+  EXPECT_EQ(read.program.welds.size(), plan.pathCount());
+  EXPECT_EQ(read.arcWaits, plan.pathCount());
+  const std::string& text = result.files[0].text;
+  EXPECT_NE(text.find("PERS tooldata tWaam1 := [TRUE,[[0.000,0.000,400.000],"), std::string::npos);
+  EXPECT_NE(text.find("wobjTable := [FALSE, FALSE, \"STN1\","), std::string::npos);
+  EXPECT_EQ(countText(result, "SetDO doArcOn, 1;"), plan.pathCount());
+  EXPECT_EQ(countText(result, "SetDO doArcOn, 0;"), plan.pathCount());
+  EXPECT_EQ(countText(result, "WaitDI diArcEst, 1;"), plan.pathCount());
+  // the wire feed: the cell's process value (the plan sets none), once per weld
+  for (std::size_t i = 0; i < motion.points.size(); ++i) {
+    if (motion.points[i].arcOn) {
+      EXPECT_EQ(read.wireFeed[i], cell.process.wireFeed) << i;
+    }
+  }
+  EXPECT_EQ(countText(result, "SetAO aoWireFeed, 5.000;"), plan.pathCount());
   EXPECT_THROW(RapidWriter().write(MotionPlan{}, cell, {}, {}), InvalidInput);
+}
+
+TEST(RapidWriter, WithoutOptionalSignalsAndCoordination) {
+  Cell cell = defaultCell();
+  cell.exportOptions.coordinated = false;
+  cell.controller.rapid->arcEstablishedSignal.clear();
+  cell.controller.rapid->wireFeedSignal.clear();
+  cell.controller.rapid->mechUnit.clear();
+  const MotionPlan motion = planMotion(makeSmallPlan(), cell);
+  const ExportResult result = RapidWriter().write(motion, cell, {}, {});
+  const ReadExport read = readRapidExport(result, cell);
+  expectRoundTrip(read, motion, placedCell(cell, motion));
+  EXPECT_EQ(read.arcWaits, 0u);
+  EXPECT_EQ(countText(result, "SetAO"), 0u);
+  EXPECT_EQ(countText(result, "ActUnit"), 0u);
+}
+
+TEST(RapidWriter, SplitsIntoModulesMainCallsInOrder) {
+  Cell cell = defaultCell();
+  cell.controller.rapid->maxLinesPerModule = 50;
+  const Plan plan = makeConePlan(4, 24);
+  MotionPlan motion = planMotion(plan, cell);
+  for (std::size_t i = 0; i < motion.points.size(); ++i) {
+    if (motion.points[i].arcOn && i % 5 == 0) motion.points[i].wireFeed = 6.5;
+  }
+  ExportOptions options;
+  options.programName = "CONE";
+  const ExportResult result = RapidWriter().write(motion, cell, options, {});
+  ASSERT_GT(result.files.size(), 3u);
+  EXPECT_EQ(result.files[0].name, "CONE.mod");
+  const ReadExport read = readRapidExport(result, cell);
+  EXPECT_EQ(read.programs + 1, result.files.size()) << "main() only calls";
+  expectRoundTrip(read, motion, placedCell(cell, motion));
+  EXPECT_EQ(read.program.welds.size(), plan.pathCount());
+  for (std::size_t i = 0; i < motion.points.size(); ++i) {
+    const MotionPoint& p = motion.points[i];
+    if (p.arcOn) {
+      EXPECT_EQ(read.wireFeed[i], p.wireFeed > 0.0 ? p.wireFeed : cell.process.wireFeed) << i;
+    }
+  }
+  cell.controller.rapid->maxLinesPerModule = 0;
+  const ReadExport whole = readRapidExport(RapidWriter().write(motion, cell, options, {}), cell);
+  EXPECT_EQ(whole.program.welds, read.program.welds);
+  EXPECT_EQ(whole.wireFeed.size(), read.wireFeed.size());
+}
+
+TEST(RapidWriter, ACellWithoutRapidSettingsIsRefusedNamingTheFieldAndFile) {
+  Cell cell = defaultCell();
+  const MotionPlan motion = planMotion(makeSmallPlan(), cell);
+  cell.controller.source = "abb.json";
+  cell.controller.rapid->mechUnit.clear();
+  for (int round = 0; round < 2; ++round) {
+    try {
+      RapidWriter().write(motion, cell, {}, {});
+      ADD_FAILURE() << "exported without the RAPID settings";
+    } catch (const InvalidInput& e) {
+      const std::string message = e.what();
+      const std::string field = round == 0 ? "abb.json: /controller/rapid/mech_unit is missing"
+                                           : "abb.json: /controller/rapid is missing";
+      EXPECT_EQ(message.rfind(field, 0), 0u) << message;
+    }
+    cell.controller.rapid.reset();
+  }
+  // coordinated without a mechanical unit: refused when the cell is read
+  std::string json = writeCellJson(defaultCell());
+  const std::string field = "\"mech_unit\": \"STN1\",";
+  ASSERT_NE(json.find(field), std::string::npos) << json;
+  json.erase(json.find(field), field.size());
+  try {
+    parseCell(json, "abb.json");
+    ADD_FAILURE() << "read a coordinated RAPID section without mech_unit";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("abb.json: field /controller/rapid/mech_unit is missing"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(RapidWriter, ASignalThatIsNoRapidNameIsRefusedWhenTheCellIsRead) {
+  std::string json = writeCellJson(defaultCell());
+  const std::string field = "\"arc_signal\": \"doArcOn\"";
+  ASSERT_NE(json.find(field), std::string::npos) << json;
+  json.replace(json.find(field), field.size(), "\"arc_signal\": \"do Arc;\"");
+  try {
+    parseCell(json, "abb.json");
+    ADD_FAILURE() << "read a signal name with a space and a semicolon";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("abb.json: field /controller/rapid/arc_signal must be a "
+                                         "RAPID name"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "curvedslicer/robot/configuration.hpp"
 #include "export_test_support.hpp"
 #include "program_readers.hpp"
+#include "program_readers_krl_rapid.hpp"
 
 namespace curvedslicer::testing {
 
@@ -100,9 +101,9 @@ inline ReadProgram exportAndRead(const MotionPlan& motion, const Cell& cell, Exp
     case ExportFormat::Jbi:
       return readJbiProgram(r, cell);
     case ExportFormat::Krl:
-      return readKrlProgram(r.files[0].text);
+      return readKrlExport(r, cell).program;
     case ExportFormat::Rapid:
-      return readRapidProgram(r.files[0].text);
+      return readRapidExport(r, cell).program;
     case ExportFormat::Ls:
       return readLsProgram(r.files[0].text);
     default:

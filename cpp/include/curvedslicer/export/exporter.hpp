@@ -4,8 +4,10 @@
 // Formats (each in its own header/source pair under export/, details there):
 //   jbi    Yaskawa Motoman INFORM job(s), station ST1 with EC positions, SMOVL … +MOVJ EC,
 //          ARCON/ARCOF, sub-jobs at the cell's line limit called from a main job (jbi_writer.hpp)
-//   krl    KUKA KRL .src with E1/E2, first motion PTP, TRIGGER arc outputs (krl_writer.hpp)
-//   rapid  ABB RAPID .mod with extax and a coordinated work object (rapid_writer.hpp)
+//   krl    KUKA KRL .src + .dat pairs with E1/E2, split at the cell's line limit, arc by the
+//          cell's output and arc-established input (krl_writer.hpp)
+//   rapid  ABB RAPID modules with declared tooldata/wobjdata, extax, split into modules called
+//          from main, arc by the cell's signals (rapid_writer.hpp)
 //   ls     Fanuc TP .LS with GP1/GP2 and COORD (ls_writer.hpp)
 //   gcode  G-code for a tilt-rotate table, TCP or machine mode (gcode_writer.hpp)
 //   csv, json  every motion point with all its data (neutral_writer.hpp)
@@ -50,8 +52,8 @@ struct ExportOptions {
   /// saved plan re-exports byte-identical programs.
   std::string date = "2000/01/01 00:00";
   GcodeMode gcodeMode = GcodeMode::Tcp;  ///< G-code only
-  /// Digital output that switches the arc on (KRL $OUT[n], RAPID signal doArc<n>, G-code has
-  /// M3/M5). JBI and LS use the cell's arc conditions instead.
+  /// Not used by the writers any more: KRL and RAPID take the arc output from the cell's
+  /// "controller" section (krl/arc_on_output, rapid/arc_signal); kept for the bindings.
   int arcOutput = 1;
 };
 

@@ -41,6 +41,7 @@
 
 #include <array>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -191,6 +192,38 @@ struct ExportDescription {
 /// krl: KUKA, rapid: ABB, ls: Fanuc; gcode, csv and json fit every cell).
 enum class RobotVendor { Unknown, Yaskawa, Kuka, Abb, Fanuc };
 
+// ---- controller (vendor-specific program settings) -------------------------------------------
+/// KUKA KRL settings (cell "controller"/"krl"; export/krl_writer.hpp).
+struct KrlController {
+  int arcOnOutput = 1;                 ///< $OUT[n] that switches the arc on (1..4096); required
+  int arcEstablishedInput = 0;         ///< $IN[m] waited for after arc on (1..4096); 0 = no wait
+  int wireFeedAnalogOutput = 0;        ///< $ANOUT[n] carrying the wire feed (1..32); 0 = none
+  double wireFeedFullScale = 0.0;      ///< m/min at $ANOUT = 1.0; > 0 when an output is named
+  double approximationDistance = 1.0;  ///< mm, $APO.CDIS used by C_DIS between weld points
+  int baseNumber = 1;                  ///< BASE_DATA[n] of the table (coordinated) frame (1..32)
+  int maxLinesPerFile = 0;             ///< .src lines before a split; 0 = export max_lines_per_job
+};
+
+/// ABB RAPID settings (cell "controller"/"rapid"; export/rapid_writer.hpp). The arc is a plain
+/// digital output (no ArcWare seamdata/welddata).
+struct RapidController {
+  std::string arcSignal;             ///< DO switching the arc on, e.g. "doArcOn"; required
+  std::string arcEstablishedSignal;  ///< DI waited for (WaitDI) after arc on; "" = no wait
+  std::string wireFeedSignal;        ///< AO set to the wire feed (m/min); "" = not written
+  std::string mechUnit;   ///< positioner mechanical unit, e.g. "STN1"; required if coordinated
+  double toolMass = 0.0;  ///< kg, load of the declared tooldata, > 0; required
+  Vec3 toolCog = Vec3::Zero();  ///< mm, its centre of gravity in the flange frame
+  int maxLinesPerModule = 0;    ///< module lines before a split; 0 = export max_lines_per_job
+};
+
+/// Vendor-specific settings of the programs (cell "controller"). A writer whose vendor section
+/// is absent refuses the cell, naming the field and `source`.
+struct ControllerDescription {
+  std::string source = "cell";  ///< where the cell was read from (parseCell's origin); not written
+  std::optional<KrlController> krl;
+  std::optional<RapidController> rapid;
+};
+
 struct Cell {
   std::string name;
   RobotVendor vendor = RobotVendor::Unknown;  ///< Unknown: no "vendor" given (a note says so)
@@ -201,6 +234,7 @@ struct Cell {
   PositionerDescription positioner;
   ProcessDescription process;
   ExportDescription exportOptions;
+  ControllerDescription controller;  ///< vendor-specific program settings
   HomePose home;
   /// What the reader assumed, e.g. the defaults of a version-1 file ("cell version 1: default
   /// torch envelope ... assumed; add tool/envelope"); planMotion copies them into
