@@ -548,6 +548,56 @@ ExportDescription readExport(Field& top) {
   return ex;
 }
 
+// ---- controller (vendor settings of the programs) ----------------------------------------------
+// (s9-export: KRL / RAPID readers above this block)
+// ---- controller/ls, controller/jbi (s9-export2) ----
+LsControllerSettings readLsController(Field& c) {
+  Field f = c.object("ls", "give the Fanuc ArcTool settings");
+  LsControllerSettings ls;
+  ls.weldEquipment = f.integer("weld_equipment", 1, 2, "the ArcTool weld equipment number");
+  ls.arcStartSchedule =
+      f.integer("arc_start_schedule", 1, 99, "the weld schedule of Arc Start[n]");
+  ls.arcEndSchedule = f.integer("arc_end_schedule", 1, 99, "the schedule of Arc End[n]");
+  ls.maxLinesPerProgram = f.integer("max_lines_per_program", 20, 1000000,
+                                    "/MN lines per program before the program is split");
+  f.rejectUnknown();
+  return ls;
+}
+
+JbiControllerSettings readJbiController(Field& c) {
+  Field f = c.object("jbi", "give the Yaskawa settings");
+  JbiControllerSettings jbi;
+  jbi.arcWaitInput = f.integer("arc_wait_input", 0, 0, 2048,
+                               "the input IN#(n) that says the arc is established, 0 = none");
+  f.rejectUnknown();
+  return jbi;
+}
+
+ControllerDescription readController(Field& top, std::string_view origin) {
+  ControllerDescription controller;
+  controller.source = std::string(origin);
+  if (!top.has("controller")) return controller;
+  Field c = top.object("controller", "give the vendor settings of the programs");
+  if (c.has("ls")) controller.ls = readLsController(c);
+  if (c.has("jbi")) controller.jbi = readJbiController(c);
+  c.rejectUnknown();
+  return controller;
+}
+
+Json controllerJson(const ControllerDescription& controller) {
+  Json j = Json::object();
+  if (controller.ls) {
+    const LsControllerSettings& ls = *controller.ls;
+    j["ls"] = Json{{"weld_equipment", ls.weldEquipment},
+                   {"arc_start_schedule", ls.arcStartSchedule},
+                   {"arc_end_schedule", ls.arcEndSchedule},
+                   {"max_lines_per_program", ls.maxLinesPerProgram}};
+  }
+  if (controller.jbi) j["jbi"] = Json{{"arc_wait_input", controller.jbi->arcWaitInput}};
+  return j;
+}
+// ---- end of the controller block ----
+
 Cell readCellDocument(const Json& root, std::string_view origin) {
   if (!root.is_object()) {
     throw InvalidInput(std::string(origin) + ": the cell description must be a JSON object: " +
@@ -571,6 +621,7 @@ Cell readCellDocument(const Json& root, std::string_view origin) {
   cell.positioner = readPositioner(top, version, cell.notes);
   cell.process = readProcess(top);
   cell.exportOptions = readExport(top);
+  cell.controller = readController(top, origin);
   cell.home = readHome(top, version, cell, cell.notes);
   if (cell.exportOptions.positionType == PositionType::Pulse &&
       cell.robot.pulsesPerDegree.empty()) {
@@ -740,6 +791,9 @@ std::string writeCellJson(const Cell& cell) {
                      {"job_name", e.jobName},
                      {"max_name_length", e.maxNameLength},
                      {"user_frame", e.userFrame}};
+  if (Json controller = controllerJson(cell.controller); !controller.empty()) {
+    j["controller"] = controller;
+  }
   Json homeJoints = Json::array();
   for (double q : cell.home.robot) homeJoints.push_back(clean(q / kDeg));
   j["home"] = Json{{"robot_joints_deg", homeJoints},
@@ -813,6 +867,10 @@ Cell defaultCell() {
   e.jobName = "WAAM";
   e.maxNameLength = 8;
   e.userFrame = 1;
+  // Programs in other vendors' languages for this cell until the vendor cells exist: Fanuc
+  // ArcTool schedule 1 on weld equipment 1, 2000 lines per program.
+  cell.controller.ls = LsControllerSettings{1, 1, 1, 2000};
+  cell.controller.jbi = JbiControllerSettings{0};
   // Torch vertical, TCP at (648.7, 0, 995.1) mm in world: 100 mm outside the working volume's
   // radius and 465 mm above the table top (checked by a test with the robot's FK).
   cell.home.robot = {0.0, -20 * kDeg, -10 * kDeg, 0.0, -100 * kDeg, 0.0};

@@ -36,6 +36,7 @@
 
 #include <array>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -179,6 +180,36 @@ struct ExportDescription {
   int userFrame = 1;             ///< user frame number for PositionType::User
 };
 
+// ---- controller: vendor settings the programs need (JSON "controller", optional) -------------
+// KRL / RAPID settings (branch s9-export) go above the LS / JBI block below.
+
+// ---- controller: Fanuc LS and Yaskawa JBI settings (branch s9-export2) -----------------------
+/// Fanuc ArcTool settings (JSON controller/ls); required for an LS export.
+struct LsControllerSettings {
+  int weldEquipment = 1;          ///< /APPL `ARC Welding Equipment : n` (1..2)
+  int arcStartSchedule = 1;       ///< `Arc Start[n]`: weld schedule number (1..99)
+  int arcEndSchedule = 1;         ///< `Arc End[n]`: crater / end schedule number (1..99)
+  int maxLinesPerProgram = 2000;  ///< /MN lines per program; longer programs are split (>= 20)
+};
+
+/// Yaskawa settings beyond process/arc (JSON controller/jbi); optional.
+struct JbiControllerSettings {
+  /// > 0: `WAIT IN#(n)=ON` after every ARCON, the input the welder sets once the arc is
+  /// established (ARCON itself waits for the arc-confirm signal where the welder sends it); 0: none.
+  int arcWaitInput = 0;
+};
+
+/// Vendor-specific settings of the programs (JSON "controller"). Members of one vendor are
+/// absent when the cell does not describe that controller; the writer of that vendor's language
+/// then stops with an error naming the missing JSON field and `source`.
+struct ControllerDescription {
+  // (s9-export: krl, rapid members)
+  // ---- s9-export2: ls, jbi ----
+  std::optional<LsControllerSettings> ls;    ///< controller/ls
+  std::optional<JbiControllerSettings> jbi;  ///< controller/jbi
+  std::string source = "cell";               ///< the file it was read from, for messages
+};
+
 struct Cell {
   std::string name;
   std::string description;        ///< free text, incl. sources of the numbers
@@ -188,6 +219,7 @@ struct Cell {
   PositionerDescription positioner;
   ProcessDescription process;
   ExportDescription exportOptions;
+  ControllerDescription controller;  ///< vendor-specific program settings
   HomePose home;
   /// What the reader assumed, e.g. the defaults of a version-1 file ("cell version 1: default
   /// torch envelope ... assumed; add tool/envelope"); planMotion copies them into
