@@ -16,8 +16,9 @@ struct ExportArguments {
   std::string cell;  ///< empty = the default cell (Motoman HP20D + tilt-rotate positioner)
   std::string format;
   std::string output;
-  std::string name;       ///< program / job name; empty = the cell's job name
-  std::string gcodeMode;  ///< empty = ExportOptions{}.gcodeMode
+  std::string name;       ///< program / job name; empty = the output file's stem
+  std::string gcodeMode;     ///< empty = ExportOptions{}.gcodeMode
+  std::string gcodeDialect;  ///< empty = ExportOptions{}.gcodeDialect
   std::string date;       ///< empty = the fixed default (reproducible files)
   bool warnUnreachable = false;
   bool quiet = false;

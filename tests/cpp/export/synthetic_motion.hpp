@@ -104,7 +104,7 @@ inline ReadProgram exportAndRead(const MotionPlan& motion, const Cell& cell, Exp
     case ExportFormat::Rapid:
       return readRapidProgram(r.files[0].text);
     case ExportFormat::Ls:
-      return readLsProgram(r.files[0].text);
+      return readLsProgram(r, cell);
     default:
       break;
   }
