@@ -29,6 +29,7 @@ ExportOptions parseExportOptions(const ExportArguments& args) {
   if (!args.date.empty()) options.date = args.date;
   if (!args.gcodeMode.empty()) options.gcodeMode = parseGcodeMode(args.gcodeMode);
   if (!args.gcodeDialect.empty()) options.gcodeDialect = parseGcodeDialect(args.gcodeDialect);
+  options.gcodeMaxLinesPerFile = args.gcodeLinesPerFile;
   validateExportOptions(options);  // the core's checks, shared with the workbench API
   return options;
 }

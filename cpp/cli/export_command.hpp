@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "curvedslicer/export/exporter.hpp"
 #include "curvedslicer/robot/motion.hpp"
 #include "option_binding.hpp"
 
@@ -19,6 +20,7 @@ struct ExportArguments {
   std::string name;       ///< program / job name; empty = the output file's stem
   std::string gcodeMode;     ///< empty = ExportOptions{}.gcodeMode
   std::string gcodeDialect;  ///< empty = ExportOptions{}.gcodeDialect
+  int gcodeLinesPerFile = ExportOptions{}.gcodeMaxLinesPerFile;
   std::string date;       ///< empty = the fixed default (reproducible files)
   bool warnUnreachable = false;
   bool quiet = false;

@@ -1,5 +1,6 @@
 // Options of `curvedslicer export` (see export_command.hpp for what the command does).
 #include <memory>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -110,6 +111,13 @@ void addExportOptions(CLI::App& cmd, ExportArguments& args) {
                  "G4 P in ms, TCP G43.4/G49, M30) or linuxcnc (G4 P in seconds, TCP by\n"
                  "switchkins M429/M428, M2).")
       ->type_name("NAME");
+  cmd.add_option("--gcode-lines-per-file", args.gcodeLinesPerFile,
+                 "G-code lines per file before the program is split into sub-programs\n"
+                 "called from FILE (linuxcnc o<name_k> call, generic M98 P<n>); 0 =\n"
+                 "never. Default " +
+                     std::to_string(ExportOptions{}.gcodeMaxLinesPerFile) + ".")
+      ->check(CLI::NonNegativeNumber)
+      ->type_name("N");
   cmd.add_option("--date", args.date,
                  "Date written into program headers, \"YYYY/MM/DD HH:MM\". Default: a\n"
                  "fixed date (2000/01/01 00:00), so the same plan gives identical files.")

@@ -172,6 +172,20 @@ TEST(Golden, SplitLsMatchesItsGoldenFiles) {
   for (const ExportFile& f : r.files) compareWithGolden("split_" + f.name, f.text);
 }
 
+TEST(Golden, SplitGcodeMatchesItsGoldenFiles) {
+  const Cell cell = defaultCell();
+  for (GcodeDialect d : {GcodeDialect::Generic, GcodeDialect::LinuxCnc}) {
+    ExportOptions o;
+    o.gcodeDialect = d;
+    o.gcodeMaxLinesPerFile = 20;
+    const ExportResult r = exportProgram(makeGoldenMotion(cell), cell, ExportFormat::Gcode, o);
+    ASSERT_GT(r.files.size(), 2u);
+    for (const ExportFile& f : r.files) {
+      compareWithGolden("split_" + std::string(toString(d)) + "_" + f.name, f.text);
+    }
+  }
+}
+
 TEST(Golden, JbiWithArcWaitMatchesItsGoldenFile) {
   Cell cell = defaultCell();
   cell.controller.jbi->arcWaitInput = 12;

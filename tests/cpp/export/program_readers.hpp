@@ -49,6 +49,7 @@ struct ProgramMove {
   /// The part-frame TCP point the move's target states, through the cell's kinematics (set by
   /// the readers that reconstruct it: JBI, LS, G-code, CSV/JSON).
   std::optional<Vec3> partPoint;
+  Vec3 tcpXyz = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());  ///< G-code X Y Z as read
 };
 
 /// A program as its reader saw it: the moves in execution order, the welds as [first, last]
@@ -820,21 +821,65 @@ inline std::vector<std::pair<char, std::string>> gcodeWords(const std::string& l
 /// every move (G0 first / home, G1 with F), M3 / M5 around welds, dwells in the dialect's unit
 /// (generic: G4 P whole milliseconds; linuxcnc: G4 P seconds). Part points: X Y Z are the part
 /// point (tcp) or the point in the positioner base frame, taken back through the table's
-/// kinematics (machine); A, C the table angles with the cell's signs. Speeds: tcp F mm/min;
-/// machine inverse time (G93): the part-frame length of the move · F / 60.
+/// kinematics (machine); A, C the table angles with the cell's signs. Speeds: tcp F mm/min
+/// (none for a move with unchanged X Y Z: F in deg/min); machine inverse time (G93): the
+/// part-frame length of the move · F / 60.
+/// The lines of a G-code sub-program file, checked and stripped of its frame: linuxcnc
+/// `o<name> sub` … `o<name> endsub` `M2` in name.ngc; generic `O<n>` … `M99` in O<n>.ngc.
+inline std::vector<std::string> gcodeSubProgram(const ExportResult& result,
+                                                const std::string& name, bool linuxcnc,
+                                                bool crlf, std::map<std::string, int>& calls) {
+  ++calls[name];
+  std::vector<std::string> body;
+  for (std::size_t k = 1; k < result.files.size(); ++k) {
+    if (result.files[k].name != name + ".ngc") continue;
+    bool endings = false;
+    body = splitLines(result.files[k].text, crlf, &endings);
+    EXPECT_TRUE(endings) << name;
+  }
+  const std::vector<std::string> head{linuxcnc ? "o<" + name + "> sub" : name};
+  const std::vector<std::string> tail =
+      linuxcnc ? std::vector<std::string>{"o<" + name + "> endsub", "M2"}
+               : std::vector<std::string>{"M99"};
+  EXPECT_GE(body.size(), head.size() + tail.size()) << "called file missing or empty: " << name;
+  if (body.size() < head.size() + tail.size()) return {};
+  EXPECT_EQ(body.front(), head.front()) << name;
+  for (std::size_t k = 0; k < tail.size(); ++k) {
+    EXPECT_EQ(body[body.size() - tail.size() + k], tail[k]) << name;
+  }
+  return std::vector<std::string>(body.begin() + 1, body.end() - static_cast<long>(tail.size()));
+}
+
 inline ReadProgram readGcodeProgram(const ExportResult& result, const Cell& cell) {
-  EXPECT_EQ(result.files.size(), 1u);
+  EXPECT_FALSE(result.files.empty());
+  if (result.files.empty()) return {};
   const std::string& text = result.files.front().text;
+  const bool crlf = cell.exportOptions.lineEnding == LineEnding::Crlf;
   bool endings = false;
-  const auto lines = splitLines(text, cell.exportOptions.lineEnding == LineEnding::Crlf, &endings);
+  const auto lines = splitLines(text, crlf, &endings);
   EXPECT_TRUE(endings) << "line endings";
   std::string mode, dialect;
-  std::vector<std::string> codes;  // the non-comment lines
+  std::vector<std::string> codes;  // the non-comment lines, calls expanded
+  std::map<std::string, int> calls;
   for (const std::string& line : lines) {
     if (startsWith(line, "; mode: ")) mode = line.substr(8, line.find(' ', 8) - 8);
     if (startsWith(line, "; dialect: ")) dialect = line.substr(11);
-    if (!startsWith(line, ";")) codes.push_back(line);
+    if (startsWith(line, ";")) continue;
+    if (startsWith(line, "o<") && line.size() > 8 && line.compare(line.size() - 6, 6, "> call") == 0) {
+      EXPECT_EQ(dialect, "linuxcnc") << line;
+      const auto sub = gcodeSubProgram(result, line.substr(2, line.size() - 8), true, crlf, calls);
+      codes.insert(codes.end(), sub.begin(), sub.end());
+    } else if (startsWith(line, "M98 P")) {
+      EXPECT_EQ(dialect, "generic") << line;
+      strictInt(line.substr(5), line);
+      const auto sub = gcodeSubProgram(result, "O" + line.substr(5), false, crlf, calls);
+      codes.insert(codes.end(), sub.begin(), sub.end());
+    } else {
+      codes.push_back(line);
+    }
   }
+  EXPECT_EQ(calls.size() + 1, result.files.size()) << "every sub-program file is called";
+  for (const auto& [name, n] : calls) EXPECT_EQ(n, 1) << name << " called " << n << " times";
   EXPECT_TRUE(mode == "tcp" || mode == "machine") << "mode " << mode;
   EXPECT_TRUE(dialect == "generic" || dialect == "linuxcnc") << "dialect " << dialect;
   const bool machine = mode == "machine", linuxcnc = dialect == "linuxcnc";
@@ -896,14 +941,18 @@ inline ReadProgram readGcodeProgram(const ExportResult& result, const Cell& cell
     move.line = line;
     move.joint = g0;
     move.partPoint = machine ? Vec3(computePartInPositionerBase(pos, a1, a2).inverse() * xyz) : xyz;
+    move.tcpXyz = xyz;
     if (g1) {
       EXPECT_GT(v[5], 0.0) << line;
-      if (!machine) {
-        move.speed = v[5] / 60.0;
-      } else if (!program.moves.empty() && program.moves.back().partPoint) {
-        const double length = (*move.partPoint - *program.moves.back().partPoint).norm();
-        // X Y Z have 4 decimals: over 0.1 mm the length is known to 0.2 %
-        if (length > 0.1) move.speed = length * v[5] / 60.0;
+      const bool rotaryOnly = !program.moves.empty() && program.moves.back().tcpXyz == xyz;
+      if (machine) {
+        if (!program.moves.empty() && program.moves.back().partPoint) {
+          const double length = (*move.partPoint - *program.moves.back().partPoint).norm();
+          // X Y Z have 4 decimals: over 0.1 mm the length is known to 0.2 %
+          if (length > 0.1) move.speed = length * v[5] / 60.0;
+        }
+      } else if (!rotaryOnly) {
+        move.speed = v[5] / 60.0;  // mm/min (a rotary-only move's F is deg/min)
       }
     }
     program.moves.push_back(std::move(move));

@@ -143,6 +143,32 @@ TEST(StrictReaders, SplitLsAndJbiProgramsRoundTripAndStayUnderTheirLimits) {
   expectStrictRoundTrip(motion, cell);
 }
 
+TEST(StrictReaders, SplitGcodeRoundTripsThroughItsCallsInBothDialects) {
+  const Cell cell = defaultCell();
+  const MotionPlan motion = planMotion(makeConePlan(3, 24), cell);
+  const Cell placed = placedCell(cell, motion);
+  for (GcodeDialect d : {GcodeDialect::Generic, GcodeDialect::LinuxCnc}) {
+    for (GcodeMode m : {GcodeMode::Tcp, GcodeMode::Machine}) {
+      SCOPED_TRACE(std::string(toString(d)) + " " + std::string(toString(m)));
+      ExportOptions o;
+      o.gcodeDialect = d;
+      o.gcodeMode = m;
+      o.gcodeMaxLinesPerFile = 30;
+      const ExportResult r = exportProgram(motion, placed, ExportFormat::Gcode, o);
+      ASSERT_GT(r.files.size(), 3u);
+      EXPECT_EQ(r.files[1].name, d == GcodeDialect::LinuxCnc ? "waam_1.ngc" : "O1001.ngc");
+      for (std::size_t k = 1; k < r.files.size(); ++k) EXPECT_LE(r.files[k].lines, 30u);
+      const ReadProgram program = readGcodeProgram(r, placed);
+      ASSERT_EQ(program.moves.size(), motion.points.size());
+      EXPECT_EQ(program.welds.size(), motion.paths.size());
+      for (std::size_t i = 0; i < motion.points.size(); ++i) {
+        ASSERT_TRUE(program.moves[i].partPoint.has_value());
+        EXPECT_LT((*program.moves[i].partPoint - motion.points[i].position).norm(), kRoundTrip);
+      }
+    }
+  }
+}
+
 TEST(StrictReaders, LsWritesTheCellsSchedulesAndChangesThemWithinAWeld) {
   Cell cell = defaultCell();
   cell.controller.ls = LsControllerSettings{2, 7, 9, 2000};

@@ -59,6 +59,9 @@ struct ExportOptions {
   std::string date = "2000/01/01 00:00";
   GcodeMode gcodeMode = GcodeMode::Tcp;             ///< G-code only
   GcodeDialect gcodeDialect = GcodeDialect::Generic;  ///< G-code only
+  /// G-code only: lines per sub-program file (about 60 bytes each; 0 or >= 10) when the program
+  /// is split into sub-programs called from the main file; 0 = never split.
+  int gcodeMaxLinesPerFile = 40000;
   /// Digital output that switches the arc on (KRL $OUT[n], RAPID signal doArc<n>, G-code has
   /// M3/M5). JBI and LS use the cell's arc conditions instead.
   int arcOutput = 1;

@@ -4,7 +4,9 @@
 // Two modes (ExportOptions::gcodeMode):
 //   tcp      X Y Z are the point in the part frame; the controller's tool-centre-point control
 //            turns them into machine motion, switched on at the start and off at the end with the
-//            dialect's codes; F (G94, mm/min) is then the speed relative to the part;
+//            dialect's codes; F (G94, mm/min) is then the speed relative to the part; a move that
+//            only turns the table (X Y Z change by less than 0.00005 mm) has F in deg/min, the combined
+//            A, C turn over its duration (as below), as RS-274 reads F for rotary-only moves;
 //   machine  X Y Z are already transformed by the table's forward kinematics: the point in the
 //            positioner base frame for the given A, C (computePartInPositionerBase), so a plain
 //            trivial-kinematics controller reproduces the path. A constant F would make the speed
@@ -25,6 +27,12 @@
 // table-to-part transform, so the file can be checked without the cell. Moves: first point and
 // home G0, the rest (welds and the arc-off retract, travel and approach moves) G1; arc on `M3`
 // after a path's first point, off `M5` after its last; the path (+ layer) dwell after the retract.
+// Splitting: when the lines of the points exceed ExportOptions::gcodeMaxLinesPerFile, the points
+// are packed into sub-programs, cut before an arc-off move where possible; the main file keeps
+// the header, the start and end codes and one call per sub-program: linuxcnc `o<name_k> call`
+// with the file name_k.ngc holding `o<name_k> sub` … `o<name_k> endsub` `M2` (lower case: O-word
+// subroutine files are found by their lower-case name); generic `M98 P<n>` with the file O<n>.ngc
+// holding `O<n>` … `M99` (n = 1001, 1002, …). Modal state (G93, TCP, M3) carries into the calls.
 // Cost: O(points), about 70 bytes per point.
 #pragma once
 
