@@ -335,6 +335,11 @@ void bindExportOptions(py::module_& m) {
       .choice(
           "gcode_mode", member(&O::gcodeMode), parseGcodeMode,
           [](GcodeMode g) { return toString(g); }, "G-code only: 'tcp' | 'machine'")
+      .choice(
+          "gcode_dialect", member(&O::gcodeDialect), parseGcodeDialect,
+          [](GcodeDialect d) { return toString(d); }, "G-code only: 'generic' | 'linuxcnc'")
+      .value("gcode_max_lines_per_file", member(&O::gcodeMaxLinesPerFile),
+             "G-code only: lines per file before splitting into sub-programs; 0 = never")
       .value("arc_output", member(&O::arcOutput), "digital output switching the arc on");
   c.finish();
 }

@@ -206,6 +206,7 @@ py::dict exportProgramPy(const std::string& planJson, const std::string& cellJso
                          ExportOptions options, MotionOptions motion, bool allowForeignCell,
                          const py::object& progress) {
   const ExportFormat f = parseExportFormat(format);
+  if (path) options.programName = programNameForFile(*path, options.programName);  // name rule
   const Plan plan = parsePlanJson(planJson, "plan");
   checkExportSize(plan.pointCount());
   const Cell cell = parseCell(cellJson, "cell");

@@ -24,9 +24,12 @@ namespace {
 
 ExportOptions parseExportOptions(const ExportArguments& args) {
   ExportOptions options;
-  options.programName = args.name;
+  // The file-name rule (exporter.hpp): the program is named after the output file unless --name.
+  options.programName = programNameForFile(fs::path(args.output), args.name);
   if (!args.date.empty()) options.date = args.date;
   if (!args.gcodeMode.empty()) options.gcodeMode = parseGcodeMode(args.gcodeMode);
+  if (!args.gcodeDialect.empty()) options.gcodeDialect = parseGcodeDialect(args.gcodeDialect);
+  options.gcodeMaxLinesPerFile = args.gcodeLinesPerFile;
   validateExportOptions(options);  // the core's checks, shared with the workbench API
   return options;
 }

@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "curvedslicer/export/exporter.hpp"
 #include "curvedslicer/robot/motion.hpp"
 #include "option_binding.hpp"
 
@@ -16,8 +17,10 @@ struct ExportArguments {
   std::string cell;  ///< empty = the default cell (Motoman HP20D + tilt-rotate positioner)
   std::string format;
   std::string output;
-  std::string name;       ///< program / job name; empty = the cell's job name
-  std::string gcodeMode;  ///< empty = ExportOptions{}.gcodeMode
+  std::string name;       ///< program / job name; empty = the output file's stem
+  std::string gcodeMode;     ///< empty = ExportOptions{}.gcodeMode
+  std::string gcodeDialect;  ///< empty = ExportOptions{}.gcodeDialect
+  int gcodeLinesPerFile = ExportOptions{}.gcodeMaxLinesPerFile;
   std::string date;       ///< empty = the fixed default (reproducible files)
   bool warnUnreachable = false;
   bool allowForeignCell = false;  ///< write one vendor's language with another vendor's cell

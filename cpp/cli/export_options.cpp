@@ -1,5 +1,6 @@
 // Options of `curvedslicer export` (see export_command.hpp for what the command does).
 #include <memory>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -19,10 +20,17 @@ Example:
 Output:
   jbi    Yaskawa INFORM job; when the program exceeds the cell's max_lines_per_job it is split
          into sub-jobs: FILE holds the main job (NOP, CALL JOB:<NAME><k> ..., END) and the
-         sub-jobs are written next to it as <NAME><k>.JBI (NAME = --name or the cell's job
-         name, cut to the cell's name length). Load all files onto the controller.
-  krl    KUKA .src; rapid: ABB .mod; ls: Fanuc .LS; gcode: tilt-rotate table G-code;
-  csv, json  every motion point (layer, path, xyz, normal, V, a1, a2, joints, speed, arc).
+         sub-jobs are written next to it as <NAME><k>.JBI. Load all files onto the controller.
+  ls     Fanuc .LS (ArcTool); split at the cell's controller/ls max_lines_per_program into
+         <NAME><k>.LS called from the main program in FILE.
+  krl    KUKA .src; rapid: ABB .mod; gcode: tilt-rotate table G-code (--gcode-mode,
+         --gcode-dialect);
+  csv, json  every motion point (layer, path, xyz, normal, V, a1, a2, joints, speed, arc,
+         wire feed, weld schedule, bead width).
+Names: the program is named after FILE (its name without extension) unless --name is given;
+each format cuts the name to its rules (JBI: upper case, the cell's max_name_length). The
+main file and the program inside it must agree: `--name CYLINDER_PART -o CYL.JBI` is refused
+(the job would be CYLINDER) with the file name to use; letter case may differ.
 All files appear together, or none on any error (each is written to a temporary file first).
 Files of an earlier run with other sub-job names are not removed.
 
@@ -93,13 +101,27 @@ void addExportOptions(CLI::App& cmd, ExportArguments& args) {
       ->required()
       ->type_name("FILE");
   cmd.add_option("--name", args.name,
-                 "Program / job name (default: the cell's job name, e.g. WAAM);\n"
-                 "cut to the controller's character set and length.")
+                 "Program / job name (default: the output file's name without\n"
+                 "extension); cut to the controller's character set and length. The\n"
+                 "output file must carry the name the program gets (see Output).")
       ->type_name("NAME");
   cmd.add_option("--gcode-mode", args.gcodeMode,
-                 "G-code coordinates: tcp (default; part X Y Z + A C, the controller\n"
-                 "does the kinematics) or machine (X Y Z through the table kinematics).")
+                 "G-code coordinates: tcp (default; part X Y Z + A C, the controller's\n"
+                 "TCP control on) or machine (X Y Z through the table kinematics,\n"
+                 "inverse-time feed G93 keeping the weld speed relative to the part).")
       ->type_name("MODE");
+  cmd.add_option("--gcode-dialect", args.gcodeDialect,
+                 "G-code controller: generic (default; ISO/Fanuc-style 5-axis table:\n"
+                 "G4 P in ms, TCP G43.4/G49, M30) or linuxcnc (G4 P in seconds, TCP by\n"
+                 "switchkins M429/M428, M2).")
+      ->type_name("NAME");
+  cmd.add_option("--gcode-lines-per-file", args.gcodeLinesPerFile,
+                 "G-code lines per file before the program is split into sub-programs\n"
+                 "called from FILE (linuxcnc o<name_k> call, generic M98 P<n>); 0 =\n"
+                 "never. Default " +
+                     std::to_string(ExportOptions{}.gcodeMaxLinesPerFile) + ".")
+      ->check(CLI::NonNegativeNumber)
+      ->type_name("N");
   cmd.add_option("--date", args.date,
                  "Date written into program headers, \"YYYY/MM/DD HH:MM\". Default: a\n"
                  "fixed date (2000/01/01 00:00), so the same plan gives identical files.")

@@ -44,6 +44,7 @@ DOCUMENTED_DEFAULTS = {
                       "merge_tolerance": 0.01, "max_a2_step": 0.0872664625997165,  # 5°
                       "time_parameterise": True, "placement": "rest"},
     "ExportOptions": {"program_name": "", "date": "2000/01/01 00:00", "gcode_mode": "tcp",
+                      "gcode_dialect": "generic", "gcode_max_lines_per_file": 40000,
                       "arc_output": 1},
 }
 

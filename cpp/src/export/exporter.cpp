@@ -72,6 +72,17 @@ GcodeMode parseGcodeMode(std::string_view name) {
   throw InvalidInput("unknown G-code mode: '" + std::string(name) + "'; use tcp or machine");
 }
 
+std::string_view toString(GcodeDialect dialect) {
+  return dialect == GcodeDialect::LinuxCnc ? "linuxcnc" : "generic";
+}
+
+GcodeDialect parseGcodeDialect(std::string_view name) {
+  if (name == "generic") return GcodeDialect::Generic;
+  if (name == "linuxcnc") return GcodeDialect::LinuxCnc;
+  throw InvalidInput("unknown G-code dialect: '" + std::string(name) +
+                     "'; use generic or linuxcnc");
+}
+
 std::string_view fileExtension(ExportFormat format) {
   switch (format) {
     case ExportFormat::Jbi:
@@ -217,6 +228,38 @@ void checkJointLimits(const MotionPlan& motion, const Cell& cell) {
   }
 }
 
+std::string programNameForFile(const fs::path& mainFile, std::string_view requested) {
+  if (!requested.empty()) return std::string(requested);
+  return mainFile.stem().string();
+}
+
+namespace {
+
+std::string lowerCase(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+}  // namespace
+
+void checkMainFileName(const ExportResult& result, const fs::path& mainFile) {
+  if (result.files.empty() || result.format == ExportFormat::Csv ||
+      result.format == ExportFormat::Json) {
+    return;
+  }
+  const fs::path written(result.files.front().name);
+  const std::string program = written.stem().string();
+  const std::string given = mainFile.stem().string();
+  if (lowerCase(program) == lowerCase(given)) return;
+  throw InvalidInput("the output file name does not agree with the program name inside it: '" +
+                     quoteForMessage(mainFile.filename().string()) + "' holds the " +
+                     std::string(toString(result.format)) + " program " + program +
+                     " (the requested name cut to the format's rules); name the file " +
+                     program + mainFile.extension().string() +
+                     " or give --name / program_name the file's name");
+}
+
 void writeExportFiles(const ExportResult& result, const fs::path& mainFile) {
   if (result.files.empty()) {
     throw InvalidInput("nothing to write: the export has no files; export a non-empty plan");
@@ -243,6 +286,7 @@ void writeExportFiles(const ExportResult& result, const fs::path& mainFile) {
     }
     target = resolveOutputPath(target);  // no devices, FIFOs or sockets; through symlinks
   }
+  checkMainFileName(result, mainFile);
   static std::atomic<unsigned> counter{0};
   std::vector<fs::path> temps;
   const auto removeTemps = [&temps]() noexcept {

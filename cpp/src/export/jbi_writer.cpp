@@ -20,12 +20,17 @@ struct JobPlan {
   IndexRange points;
 };
 
-/// Instruction lines of point i: the motion, ARCON after a path start, ARCOF and TIMER after a
-/// path end.
+/// The input confirming the arc (controller/jbi arc_wait_input), 0 = none.
+int arcWaitInput(const Cell& cell) {
+  return cell.controller.jbi ? cell.controller.jbi->arcWaitInput : 0;
+}
+
+/// Instruction lines of point i: the motion, ARCON (and the arc wait) after a path start, ARCOF
+/// and TIMER after a path end.
 std::size_t instructionLines(const MotionPlan& motion, const Cell& cell, std::size_t i) {
   const MotionPoint& p = motion.points[i];
   std::size_t lines = 1;
-  if (p.pathStart) ++lines;
+  if (p.pathStart) lines += arcWaitInput(cell) > 0 ? 2 : 1;
   if (p.pathEnd) ++lines;
   if (dwellAfter(motion, cell, i) > 0.0) ++lines;
   return lines;
@@ -143,6 +148,7 @@ ExportFile writeJob(const MotionPlan& motion, const Cell& cell, const ExportOpti
   text.line("NOP");
   const std::string arcOn = arcOnLine(cell);
   const std::string arcOff = arcOffLine(cell);
+  const int arcWait = arcWaitInput(cell);
   const int speedDigits = speedDecimals(cell);
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = range.begin + k;
@@ -170,6 +176,7 @@ ExportFile writeJob(const MotionPlan& motion, const Cell& cell, const ExportOpti
     ++motionCount;
     if (p.pathStart) {
       text.line(arcOn);
+      if (arcWait > 0) text.line("WAIT IN#(" + std::to_string(arcWait) + ")=ON");
       ++arcCount;
     }
     if (p.pathEnd) text.line(arcOff);

@@ -17,10 +17,18 @@ constexpr const char* kColumns[] = {
     "layer",  "path",       "index",    "x_mm",   "y_mm",         "z_mm",   "nx",
     "ny",     "nz",         "vx",       "vy",     "vz",           "a1_deg", "a2_deg",
     "j1_deg", "j2_deg",     "j3_deg",   "j4_deg", "j5_deg",       "j6_deg", "speed_mm_s",
-    "arc_on", "path_start", "path_end", "time_s", "residual_deg", "flags",  "kind"};
+    "arc_on", "path_start", "path_end", "time_s", "residual_deg", "flags",  "wire_feed_m_min",
+    "weld_schedule", "bead_width_mm", "kind"};
+
+/// Wire feed (m/min) of the move arriving at `p`: its own (MotionPoint::wireFeed) or, where not
+/// set, the cell's; 0 with the arc off.
+double wireFeedOf(const MotionPoint& p, const Cell& cell) {
+  if (!p.arcOn) return 0.0;
+  return p.wireFeed > 0.0 ? p.wireFeed : cell.process.wireFeed;
+}
 
 /// Appends one row of values separated by `sep`; the kind as a bare word (CSV) or a JSON string.
-void appendRow(std::string& b, const MotionPoint& p, char sep, bool json) {
+void appendRow(std::string& b, const MotionPoint& p, const Cell& cell, char sep, bool json) {
   b += std::to_string(p.layer);
   b += sep;
   b += std::to_string(p.path);
@@ -52,6 +60,12 @@ void appendRow(std::string& b, const MotionPoint& p, char sep, bool json) {
   b += sep;
   b += std::to_string(p.flags);
   b += sep;
+  appendShortest(b, wireFeedOf(p, cell));
+  b += sep;
+  b += std::to_string(p.weldSchedule);
+  b += sep;
+  appendShortest(b, p.beadWidth);
+  b += sep;
   if (json) b += '"';
   b += toString(p.kind);
   if (json) b += '"';
@@ -67,7 +81,7 @@ ExportResult NeutralWriter::write(const MotionPlan& motion, const Cell& cell,
   if (json) {
     text.line("{");
     text.line("  \"format\": \"curvedslicer-motion\",");
-    text.line("  \"version\": 2,");
+    text.line("  \"version\": 3,");
     text.line("  \"cell\": " + nlohmann::json(cell.name).dump() + ",");
     std::string& c = text.buffer();
     c += "  \"columns\": [";
@@ -98,7 +112,7 @@ ExportResult NeutralWriter::write(const MotionPlan& motion, const Cell& cell,
     const MotionPoint& p = motion.points[i];
     std::string& b = text.buffer();
     if (json) b += "    [";
-    appendRow(b, p, ',', json);
+    appendRow(b, p, cell, ',', json);
     if (json) b += i + 1 < count ? "]," : "]";
     text.endLine();
     ++result.motionCount;

@@ -644,6 +644,28 @@ RapidController readRapidController(Field& c, bool coordinated) {
   return rapid;
 }
 
+LsControllerSettings readLsController(Field& c) {
+  Field f = c.object("ls", "give the Fanuc ArcTool settings");
+  LsControllerSettings ls;
+  ls.weldEquipment = f.integer("weld_equipment", 1, 2, "the ArcTool weld equipment number");
+  ls.arcStartSchedule =
+      f.integer("arc_start_schedule", 1, 99, "the weld schedule of Arc Start[n]");
+  ls.arcEndSchedule = f.integer("arc_end_schedule", 1, 99, "the schedule of Arc End[n]");
+  ls.maxLinesPerProgram = f.integer("max_lines_per_program", 20, 1000000,
+                                    "/MN lines per program before the program is split");
+  f.rejectUnknown();
+  return ls;
+}
+
+JbiControllerSettings readJbiController(Field& c) {
+  Field f = c.object("jbi", "give the Yaskawa settings");
+  JbiControllerSettings jbi;
+  jbi.arcWaitInput = f.integer("arc_wait_input", 0, 0, 2048,
+                               "the input IN#(n) that says the arc is established, 0 = none");
+  f.rejectUnknown();
+  return jbi;
+}
+
 ControllerDescription readController(Field& top, std::string_view origin, bool coordinated) {
   ControllerDescription controller;
   controller.source = std::string(origin);
@@ -651,6 +673,8 @@ ControllerDescription readController(Field& top, std::string_view origin, bool c
   Field c = top.object("controller", "give the vendor-specific program settings");
   if (c.has("krl")) controller.krl = readKrlController(c);
   if (c.has("rapid")) controller.rapid = readRapidController(c, coordinated);
+  if (c.has("ls")) controller.ls = readLsController(c);
+  if (c.has("jbi")) controller.jbi = readJbiController(c);
   c.rejectUnknown();
   return controller;
 }
@@ -676,6 +700,14 @@ Json controllerJson(const ControllerDescription& controller) {
                       {"max_lines_per_module", r->maxLinesPerModule}};
     if (!r->mechUnit.empty()) j["rapid"]["mech_unit"] = r->mechUnit;
   }
+  if (controller.ls) {
+    const LsControllerSettings& ls = *controller.ls;
+    j["ls"] = Json{{"weld_equipment", ls.weldEquipment},
+                   {"arc_start_schedule", ls.arcStartSchedule},
+                   {"arc_end_schedule", ls.arcEndSchedule},
+                   {"max_lines_per_program", ls.maxLinesPerProgram}};
+  }
+  if (controller.jbi) j["jbi"] = Json{{"arc_wait_input", controller.jbi->arcWaitInput}};
   return j;
 }
 // ---- end controller --------------------------------------------------------------------------
@@ -913,8 +945,9 @@ std::string writeCellJson(const Cell& cell) {
                      {"job_name", e.jobName},
                      {"max_name_length", e.maxNameLength},
                      {"user_frame", e.userFrame}};
-  if (cell.controller.krl || cell.controller.rapid)
-    j["controller"] = controllerJson(cell.controller);
+  if (Json controller = controllerJson(cell.controller); !controller.empty()) {
+    j["controller"] = controller;
+  }
   Json homeJoints = Json::array();
   for (double q : cell.home.robot) homeJoints.push_back(clean(q / kDeg));
   j["home"] = Json{{"robot_joints_deg", homeJoints},
@@ -1005,6 +1038,9 @@ Cell defaultCell() {
   rapid.toolMass = 2.0;
   rapid.toolCog = Vec3(0, 0, 150);
   cell.controller.rapid = rapid;
+  // Fanuc ArcTool schedule 1 on weld equipment 1, 2000 lines per program; no arc wait input.
+  cell.controller.ls = LsControllerSettings{1, 1, 1, 2000};
+  cell.controller.jbi = JbiControllerSettings{0};
   // Torch vertical, TCP at (648.7, 0, 995.1) mm in world: 100 mm outside the working volume's
   // radius and 465 mm above the table top (checked by a test with the robot's FK).
   cell.home.robot = {0.0, -20 * kDeg, -10 * kDeg, 0.0, -100 * kDeg, 0.0};

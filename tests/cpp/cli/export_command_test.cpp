@@ -45,7 +45,32 @@ TEST(ExportCommand, WritesEachFormatFromAPlanFile) {
         << format << ": " << readFile((dir / "stderr.txt").string());
     EXPECT_GT(fs::file_size(out), 500u) << format;
   }
-  EXPECT_NE(readFile((dir / "out.jbi").string()).find("//NAME WAAM\r\n"), std::string::npos);
+  // the file-name rule: the program is named after the output file (JBI upper-cases it)
+  EXPECT_NE(readFile((dir / "out.jbi").string()).find("//NAME OUT\r\n"), std::string::npos);
+  EXPECT_NE(readFile((dir / "out.ls").string()).find("/PROG  OUT\r\n"), std::string::npos);
+}
+
+TEST(ExportCommand, RefusesAFileNameThatDisagreesWithTheProgramName) {
+  const fs::path dir = freshTempDir();
+  const fs::path plan = dir / "plan.json";
+  writePlanJson(plan, makeConePlan(2, 16));
+  const fs::path out = dir / "CYL.JBI";
+  EXPECT_EQ(runCli(dir, "export '" + plan.string() + "' --format jbi --name CYLINDER_PART -o '" +
+                            out.string() + "'"),
+            2);
+  const std::string err = readFile((dir / "stderr.txt").string());
+  EXPECT_NE(err.find("name the file CYLINDER.JBI"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(dir / "CYLINDER.JBI"));
+  // the name the error asks for is accepted, and without --name the file's name is taken
+  EXPECT_EQ(runCli(dir, "export '" + plan.string() + "' --format jbi --name CYLINDER_PART -q -o '" +
+                            (dir / "CYLINDER.JBI").string() + "'"),
+            0)
+      << readFile((dir / "stderr.txt").string());
+  EXPECT_EQ(runCli(dir, "export '" + plan.string() + "' --format jbi -q -o '" + out.string() + "'"),
+            0)
+      << readFile((dir / "stderr.txt").string());
+  EXPECT_NE(readFile(out.string()).find("//NAME CYL\r\n"), std::string::npos);
 }
 
 TEST(ExportCommand, AnotherVendorsLanguageNeedsTheOptionOrExitsTwo) {

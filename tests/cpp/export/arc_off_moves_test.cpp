@@ -130,8 +130,9 @@ TEST(ArcOffMoves, GcodeRapidsHomeAndFeedsTheRest) {
   EXPECT_FALSE(arc);
 }
 
-/// The G-code waits (G4 P seconds) as (index of the G0/G1 move after which it waits, seconds).
-std::vector<std::pair<std::size_t, double>> gcodeDwells(const std::string& text) {
+/// The G-code waits (G4 P, P in `unit` seconds: 1 on LinuxCNC, 0.001 on generic / Fanuc-style
+/// controllers) as (index of the G0/G1 move after which it waits, seconds).
+std::vector<std::pair<std::size_t, double>> gcodeDwells(const std::string& text, double unit) {
   bool lf = false;
   std::vector<std::pair<std::size_t, double>> dwells;
   std::size_t moves = 0;
@@ -139,7 +140,7 @@ std::vector<std::pair<std::size_t, double>> gcodeDwells(const std::string& text)
     if (startsWith(line, "G0 ") || startsWith(line, "G1 ")) ++moves;
     if (!startsWith(line, "G4 P")) continue;
     EXPECT_GT(moves, 0u) << "a wait before any move: " << line;
-    dwells.emplace_back(moves == 0 ? 0 : moves - 1, strictDouble(line.substr(4), line));
+    dwells.emplace_back(moves == 0 ? 0 : moves - 1, unit * strictDouble(line.substr(4), line));
   }
   return dwells;
 }
@@ -173,8 +174,14 @@ TEST(ArcOffMoves, DwellsWaitAfterTheRetractWithTheTorchOffThePartInEveryFormat) 
   for (ExportFormat format : kRobotFormats) {
     expectDwells(exportAndRead(motion, cell, format).dwells, std::string(toString(format)));
   }
-  expectDwells(gcodeDwells(exportProgram(motion, cell, ExportFormat::Gcode).files[0].text),
-               "gcode");
+  expectDwells(
+      gcodeDwells(exportProgram(motion, cell, ExportFormat::Gcode).files[0].text, 0.001),
+      "gcode generic");
+  ExportOptions linuxcnc;
+  linuxcnc.gcodeDialect = GcodeDialect::LinuxCnc;
+  expectDwells(
+      gcodeDwells(exportProgram(motion, cell, ExportFormat::Gcode, linuxcnc).files[0].text, 1.0),
+      "gcode linuxcnc");
 }
 
 TEST(ArcOffMoves, NeutralFilesNameEveryPointsKindAndTime) {

@@ -66,14 +66,14 @@ TEST(Exporter, EveryFormatWritesTheWholePlan) {
 TEST(Exporter, WritesAllFilesOrNone) {
   const fs::path dir = freshTempDir();
   ExportResult result;
-  result.files = {{"MAIN.JBI", "main\r\n", 1}, {"SUB1.JBI", "sub\r\n", 1}};
+  result.files = {{"OUT.JBI", "main\r\n", 1}, {"SUB1.JBI", "sub\r\n", 1}};
   writeExportFiles(result, dir / "out.JBI");
   EXPECT_EQ(readFile((dir / "out.JBI").string()), "main\r\n");
   EXPECT_EQ(readFile((dir / "SUB1.JBI").string()), "sub\r\n");
 
   // A file that cannot be created: nothing is replaced and no temporary file is left.
   ExportResult bad;
-  bad.files = {{"MAIN.JBI", "new main\r\n", 1}, {"missing/SUB2.JBI", "x\r\n", 1}};
+  bad.files = {{"OUT.JBI", "new main\r\n", 1}, {"missing/SUB2.JBI", "x\r\n", 1}};
   EXPECT_THROW(writeExportFiles(bad, dir / "out.JBI"), IoError);
   EXPECT_EQ(readFile((dir / "out.JBI").string()), "main\r\n");
   // A target that is a folder is refused before anything is written.
@@ -92,6 +92,9 @@ TEST(Exporter, WritesAllFilesOrNone) {
   EXPECT_THROW(writeExportFiles(bad, dir / "out.JBI"), InvalidInput);
   EXPECT_THROW(writeExportFiles(result, dir / "nope" / "out.JBI"), IoError);
   EXPECT_THROW(writeExportFiles(ExportResult{}, dir / "x.JBI"), InvalidInput);
+  // The file-name rule: the main file must carry the program's name (letter case aside).
+  EXPECT_THROW(writeExportFiles(result, dir / "other.JBI"), InvalidInput);
+  EXPECT_FALSE(fs::exists(dir / "other.JBI"));
 }
 
 TEST(Exporter, DateThatIsNotYyyyMmDdHhMmIsRefusedBeforeWriting) {

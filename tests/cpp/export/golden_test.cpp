@@ -154,6 +154,43 @@ TEST(Golden, EveryFormatMatchesItsGoldenFile) {
   machine.gcodeMode = GcodeMode::Machine;
   compareWithGolden("small_gcode_machine.ngc",
                     exportProgram(motion, cell, ExportFormat::Gcode, machine).files[0].text);
+  ExportOptions linuxcnc;
+  linuxcnc.gcodeDialect = GcodeDialect::LinuxCnc;
+  compareWithGolden("small_gcode_linuxcnc.ngc",
+                    exportProgram(motion, cell, ExportFormat::Gcode, linuxcnc).files[0].text);
+  linuxcnc.gcodeMode = GcodeMode::Machine;
+  compareWithGolden("small_gcode_linuxcnc_machine.ngc",
+                    exportProgram(motion, cell, ExportFormat::Gcode, linuxcnc).files[0].text);
+}
+
+TEST(Golden, SplitLsMatchesItsGoldenFiles) {
+  Cell cell = defaultCell();
+  cell.controller.ls = LsControllerSettings{1, 3, 4, 20};
+  const ExportResult r = exportProgram(makeGoldenMotion(cell), cell, ExportFormat::Ls);
+  ASSERT_GT(r.files.size(), 2u);
+  for (const ExportFile& f : r.files) compareWithGolden("split_" + f.name, f.text);
+}
+
+TEST(Golden, SplitGcodeMatchesItsGoldenFiles) {
+  const Cell cell = defaultCell();
+  for (GcodeDialect d : {GcodeDialect::Generic, GcodeDialect::LinuxCnc}) {
+    ExportOptions o;
+    o.gcodeDialect = d;
+    o.gcodeMaxLinesPerFile = 20;
+    const ExportResult r = exportProgram(makeGoldenMotion(cell), cell, ExportFormat::Gcode, o);
+    ASSERT_GT(r.files.size(), 2u);
+    for (const ExportFile& f : r.files) {
+      compareWithGolden("split_" + std::string(toString(d)) + "_" + f.name, f.text);
+    }
+  }
+}
+
+TEST(Golden, JbiWithArcWaitMatchesItsGoldenFile) {
+  Cell cell = defaultCell();
+  cell.controller.jbi->arcWaitInput = 12;
+  const ExportResult r = exportProgram(makeGoldenMotion(cell), cell, ExportFormat::Jbi);
+  ASSERT_EQ(r.files.size(), 1u);
+  compareWithGolden("small_jbi_arc_wait.JBI", r.files[0].text);
 }
 
 TEST(Golden, SplitJbiMatchesItsGoldenFiles) {

@@ -18,9 +18,10 @@ namespace {
 
 using namespace testing;
 
-/// `v`: the 27 numeric columns; `kind`: the 28th.
-void expectRow(const std::vector<double>& v, const std::string& kind, const MotionPoint& p) {
-  ASSERT_EQ(v.size(), 27u);
+/// `v`: the 30 numeric columns; `kind`: the 31st. `cellWireFeed`: the cell's process wire feed.
+void expectRow(const std::vector<double>& v, const std::string& kind, const MotionPoint& p,
+               double cellWireFeed) {
+  ASSERT_EQ(v.size(), 30u);
   EXPECT_EQ(v[0], p.layer);
   EXPECT_EQ(v[1], p.path);
   EXPECT_EQ(v[2], p.index);
@@ -39,6 +40,10 @@ void expectRow(const std::vector<double>& v, const std::string& kind, const Moti
   EXPECT_EQ(v[24], p.time);
   EXPECT_EQ(v[25], p.residual * (180.0 / kPiT));
   EXPECT_EQ(v[26], p.flags);
+  // wire feed of the move: the point's, else the cell's; 0 with the arc off
+  EXPECT_EQ(v[27], p.arcOn ? (p.wireFeed > 0.0 ? p.wireFeed : cellWireFeed) : 0.0);
+  EXPECT_EQ(v[28], p.weldSchedule);
+  EXPECT_EQ(v[29], p.beadWidth);
   EXPECT_EQ(kind, toString(p.kind));
 }
 
@@ -53,17 +58,18 @@ TEST(NeutralWriter, CsvRowsReadBackExactly) {
   ASSERT_EQ(lines.size(), motion.points.size() + 1);
   EXPECT_EQ(lines[0].rfind("layer,path,index,x_mm,y_mm,z_mm,nx,ny,nz,vx,vy,vz,a1_deg,a2_deg", 0),
             0u);
-  EXPECT_EQ(lines[0].substr(lines[0].rfind(",time_s")), ",time_s,residual_deg,flags,kind");
+  EXPECT_EQ(lines[0].substr(lines[0].rfind(",time_s")),
+            ",time_s,residual_deg,flags,wire_feed_m_min,weld_schedule,bead_width_mm,kind");
   for (std::size_t i = 0; i < motion.points.size(); ++i) {
     std::vector<std::string> fields = splitFields(lines[i + 1], ',');
-    ASSERT_EQ(fields.size(), 28u);
+    ASSERT_EQ(fields.size(), 31u);
     std::vector<double> v;
     for (std::size_t k = 0; k + 1 < fields.size(); ++k) {
       char* end = nullptr;
       v.push_back(std::strtod(fields[k].c_str(), &end));
       EXPECT_EQ(*end, '\0') << "not a number: " << fields[k];
     }
-    expectRow(v, fields.back(), motion.points[i]);
+    expectRow(v, fields.back(), motion.points[i], cell.process.wireFeed);
   }
 }
 
@@ -73,18 +79,18 @@ TEST(NeutralWriter, JsonHoldsTheSameRowsAndJointNames) {
   const ExportResult result = NeutralWriter(ExportFormat::Json).write(motion, cell, {}, {});
   const auto doc = nlohmann::json::parse(result.files[0].text);
   EXPECT_EQ(doc.at("format"), "curvedslicer-motion");
-  EXPECT_EQ(doc.at("version"), 2);
+  EXPECT_EQ(doc.at("version"), 3);
   EXPECT_EQ(doc.at("cell"), cell.name);
-  EXPECT_EQ(doc.at("columns").size(), 28u);
+  EXPECT_EQ(doc.at("columns").size(), 31u);
   EXPECT_EQ(doc.at("columns").back(), "kind");
   EXPECT_EQ(doc.at("joint_names").size(), 8u);
   ASSERT_EQ(doc.at("points").size(), motion.points.size());
   for (std::size_t i = 0; i < motion.points.size(); ++i) {
     const auto& row = doc.at("points")[i];
-    ASSERT_EQ(row.size(), 28u);
+    ASSERT_EQ(row.size(), 31u);
     std::vector<double> v;
     for (std::size_t k = 0; k + 1 < row.size(); ++k) v.push_back(row[k].get<double>());
-    expectRow(v, row.back().get<std::string>(), motion.points[i]);
+    expectRow(v, row.back().get<std::string>(), motion.points[i], cell.process.wireFeed);
   }
   EXPECT_THROW(NeutralWriter(ExportFormat::Json).write(MotionPlan{}, cell, {}, {}), InvalidInput);
 }

@@ -105,7 +105,7 @@ inline ReadProgram exportAndRead(const MotionPlan& motion, const Cell& cell, Exp
     case ExportFormat::Rapid:
       return readRapidExport(r, cell).program;
     case ExportFormat::Ls:
-      return readLsProgram(r.files[0].text);
+      return readLsProgram(r, cell);
     default:
       break;
   }

@@ -144,6 +144,13 @@ TEST(Cell, EachBadFieldHasItsOwnError) {
       {"/vendor", "motoman", "must be one of yaskawa, kuka, abb, fanuc"},
       {"/vendor", 7, "must be a string"},
       {"/robot/j3_relative_to_horizontal", "yes", "must be true or false"},
+      // controller section: LS / JBI blocks (s9-export2)
+      {"/controller/ls/arc_start_schedule", nullptr, "is missing"},
+      {"/controller/ls/weld_equipment", 3, "between 1 and 2"},
+      {"/controller/ls/max_lines_per_program", 5, "between 20"},
+      {"/controller/ls", 1, "must be an object"},
+      {"/controller/jbi/arc_wait_input", -1, "between 0 and 2048"},
+      {"/controller/xyz", Json::object(), "is not a known field"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.pointer);

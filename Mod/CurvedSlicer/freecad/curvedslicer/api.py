@@ -343,7 +343,7 @@ def plan(job):
 
 def export(job, path=None, format="jbi", program_name="", date="", gcode_mode="tcp",
            arc_output=1, warn_unreachable=False, cell_file=None, tool_along_travel=None,
-           allow_foreign_cell=False):
+           allow_foreign_cell=False, gcode_dialect="generic"):
     """Writes the robot program of the stored plan (no recompute) for the Job's cell.
 
     job: a Job or a list of Jobs (deposited in that order, one program). format: one of
@@ -356,7 +356,10 @@ def export(job, path=None, format="jbi", program_name="", date="", gcode_mode="t
     wind-up on long rings); None = the (first) Job's ToolAlongTravel. cell_file:
     None = the (first) Job's CellFile. allow_foreign_cell: write a vendor's language (jbi
     yaskawa, krl kuka, rapid abb, ls fanuc) for another vendor's cell (default: InvalidInput
-    naming the cell's vendor and the format). Returns {format, files [(name, bytes, lines)],
+    naming the cell's vendor and the format). gcode_dialect: "generic" or "linuxcnc"
+    (G-code only). The program is named after the file (program_name "" and a path) and
+    the file must carry the program's name (InvalidInput otherwise). Returns {format, files
+    [(name, bytes, lines)],
     motion_count, arc_count, warnings, total_bytes}."""
     jobs = _jobs(job)
     path = arguments.output_path(path)
@@ -369,7 +372,7 @@ def export(job, path=None, format="jbi", program_name="", date="", gcode_mode="t
     if tool_along_travel is None:
         tool_along_travel = bool(jobs[0].ToolAlongTravel)
     options = native.ExportOptions(program_name=program_name, gcode_mode=gcode_mode,
-                                   arc_output=arc_output)
+                                   gcode_dialect=gcode_dialect, arc_output=arc_output)
     if date:
         options.date = date
     motion = poses.motion_options(jobs[0],

@@ -8,8 +8,10 @@
 //          cell's output and arc-established input (krl_writer.hpp)
 //   rapid  ABB RAPID modules with declared tooldata/wobjdata, extax, split into modules called
 //          from main, arc by the cell's signals (rapid_writer.hpp)
-//   ls     Fanuc TP .LS with GP1/GP2 and COORD (ls_writer.hpp)
-//   gcode  G-code for a tilt-rotate table, TCP or machine mode (gcode_writer.hpp)
+//   ls     Fanuc TP .LS with GP1/GP2, COORD, /APPL ARC, programs at the cell's line limit
+//          called from a main program (ls_writer.hpp)
+//   gcode  G-code for a tilt-rotate table, TCP or machine mode (inverse-time feed), dialects
+//          generic and linuxcnc (gcode_writer.hpp)
 //   csv, json  every motion point with all its data (neutral_writer.hpp)
 // Every writer is a pure function of (MotionPlan, Cell, ExportOptions): the same inputs give
 // byte-identical files (no clock, no locale; the date written into headers is an option).
@@ -44,6 +46,12 @@ enum class GcodeMode {
   Machine,  ///< X Y Z already transformed by the table's forward kinematics (positioner base)
 };
 
+/// G-code controller conventions (gcode_writer.hpp).
+enum class GcodeDialect {
+  Generic,   ///< ISO / Fanuc-style 5-axis tilt-rotate table: G4 P in ms, TCP G43.4, end M30
+  LinuxCnc,  ///< LinuxCNC (xyzac-trt): G4 P in seconds, TCP by switchkins M429/M428, end M2
+};
+
 struct ExportOptions {
   /// Program / job name; empty = the cell's exportOptions.jobName. Each format cuts it to its
   /// character set and length (JBI: the cell's maxNameLength).
@@ -51,7 +59,11 @@ struct ExportOptions {
   /// Date written into program headers (JBI ///DATE), "YYYY/MM/DD HH:MM". Fixed by default so a
   /// saved plan re-exports byte-identical programs.
   std::string date = "2000/01/01 00:00";
-  GcodeMode gcodeMode = GcodeMode::Tcp;  ///< G-code only
+  GcodeMode gcodeMode = GcodeMode::Tcp;             ///< G-code only
+  GcodeDialect gcodeDialect = GcodeDialect::Generic;  ///< G-code only
+  /// G-code only: lines per sub-program file (about 60 bytes each; 0 or >= 10) when the program
+  /// is split into sub-programs called from the main file; 0 = never split.
+  int gcodeMaxLinesPerFile = 40000;
   /// Not used by the writers any more: KRL and RAPID take the arc output from the cell's
   /// "controller" section (krl/arc_on_output, rapid/arc_signal); kept for the bindings.
   int arcOutput = 1;
@@ -103,6 +115,12 @@ std::string_view toString(GcodeMode mode);
 /// Parses a G-code mode name ("tcp" or "machine"). @throws InvalidInput listing the choices.
 GcodeMode parseGcodeMode(std::string_view name);
 
+/// "generic" | "linuxcnc".
+std::string_view toString(GcodeDialect dialect);
+
+/// Parses a G-code dialect name ("generic" or "linuxcnc"). @throws InvalidInput listing them.
+GcodeDialect parseGcodeDialect(std::string_view name);
+
 /// The usual file extension of the main file, with the dot (".JBI", ".src", ".mod", ".LS",
 /// ".ngc", ".csv", ".json").
 std::string_view fileExtension(ExportFormat format);
@@ -134,11 +152,24 @@ ExportResult exportProgram(const MotionPlan& motion, const Cell& cell, ExportFor
 ///         angle and the limit in degrees, and how far beyond it is.
 void checkJointLimits(const MotionPlan& motion, const Cell& cell);
 
+/// The file-name rule: a program's main file and the name inside it agree. The program name of an
+/// export to `mainFile` is `requested` when not empty, else the file's stem ("out/CYL.JBI" →
+/// "CYL"); each format then cuts it to its rules (character set, case, length).
+std::string programNameForFile(const std::filesystem::path& mainFile, std::string_view requested);
+
+/// Checks the file-name rule on a written export: the stem of `mainFile` must equal the stem of
+/// files[0].name, the name the writer gave the main program, up to letter case (controller file
+/// systems ignore case); the extension is free. CSV and JSON carry no internal name and pass.
+/// @throws InvalidInput naming both and the file name to use (e.g. `--name CYLINDER_PART -o
+///         CYL.JBI`: the JBI job is CYLINDER, so "name the file CYLINDER.JBI").
+void checkMainFileName(const ExportResult& result, const std::filesystem::path& mainFile);
+
 /// Writes the files all or nothing: `mainFile` receives files[0].text, every further file goes
 /// next to it under its own name. Each file is written to a temporary sibling first; only when
 /// all are complete are they renamed into place. On any error no target file is changed and the
-/// temporaries are removed.
-/// @throws IoError naming the file; InvalidInput if a further file's name equals the main file's.
+/// temporaries are removed. Checks the file-name rule first (checkMainFileName).
+/// @throws IoError naming the file; InvalidInput if a further file's name equals the main file's
+///         or the main file's name disagrees with the program's.
 void writeExportFiles(const ExportResult& result, const std::filesystem::path& mainFile);
 
 }  // namespace curvedslicer

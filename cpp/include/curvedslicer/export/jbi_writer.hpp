@@ -18,8 +18,10 @@
 // when the cell asks for coordinated motion (speed v relative to the part), else `MOVL C V=v
 // +MOVJ EC`; v is the point's speed (weld, reduced weld — rounded down — or travel) in the cell's
 // speed unit. After the first point of a path `ARCON ASF#(n)` (condition file) or `ARCON AC=…
-// AV=… T=…` (direct); after its last point `ARCOF AEF#(n)` or `ARCOF`; `TIMER T=…` for the path
-// (+ layer) dwell, if any, after the retract that follows the path end (torch off the part).
+// AV=… T=…` (direct) — ARCON waits for the welder's arc-confirm signal — and, when the cell
+// names one (controller/jbi arc_wait_input n > 0), `WAIT IN#(n)=ON`; after its last point
+// `ARCOF AEF#(n)` or `ARCOF`; `TIMER T=…` for the path (+ layer) dwell, if any, after the
+// retract that follows the path end (torch off the part).
 //
 // Splitting: when the instructions (NOP … END inclusive) exceed the cell's maxLinesPerJob, the
 // points are packed into sub-jobs <NAME><k> (k zero-padded), cut before an arc-off move (path

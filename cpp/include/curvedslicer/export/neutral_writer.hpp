@@ -6,12 +6,16 @@
 // normal), vx, vy, vz (deposition direction V of the plan), a1_deg, a2_deg (positioner, model
 // convention), j1_deg … j6_deg (robot, controller convention), speed_mm_s, arc_on (0/1),
 // path_start, path_end (0/1), time_s (MotionPoint::time: arrival time from the program start of
-// the time-parameterised motion, dwells included), residual_deg, flags (MotionFlag bits), kind
+// the time-parameterised motion, dwells included), residual_deg, flags (MotionFlag bits),
+// wire_feed_m_min (of the move arriving at the point: MotionPoint::wireFeed, or the cell's
+// process wire feed where that is 0; 0 with the arc off), weld_schedule (MotionPoint::
+// weldSchedule, 0 = the cell's), bead_width_mm (MotionPoint::beadWidth), kind
 // (path | retract | travel | approach | home). Every motion point is a row, arc-off points
 // included, so axis speeds follow from consecutive rows' joints, a1, a2 and time_s. Numbers in
 // the shortest form that reads back to the same double; CSV with '\n' line endings and a header
-// row. Version 2 (version 1 had no kind and a distance / speed time).
-// JSON: {"format": "curvedslicer-motion", "version": 2, "cell": …, "columns": […],
+// row. Version 3 (version 2 had no wire feed, weld schedule and bead width; version 1 no kind
+// and a distance / speed time).
+// JSON: {"format": "curvedslicer-motion", "version": 3, "cell": …, "columns": […],
 //        "joint_names": ["j1",…,"j6","a1","a2"], "points": [[…, "path"], …]} (kind as a string).
 // Cost: O(points), about 300 bytes per point.
 #pragma once

@@ -216,12 +216,31 @@ struct RapidController {
   int maxLinesPerModule = 0;    ///< module lines before a split; 0 = export max_lines_per_job
 };
 
-/// Vendor-specific settings of the programs (cell "controller"). A writer whose vendor section
-/// is absent refuses the cell, naming the field and `source`.
+// ---- controller: Fanuc LS and Yaskawa JBI settings (branch s9-export2) -----------------------
+/// Fanuc ArcTool settings (JSON controller/ls); required for an LS export.
+struct LsControllerSettings {
+  int weldEquipment = 1;          ///< /APPL `ARC Welding Equipment : n` (1..2)
+  int arcStartSchedule = 1;       ///< `Arc Start[n]`: weld schedule number (1..99)
+  int arcEndSchedule = 1;         ///< `Arc End[n]`: crater / end schedule number (1..99)
+  int maxLinesPerProgram = 2000;  ///< /MN lines per program; longer programs are split (>= 20)
+};
+
+/// Yaskawa settings beyond process/arc (JSON controller/jbi); optional.
+struct JbiControllerSettings {
+  /// > 0: `WAIT IN#(n)=ON` after every ARCON, the input the welder sets once the arc is
+  /// established (ARCON itself waits for the arc-confirm signal where the welder sends it); 0: none.
+  int arcWaitInput = 0;
+};
+
+/// Vendor-specific settings of the programs (cell "controller"). Members of one vendor are absent
+/// when the cell does not describe that controller; the writer of that vendor's language then
+/// stops with an error naming the missing JSON field and `source`.
 struct ControllerDescription {
   std::string source = "cell";  ///< where the cell was read from (parseCell's origin); not written
-  std::optional<KrlController> krl;
-  std::optional<RapidController> rapid;
+  std::optional<KrlController> krl;          ///< controller/krl
+  std::optional<RapidController> rapid;      ///< controller/rapid
+  std::optional<LsControllerSettings> ls;    ///< controller/ls
+  std::optional<JbiControllerSettings> jbi;  ///< controller/jbi
 };
 
 struct Cell {

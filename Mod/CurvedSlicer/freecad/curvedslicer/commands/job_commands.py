@@ -347,9 +347,10 @@ class ExportDialog(QtGui.QDialog):
         row.addWidget(browse)
         form.addRow("File", row)
         self.program_name = QtGui.QLineEdit("")
-        self.program_name.setPlaceholderText("the cell's job name")
-        self.program_name.setToolTip("Program / job name in the file; empty = the cell's "
-                                     "(each format cuts it to its controller's limit)")
+        self.program_name.setPlaceholderText("the file's name")
+        self.program_name.setToolTip("Program / job name in the file; empty = the file's name "
+                                     "(each format cuts it to its controller's limit; the "
+                                     "file must carry the program's name)")
         form.addRow("Program name", self.program_name)
         self.gcode_mode = QtGui.QComboBox()
         self.gcode_mode.addItems(GCODE_MODES)
