@@ -358,4 +358,30 @@ LayerCoverage computeLayerCoverage(const TriMesh& layerSurface, const std::vecto
   return result;
 }
 
+PlanCoverageSummary summarizeCoverage(const Plan& plan, std::size_t worst) {
+  PlanCoverageSummary s;
+  double voidArea = 0.0, overlapArea = 0.0;
+  std::vector<int> voided;
+  for (const PlanLayer& layer : plan.layers) {
+    s.arcStarts += layer.paths.size();
+    const LayerCoverage& c = layer.coverage;
+    if (!c.measured) continue;
+    ++s.measuredLayers;
+    s.area += c.area;
+    voidArea += c.voidShare * c.area;
+    overlapArea += c.overlapShare * c.area;
+    if (c.voidShare > 0.0) voided.push_back(static_cast<int>(&layer - plan.layers.data()));
+  }
+  if (s.area > 0.0) {
+    s.voidShare = voidArea / s.area;
+    s.overlapShare = overlapArea / s.area;
+  }
+  std::stable_sort(voided.begin(), voided.end(), [&](int a, int b) {
+    return plan.layers[a].coverage.voidShare > plan.layers[b].coverage.voidShare;
+  });
+  voided.resize(std::min(voided.size(), worst));
+  s.worstLayers = std::move(voided);
+  return s;
+}
+
 }  // namespace curvedslicer

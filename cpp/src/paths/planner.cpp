@@ -51,6 +51,33 @@ void checkCornerAngle(double degrees) {
   }
 }
 
+/// Issue 15's options: a minimum feature width > 0 (or < 0 for s/2), a width range that
+/// contains the bead spacing.
+void checkCoverageOptions(const PlannerOptions& o) {
+  if (!std::isfinite(o.minFeatureWidth) || o.minFeatureWidth == 0.0) {
+    throw InvalidInput("minimum feature width (--min-feature-width, MinFeatureWidth) must be a "
+                       "positive number of mm: " +
+                       formatMm(o.minFeatureWidth) + "; pass e.g. " + formatMm(0.5 * o.beadSpacing) +
+                       " (half the bead spacing, the default)");
+  }
+  if (!std::isfinite(o.widthMin) || !std::isfinite(o.widthMax) || o.widthMin <= 0.0 ||
+      o.widthMin > o.widthMax) {
+    throw InvalidInput("bead width range (--bead-width-range, BeadWidthMin/BeadWidthMax) must be "
+                       "two fractions of the bead spacing with 0 < min <= max: " +
+                       formatMm(o.widthMin) + "," + formatMm(o.widthMax) +
+                       "; pass e.g. 0.7,1.3, or off for a fixed width");
+  }
+  if (o.widthMin > 1.0 || o.widthMax < 1.0) {
+    throw InvalidInput("bead width range (--bead-width-range, BeadWidthMin/BeadWidthMax) excludes "
+                       "the bead spacing: " +
+                       formatMm(o.widthMin) + "," + formatMm(o.widthMax) + " × s = " +
+                       formatMm(o.widthMin * o.beadSpacing) + "–" +
+                       formatMm(o.widthMax * o.beadSpacing) + " mm, s = " +
+                       formatMm(o.beadSpacing) +
+                       " mm; choose a range with min <= 1 <= max, e.g. 0.7,1.3, or off");
+  }
+}
+
 void checkPositive(double value, const char* what, const char* example) {
   if (!std::isfinite(value) || value <= 0.0) {
     throw InvalidInput(std::string(what) + " must be a positive number of mm: " + formatMm(value) +
@@ -351,6 +378,7 @@ void validatePlannerOptions(const PlannerOptions& o) {
     throw InvalidInput("ordering improvement passes must not be negative: " +
                        std::to_string(o.improvementPasses) + "; pass 0 or more");
   }
+  checkCoverageOptions(o);
 }
 
 void validateThinWallOptions(const ThinWallOptions& o) {
@@ -463,6 +491,10 @@ class LayerPlanner {
     stages_.record(options, result.plan.parameters);
     result.plan.parameters.initialCurve = options.initialCurve.describe();
     result.plan.parameters.narrowStrips = narrowStripModeName(options.narrowStrips);
+    result.plan.parameters.minFeatureWidth =
+        options.minFeatureWidth < 0.0 ? 0.5 * s_ : options.minFeatureWidth;
+    result.plan.parameters.beadWidthRange = std::array<double, 2>{options.widthMin, options.widthMax};
+    result.plan.parameters.connectInsets = options.connectInsets;
     if (!startSurface.empty()) support_.emplace(startSurface);
   }
 

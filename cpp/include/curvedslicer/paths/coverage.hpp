@@ -53,4 +53,19 @@ struct CoverageOptions {
 LayerCoverage computeLayerCoverage(const TriMesh& layerSurface, const std::vector<PlanPath>& paths,
                                    double beadSpacing, const CoverageOptions& options = {});
 
+/// A plan's coverage in total (report.json, the command-line summary, the workbench).
+struct PlanCoverageSummary {
+  std::size_t measuredLayers = 0;  ///< layers whose coverage was measured
+  double area = 0.0;               ///< mm², summed over the measured layers
+  double voidShare = 0.0;          ///< [0, 1], area-weighted over the measured layers
+  double overlapShare = 0.0;       ///< [0, 1], area-weighted over the measured layers
+  std::size_t arcStarts = 0;       ///< paths of all layers (each is one arc start)
+  /// Indices of the measured layers with the largest void share (> 0), largest first, ties by
+  /// index; at most the number asked for.
+  std::vector<int> worstLayers;
+};
+
+/// Sums the layers' coverage (see PlanCoverageSummary); `worst` bounds worstLayers.
+PlanCoverageSummary summarizeCoverage(const Plan& plan, std::size_t worst = 3);
+
 }  // namespace curvedslicer
