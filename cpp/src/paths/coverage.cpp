@@ -236,22 +236,31 @@ std::vector<int> clusterSamples(const std::vector<Vec3>& points, double cell, in
     return (u(i) << 42) | (u(j) << 21) | u(k);
   };
   std::unordered_map<std::uint64_t, int> cellIndex;
+  cellIndex.reserve(points.size() / 4 + 16);
   std::vector<std::array<std::int64_t, 3>> cellAt;
   std::vector<int> sampleCell(points.size());
+  std::uint64_t lastKey = 0;
+  int lastCell = -1;  // consecutive samples (one triangle's) mostly share a cell
   for (std::size_t s = 0; s < points.size(); ++s) {
     std::array<std::int64_t, 3> c{};
     for (int d = 0; d < 3; ++d) c[d] = static_cast<std::int64_t>(std::floor(points[s][d] / cell));
-    const auto [it, added] = cellIndex.emplace(key(c[0], c[1], c[2]), int(cellAt.size()));
-    if (added) cellAt.push_back(c);
-    sampleCell[s] = it->second;
+    const std::uint64_t k = key(c[0], c[1], c[2]);
+    if (lastCell < 0 || k != lastKey) {
+      const auto [it, added] = cellIndex.emplace(k, static_cast<int>(cellAt.size()));
+      if (added) cellAt.push_back(c);
+      lastKey = k;
+      lastCell = it->second;
+    }
+    sampleCell[s] = lastCell;
   }
   std::vector<int> parent(cellAt.size());
   std::iota(parent.begin(), parent.end(), 0);
   for (std::size_t i = 0; i < cellAt.size(); ++i) {
     const auto& c = cellAt[i];
-    for (int dx = -1; dx <= 1; ++dx) {
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dz = -1; dz <= 1; ++dz) {
+    // The 13 neighbours after the cell in (x, y, z) order: each pair of neighbours once.
+    for (int dx = 0; dx <= 1; ++dx) {
+      for (int dy = dx == 0 ? 0 : -1; dy <= 1; ++dy) {
+        for (int dz = dx == 0 && dy == 0 ? 1 : -1; dz <= 1; ++dz) {
           const auto it = cellIndex.find(key(c[0] + dx, c[1] + dy, c[2] + dz));
           if (it == cellIndex.end()) continue;
           const int a = findRoot(parent, static_cast<int>(i)), b = findRoot(parent, it->second);
@@ -290,7 +299,9 @@ std::vector<CoverageVoid> describeVoids(const std::vector<Vec3>& points,
                                         std::size_t maxVoids) {
   if (points.empty() || maxVoids == 0) return {};
   int patchCount = 0;
-  const std::vector<int> patch = clusterSamples(points, spacing, patchCount);
+  // Cells of two sample spacings: samples closer than one spacing (neighbours on the surface)
+  // always fall in the same or neighbouring cells.
+  const std::vector<int> patch = clusterSamples(points, 2.0 * spacing, patchCount);
   std::vector<CoverageVoid> voids(patchCount);
   std::vector<std::vector<int>> members(patchCount);
   for (std::size_t s = 0; s < points.size(); ++s) {

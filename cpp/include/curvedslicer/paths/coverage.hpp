@@ -14,8 +14,9 @@
 //   - overlap when two different paths cover it, or one path at two points more than one bead
 //     width apart along the path (a tight turn, connected insets running side by side);
 //   - covered once otherwise.
-// Void samples are clustered into patches (samples in neighbouring cells of a grid with the sample
-// spacing as cell size), and the largest patches are listed with area, centre and size.
+// Void samples are clustered into patches (samples in neighbouring cells of a grid with twice the
+// sample spacing as cell size: patches separated by less than about 7 sample spacings, 0.7·s by
+// default, count as one), and the largest patches are listed with area, centre and size.
 // Beads are found through a uniform grid of cells holding every bead segment whose reach (segment
 // box grown by half its width) touches the cell, so a sample tests only the segments of its cell.
 //
