@@ -161,11 +161,12 @@ struct BeadHit {
   double width;
 };
 
+/// Classifies samples; one per thread (its hit buffer), sharing the segments and their cells.
 class SampleClassifier {
  public:
   SampleClassifier(const std::vector<BeadSegment>& segments, const std::vector<BeadPath>& paths,
-                   double cell)
-      : segments_(segments), paths_(paths), cells_(segments, cell) {}
+                   const SegmentCells& cells)
+      : segments_(segments), paths_(paths), cells_(cells) {}
 
   SampleCover classify(const Vec3& p) {
     hits_.clear();
@@ -200,11 +201,11 @@ class SampleClassifier {
 
   const std::vector<BeadSegment>& segments_;
   const std::vector<BeadPath>& paths_;
-  SegmentCells cells_;
+  const SegmentCells& cells_;
   std::vector<BeadHit> hits_;
 };
 
-/// Calls f(centroid, area) for the n² sub-triangles of triangle t (n from the sample spacing).
+/// Calls f(centroid, area) for the n² sub-triangles of triangle t (n from the sample spacing h).
 template <typename F>
 void forEachSample(const TriMesh& mesh, std::size_t t, double spacing, F&& f) {
   const Vec3 a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
@@ -324,6 +325,46 @@ std::vector<CoverageVoid> describeVoids(const std::vector<Vec3>& points,
   return largest;
 }
 
+/// The samples of a block of triangles: areas by cover, and the void samples.
+struct SampleBlock {
+  double area = 0.0, voidArea = 0.0, overlapArea = 0.0;
+  std::vector<Vec3> voidPoints;
+  std::vector<double> voidAreas;
+
+  void add(const Vec3& p, double a, SampleCover cover) {
+    area += a;
+    if (cover == SampleCover::Overlap) overlapArea += a;
+    if (cover != SampleCover::Void) return;
+    voidArea += a;
+    voidPoints.push_back(p);
+    voidAreas.push_back(a);
+  }
+};
+
+LayerCoverage combineBlocks(const std::vector<SampleBlock>& blocks, std::size_t arcStarts,
+                            double beadSpacing, double spacing, std::size_t maxVoids) {
+  LayerCoverage result;
+  result.measured = true;
+  result.beadWidth = beadSpacing;
+  result.arcStarts = arcStarts;
+  double voidArea = 0.0, overlapArea = 0.0;
+  std::vector<Vec3> voidPoints;
+  std::vector<double> voidAreas;
+  for (const SampleBlock& b : blocks) {
+    result.area += b.area;
+    voidArea += b.voidArea;
+    overlapArea += b.overlapArea;
+    voidPoints.insert(voidPoints.end(), b.voidPoints.begin(), b.voidPoints.end());
+    voidAreas.insert(voidAreas.end(), b.voidAreas.begin(), b.voidAreas.end());
+  }
+  if (result.area > 0.0) {
+    result.voidShare = voidArea / result.area;
+    result.overlapShare = overlapArea / result.area;
+  }
+  result.voids = describeVoids(voidPoints, voidAreas, spacing, maxVoids);
+  return result;
+}
+
 }  // namespace
 
 LayerCoverage computeLayerCoverage(const TriMesh& layerSurface, const std::vector<PlanPath>& paths,
@@ -341,32 +382,23 @@ LayerCoverage computeLayerCoverage(const TriMesh& layerSurface, const std::vecto
   const std::vector<BeadSegment> segments = collectSegments(paths, beadSpacing, beadPaths);
   double widest = beadSpacing;
   for (const BeadSegment& g : segments) widest = std::max({widest, g.widthA, g.widthB});
-  SampleClassifier classifier(segments, beadPaths, 0.5 * widest);
-
-  LayerCoverage result;
-  result.measured = true;
-  result.beadWidth = beadSpacing;
-  result.arcStarts = paths.size();
-  double voidArea = 0.0, overlapArea = 0.0;
-  std::vector<Vec3> voidPoints;
-  std::vector<double> voidAreas;
-  for (std::size_t t = 0; t < layerSurface.triangleCount(); ++t) {
-    forEachSample(layerSurface, t, spacing, [&](const Vec3& p, double area) {
-      result.area += area;
-      const SampleCover cover = classifier.classify(p);
-      if (cover == SampleCover::Overlap) overlapArea += area;
-      if (cover != SampleCover::Void) return;
-      voidArea += area;
-      voidPoints.push_back(p);
-      voidAreas.push_back(area);
-    });
+  const SegmentCells cells(segments, 0.5 * widest);
+  // A fixed partition of the triangles (independent of the thread count), blocks summed in
+  // order: the result is the same on any number of threads.
+  const std::size_t count = layerSurface.triangleCount();
+  const std::size_t blockCount = std::min<std::size_t>(64, std::max<std::size_t>(count, 1));
+  std::vector<SampleBlock> blocks(blockCount);
+#pragma omp parallel for schedule(dynamic)
+  for (std::ptrdiff_t b = 0; b < static_cast<std::ptrdiff_t>(blockCount); ++b) {
+    SampleClassifier classifier(segments, beadPaths, cells);
+    const std::size_t begin = count * b / blockCount, end = count * (b + 1) / blockCount;
+    for (std::size_t t = begin; t < end; ++t) {
+      forEachSample(layerSurface, t, spacing, [&](const Vec3& p, double area) {
+        blocks[b].add(p, area, classifier.classify(p));
+      });
+    }
   }
-  if (result.area > 0.0) {
-    result.voidShare = voidArea / result.area;
-    result.overlapShare = overlapArea / result.area;
-  }
-  result.voids = describeVoids(voidPoints, voidAreas, spacing, options.maxVoids);
-  return result;
+  return combineBlocks(blocks, paths.size(), beadSpacing, spacing, options.maxVoids);
 }
 
 PlanCoverageSummary summarizeCoverage(const Plan& plan, std::size_t worst) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/paths/coverage.hpp"
@@ -188,6 +189,25 @@ TEST(Coverage, IsDeterministic) {
   EXPECT_EQ(a.overlapShare, b.overlapShare);
   ASSERT_EQ(a.voids.size(), b.voids.size());
   for (std::size_t k = 0; k < a.voids.size(); ++k) EXPECT_EQ(a.voids[k].area, b.voids[k].area);
+}
+
+TEST(Coverage, DoesNotDependOnTheThreadCount) {
+  const TriMesh plate = makePlate(0, 0, 40, 40);
+  const std::vector<PlanPath> paths = {makeSquareRing(20, 20, 36), makeSquareRing(20, 20, 29)};
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const LayerCoverage one = computeLayerCoverage(plate, paths, 4.0, fine());
+  omp_set_num_threads(3);
+  const LayerCoverage three = computeLayerCoverage(plate, paths, 4.0, fine());
+  omp_set_num_threads(threads);
+  EXPECT_EQ(one.area, three.area);
+  EXPECT_EQ(one.voidShare, three.voidShare);
+  EXPECT_EQ(one.overlapShare, three.overlapShare);
+  EXPECT_GT(one.overlapShare, 0.0);  // the rings are 3.5 mm apart: 0.5 mm of overlap
+  ASSERT_EQ(one.voids.size(), three.voids.size());
+  for (std::size_t k = 0; k < one.voids.size(); ++k) {
+    EXPECT_EQ(one.voids[k].centre, three.voids[k].centre);
+  }
 }
 
 TEST(Coverage, RejectsBadInput) {

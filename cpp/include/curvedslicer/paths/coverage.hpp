@@ -9,7 +9,9 @@
 //
 // Method: the surface is sampled area-weighted — each triangle is cut into n² congruent
 // sub-triangles (n = ⌈longest edge / sample spacing⌉) and each sub-triangle's centroid carries its
-// area, so the sample areas add up exactly to the surface area. A sample is
+// area, so the sample areas add up exactly to the surface area. Triangles are processed in a fixed
+// number of blocks (OpenMP), summed in block order: the result does not depend on the thread
+// count. A sample is
 //   - void when no bead covers it;
 //   - overlap when two different paths cover it, or one path at two points more than one bead
 //     width apart along the path (a tight turn, connected insets running side by side);
