@@ -1,6 +1,7 @@
 // `curvedslicer plan` end to end: every bundled model gives a plan (coarse voxels and big spacing
 // so that each run takes a few seconds), the plan validates against its schema and round-trips
 // byte-identically; thin-wall mode; bad input exit codes and messages; all-or-nothing output.
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -162,6 +163,46 @@ TEST(PlanCliCases, ThinWallCylinder) {
   EXPECT_FALSE(fs::exists(out / "layer_0001.ply"));
 }
 
+TEST(PlanCliCases, CoverageOptionsAreRecordedAndSummarised) {
+  // The box at coarse settings: the plan records the issue-15 options and every layer's
+  // coverage, the summary prints the totals; --no-coverage leaves the layers unmeasured.
+  const fs::path model = modelPath("simple_box_closed_low_res.stl");
+  const fs::path out = freshTempDir() / "out";
+  const Args base = {"plan", model.string(), "--layer-thickness", "20", "--voxel", "5",
+                     "--bead-spacing", "12"};
+  Args args = base;
+  for (const char* a : {"--min-feature-width", "4", "--bead-width-range", "0.8,1.25",
+                        "--no-connect-insets", "-o"}) {
+    args.push_back(a);
+  }
+  args.push_back(out.string());
+  const CliRun run = runCli(args);
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  EXPECT_NE(run.out.find("curvedslicer: coverage: "), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find(" arc starts"), std::string::npos) << run.out;
+  const Plan plan = expectValidPlanOutput(out);
+  EXPECT_EQ(plan.parameters.minFeatureWidth, 4.0);
+  EXPECT_EQ(plan.parameters.beadWidthRange, (std::array<double, 2>{0.8, 1.25}));
+  EXPECT_EQ(plan.parameters.connectInsets, false);
+  for (const PlanLayer& layer : plan.layers) {
+    EXPECT_TRUE(layer.coverage.measured) << layer.index;
+    EXPECT_EQ(layer.coverage.arcStarts, layer.paths.size());
+  }
+  const fs::path out2 = freshTempDir() / "out2";
+  Args off = base;
+  for (const std::string& a : {std::string("--no-coverage"), std::string("-o"), out2.string()}) {
+    off.push_back(a);
+  }
+  const CliRun run2 = runCli(off);
+  ASSERT_EQ(run2.exitCode, 0) << run2.err;
+  EXPECT_NE(run2.out.find("coverage not measured"), std::string::npos) << run2.out;
+  const Plan unmeasured = expectValidPlanOutput(out2);
+  EXPECT_EQ(unmeasured.parameters.minFeatureWidth, 6.0);  // the default, s/2
+  EXPECT_EQ(unmeasured.parameters.beadWidthRange, (std::array<double, 2>{1.0, 1.0}));
+  EXPECT_EQ(unmeasured.parameters.connectInsets, true);
+  for (const PlanLayer& layer : unmeasured.layers) EXPECT_FALSE(layer.coverage.measured);
+}
+
 TEST(PlanCliCases, BadInputsExitWithTheirMessage) {
   const fs::path model = modelPath("simple_box_closed_low_res.stl");
   const fs::path out = freshTempDir() / "out";
@@ -203,6 +244,25 @@ TEST(PlanCliCases, BadInputsExitWithTheirMessage) {
   expectError({"--layer-thickness", "20", "--voxel", "5", "--bead-spacing", "12", "--initial-curve",
                "plane:1000,0,0,1,0,0"},
               "no layer got a path: layer 0: the initial plane misses this layer");
+  const Args box = {"--layer-thickness", "20", "--voxel", "5", "--bead-spacing", "3"};
+  const auto with = [&](Args extra) {
+    extra.insert(extra.begin(), box.begin(), box.end());
+    return extra;
+  };
+  expectError(with({"--bead-width-range", "1.1,1.3"}),
+              "bead width range (--bead-width-range, BeadWidthMin/BeadWidthMax) excludes the bead "
+              "spacing: 1.1,1.3");
+  expectError(with({"--bead-width-range", "0.5,0.9"}),
+              "bead width range (--bead-width-range, BeadWidthMin/BeadWidthMax) excludes the bead "
+              "spacing: 0.5,0.9 × s = 1.5–2.7 mm, s = 3 mm; choose a range with min <= 1 <= max");
+  expectError(with({"--bead-width-range", "1.2,0.8"}),
+              "bead width range (--bead-width-range, BeadWidthMin/BeadWidthMax) must be two "
+              "fractions of the bead spacing with 0 < min <= max: 1.2,0.8");
+  expectError(with({"--bead-width-range", "wide"}), "--bead-width-range is not a number: 'wide'");
+  expectError(with({"--min-feature-width", "0"}),
+              "minimum feature width (--min-feature-width) must be a positive number of mm: 0");
+  expectError(with({"--min-feature-width", "-1"}),
+              "minimum feature width (--min-feature-width) must be a positive number of mm: -1");
   expectError({"--thin-wall", "lowest", "--bead-spacing", "2"},
               "thin-wall surface has no boundary edge");
   expectError({"--thin-wall", "upwards", "--bead-spacing", "2"}, "unknown thin-wall edge");

@@ -101,7 +101,10 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
              name="Job", plan_kind="CurvedLayers", wall_surface=None, wall_axis=(0, 0, 1),
              fit_tolerance=defaults.FIT_TOLERANCE, surface_method="Accurate", initial_plane=None,
              initial_surface=None, path_display="Polyline", tool_along_travel=False,
-             narrow_strips="CentreBead", corner_angle=defaults.CORNER_ANGLE):
+             narrow_strips="CentreBead", corner_angle=defaults.CORNER_ANGLE,
+             min_feature_width=None, bead_width_range=(defaults.BEAD_WIDTH_MIN,
+                                                       defaults.BEAD_WIDTH_MAX),
+             connect_insets=defaults.CONNECT_INSETS, measure_coverage=defaults.MEASURE_COVERAGE):
     """Creates a Job for `solid` in `doc` (no computation; call run() or doc.recompute()).
 
     start: see _set_start. voxel_size None = the preference (default 1 mm). method "AnyAngle" |
@@ -112,6 +115,11 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
     narrow_strips "CentreBead" (one bead where paths of one level come closer than 0.95 x
     bead_spacing) | "Overlap"; corner_angle (degrees, in (0, 180]): turns sharper than this
     within 0.2 mm are kept as exact corners by the spline fit (180: none).
+    Bead coverage (issue 15): min_feature_width (mm, None = half of bead_spacing),
+    bead_width_range (min, max) fractions of bead_spacing ((1, 1) = fixed width), connect_insets
+    (join consecutive rings into one arc-on path), measure_coverage (void and overlap shares per
+    layer); their ranges are checked when the paths are planned (InvalidInput naming the Job
+    property).
     tool_along_travel: torch x along the travel (True) or fixed while the positioner turns.
     plan_kind "ThinWall": no volume layers; wall_surface (object or (object, [faces])) is planned
     as a thin wall from its lowest edge along wall_axis, one bead per bead_spacing; `solid` may
@@ -158,6 +166,12 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
     obj.CornerAngle = corner_angle
     obj.SurfaceMethod = surface_method
     obj.NarrowStrips = narrow_strips
+    obj.MinFeatureWidth = (0.5 * float(bead_spacing) if min_feature_width is None
+                           else float(min_feature_width))
+    obj.BeadWidthMin, obj.BeadWidthMax = (float(bead_width_range[0]),
+                                          float(bead_width_range[1]))
+    obj.ConnectInsets = bool(connect_insets)
+    obj.MeasureCoverage = bool(measure_coverage)
     obj.InitialPath = initial_path
     if initial_plane is not None:
         obj.InitialPlanePoint = FreeCAD.Vector(*initial_plane[0])

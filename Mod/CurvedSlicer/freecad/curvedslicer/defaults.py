@@ -19,6 +19,13 @@ WALL_BEAD_SPACING = _WALL.bead_spacing  # mm, between the beads of a thin wall
 POINT_SPACING = _PLANNER.point_spacing  # mm
 FIT_TOLERANCE = _PLANNER.fit_tolerance  # mm
 CORNER_ANGLE = _PLANNER.corner_angle  # degrees
+# Issue 15 (bead coverage): the core's "< 0 = half the bead spacing" as a number for the Job
+MIN_FEATURE_WIDTH = (_PLANNER.min_feature_width if _PLANNER.min_feature_width > 0
+                     else 0.5 * BEAD_SPACING)  # mm
+BEAD_WIDTH_MIN = _PLANNER.width_min  # fraction of the bead spacing
+BEAD_WIDTH_MAX = _PLANNER.width_max  # fraction of the bead spacing
+CONNECT_INSETS = _PLANNER.connect_insets
+MEASURE_COVERAGE = _PLANNER.measure_coverage
 
 # Motion (robot/motion.hpp MotionOptions; the Job's Robot properties, stages/poses.py)
 CLEARANCE = _MOTION.clearance  # mm

@@ -107,6 +107,22 @@ PROPERTIES = [
      "region, a hole's front meeting the rim's): CentreBead puts one bead on the strip's centre "
      "line, joined to the ring piece it continues, and reports it per layer; Overlap keeps the "
      "paths and their beads overlap", NARROW_STRIPS),
+    ("App::PropertyLength", "MinFeatureWidth", "Paths",
+     "Regions narrower than one bead but at least this wide get a single bead on their centre "
+     "line (with a note of the shortfall); narrower ones are left out and reported, mm > 0 "
+     "(default half the default BeadSpacing)", defaults.MIN_FEATURE_WIDTH),
+    ("App::PropertyFloat", "BeadWidthMin", "Paths",
+     "Adaptive bead width: smallest bead width as a fraction of BeadSpacing, in (0, 1]; "
+     "BeadWidthMin = BeadWidthMax = 1 is a fixed width", defaults.BEAD_WIDTH_MIN),
+    ("App::PropertyFloat", "BeadWidthMax", "Paths",
+     "Adaptive bead width: largest bead width as a fraction of BeadSpacing, >= 1",
+     defaults.BEAD_WIDTH_MAX),
+    ("App::PropertyBool", "ConnectInsets", "Paths",
+     "Join consecutive rings of one region with a short step-over into one arc-on path (fewer "
+     "arc starts)", defaults.CONNECT_INSETS),
+    ("App::PropertyBool", "MeasureCoverage", "Paths",
+     "Measure every layer's bead coverage (void and overlap shares, VoidShare / OverlapShare of "
+     "the path layers)", defaults.MEASURE_COVERAGE),
     ("App::PropertyEnumeration", "PathDisplay", "Paths",
      "Draw the paths as Polyline (the robot points) or BSpline (interpolated)", PATH_DISPLAYS),
     ("App::PropertyFile", "CellFile", "Robot",
@@ -159,6 +175,14 @@ PROPERTIES = [
     ("App::PropertyInteger", "PathCount", "Results", "Beads (paths) of the plan", 0),
     ("App::PropertyInteger", "PathPointCount", "Results", "Robot points of the plan", 0),
     ("App::PropertyString", "PlanStats", "Results", "Planner statistics (JSON)", ""),
+    ("App::PropertyFloat", "VoidShare", "Results",
+     "Share of the layers' area no bead covers, area-weighted over the measured layers, %", 0.0),
+    ("App::PropertyFloat", "OverlapShare", "Results",
+     "Share of the layers' area two or more beads cover, area-weighted, %", 0.0),
+    ("App::PropertyInteger", "ArcStarts", "Results", "Arc starts of the plan (its paths)", 0),
+    ("App::PropertyString", "CoverageReport", "Results",
+     "Bead coverage: totals, the layers with the largest void share and each layer's largest "
+     "voids (JSON)", ""),
     ("App::PropertyInteger", "PoseCount", "Results", "Motion points (PosePoint range)", 0),
     ("App::PropertyFloat", "PoseA1", "Results", "Positioner tilt a1 at PosePoint, degrees", 0.0),
     ("App::PropertyFloat", "PoseA2", "Results", "Positioner rotation a2 at PosePoint, degrees",
@@ -252,6 +276,12 @@ class JobProxy:
         if "NarrowStrips" in added:
             # Planned before the option existed: keep what it planned (overlapping paths).
             obj.NarrowStrips = "Overlap"
+        if "ConnectInsets" in added:
+            # Planned before the option existed: every ring its own arc-on path.
+            obj.ConnectInsets = False
+        if "MinFeatureWidth" in added:
+            # The core's default for the Job's own bead spacing.
+            obj.MinFeatureWidth = 0.5 * paths.mm(obj.BeadSpacing)
         if "PartPlacement" in added:
             # Planned before the option existed: the part sat where the cell put it.
             obj.PartPlacement = "Cell"

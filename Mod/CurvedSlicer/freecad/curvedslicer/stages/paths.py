@@ -38,6 +38,14 @@ PATH_PROPERTIES = [
     ("App::PropertyInteger", "LayerIndex", "Paths", "Plan layer index, 1-based"),
     ("App::PropertyInteger", "PathCount", "Paths", "Beads on this layer"),
     ("App::PropertyDistance", "Height", "Paths", "Geodesic height of the layer, mm"),
+    ("App::PropertyBool", "CoverageMeasured", "Coverage",
+     "Whether the plan measured this layer's coverage (not for thin walls or older plans)"),
+    ("App::PropertyFloat", "VoidShare", "Coverage", "Share of the layer no bead covers, %"),
+    ("App::PropertyFloat", "OverlapShare", "Coverage",
+     "Share of the layer two or more beads cover, %"),
+    ("App::PropertyInteger", "ArcStarts", "Coverage", "Arc starts on this layer (its paths)"),
+    ("App::PropertyStringList", "Voids", "Coverage",
+     "The largest uncovered patches: area, centre and size"),
 ]
 
 
@@ -65,6 +73,39 @@ def _corner_angle(job):
         raise InvalidInput("CornerAngle must be in (0, 180] degrees: %g; set it, e.g. %g, or 180 "
                            "to keep no corners" % (angle, defaults.CORNER_ANGLE))
     return angle
+
+
+def mm(quantity):
+    """A length property's value in mm."""
+    return _mm(quantity)
+
+
+def _coverage_options(job):
+    """The issue-15 planner options of a Job, checked so that the message names the property,
+    and the digest part (empty for the values every plan had before the options existed)."""
+    width = _mm(job.MinFeatureWidth)
+    if not width > 0:
+        raise InvalidInput("MinFeatureWidth must be a positive length: %g mm; set it, e.g. %g "
+                           "(half the bead spacing)" % (width, 0.5 * _mm(job.BeadSpacing)))
+    low, high = float(job.BeadWidthMin), float(job.BeadWidthMax)
+    if not (0 < low <= 1 <= high):
+        raise InvalidInput("bead width range BeadWidthMin..BeadWidthMax excludes the bead "
+                           "spacing or is empty: %g..%g; set 0 < BeadWidthMin <= 1 <= "
+                           "BeadWidthMax, e.g. 0.7 and 1.3, or 1 and 1 for a fixed width"
+                           % (low, high))
+    options = {"min_feature_width": width, "width_min": low, "width_max": high,
+               "connect_insets": bool(job.ConnectInsets),
+               "measure_coverage": bool(job.MeasureCoverage)}
+    part = []
+    if abs(width - 0.5 * _mm(job.BeadSpacing)) > 1e-12:
+        part.append(("min_feature_width", width))
+    if (low, high) != (1.0, 1.0):
+        part.append(("width_range", low, high))
+    if job.ConnectInsets:  # a Job migrated from before the option (False) keeps its digest
+        part.append("connect_insets")
+    if not job.MeasureCoverage:
+        part.append("no_coverage")
+    return options, part
 
 
 def _digest(parts):
@@ -156,10 +197,11 @@ def path_inputs(job):
     deflection = _deflection(job)
     curve, curve_digest = _initial_curve(job, deflection)
     narrow = _NARROW_STRIP_NAMES[job.NarrowStrips]
+    coverage, coverage_part = _coverage_options(job)
     parts = ["CurvedLayers", job.InputsDigest, sorted(common.items()), curve_digest]
     if narrow != "overlap":  # a Job saved before the option (migrated as Overlap) keeps its digest
         parts.append(narrow)
-    digest = _digest(parts + corner_part)
+    digest = _digest(parts + corner_part + coverage_part)
     start = start_mesh_object(job)
 
     def plan(progress):
@@ -172,6 +214,7 @@ def path_inputs(job):
         kwargs.update(curve)
         kwargs["narrow_strips"] = narrow
         kwargs["corner_angle"] = corner_angle
+        kwargs.update(coverage)
         surface = {}
         if start is not None and start.Mesh.CountFacets:
             surface["start_vertices"], surface["start_triangles"] = geometry.mesh_arrays(
@@ -213,9 +256,22 @@ def update_paths(job, progress=None, force=False, prune=True):
     job.PathPointCount = int(summary["points"])
     stats = result["stats"]
     job.PlanStats = json.dumps({k: v for k, v in stats.items()}, sort_keys=True)
+    _store_coverage(job, summary)
     draw_paths(job, prune=prune)
     job.PlanDigest = digest  # last: the view provider restyles the drawn paths on this change
     return True
+
+
+def _store_coverage(job, summary):
+    """The plan's coverage in the Job's results (percent) and CoverageReport (JSON)."""
+    totals = summary["coverage"]
+    measured = totals["measured_layers"] > 0
+    job.VoidShare = 100.0 * totals["void_share"] if measured else 0.0
+    job.OverlapShare = 100.0 * totals["overlap_share"] if measured else 0.0
+    job.ArcStarts = int(totals["arc_starts"])
+    layers = [{"layer": layer["index"] + 1, "coverage": layer["coverage"]}
+              for layer in summary["per_layer"] if layer["coverage"] is not None]
+    job.CoverageReport = json.dumps({"totals": totals, "layers": layers}, sort_keys=True)
 
 
 def ensure_paths_group(job):
@@ -251,6 +307,24 @@ def _wire(points, closed, display):
     return Part.makePolygon(vectors)
 
 
+def _add_path_properties(feature):
+    """Adds the properties a path layer lacks (a new feature, or one of an older document)."""
+    for (ptype, name, pgroup, tooltip) in PATH_PROPERTIES:
+        if name not in feature.PropertiesList:
+            feature.addProperty(ptype, name, pgroup, tooltip)
+            feature.setEditorMode(name, 1)
+
+
+def _set_layer_coverage(feature, coverage, paths):
+    feature.CoverageMeasured = coverage is not None
+    feature.VoidShare = 100.0 * coverage["void_share"] if coverage else 0.0
+    feature.OverlapShare = 100.0 * coverage["overlap_share"] if coverage else 0.0
+    feature.ArcStarts = int(coverage["arc_starts"]) if coverage else paths
+    feature.Voids = ["%.3g mm2 at (%.1f, %.1f, %.1f) mm, %.3g mm across"
+                     % ((v["area_mm2"],) + tuple(v["centre_mm"]) + (v["size_mm"],))
+                     for v in (coverage["voids"] if coverage else [])]
+
+
 def draw_paths(job, prune=True):
     """(Re)builds the path features from job.PlanJson: one per plan layer, and the travel."""
     import Part
@@ -277,10 +351,8 @@ def draw_paths(job, prune=True):
             feature = existing[i]
         else:
             feature = doc.addObject("Part::Feature", "PathLayer")
-            for (ptype, name, pgroup, tooltip) in PATH_PROPERTIES:
-                feature.addProperty(ptype, name, pgroup, tooltip)
-                feature.setEditorMode(name, 1)
             group.addObject(feature)
+        _add_path_properties(feature)
         wires = [_wire(points, closed, job.PathDisplay)
                  for (closed, points) in by_layer.get(layer["index"], [])]
         # A layer without paths gets a null shape: an empty compound has no bounding box, and
@@ -290,6 +362,7 @@ def draw_paths(job, prune=True):
         feature.LayerIndex = int(layer["index"]) + 1
         feature.PathCount = int(layer["paths"])
         feature.Height = float(layer["height"])
+        _set_layer_coverage(feature, layer["coverage"], len(by_layer.get(layer["index"], [])))
         feature.Visibility = True
         feature.purgeTouched()
     retire_features(group, existing[len(layers):], prune,

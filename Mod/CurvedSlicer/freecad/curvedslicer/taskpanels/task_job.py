@@ -231,6 +231,34 @@ class TaskPanelJob:
         self.initial_surface = LinkSubField(objects, job.InitialSurface, "initial surface")
         g.addRow("Surface", self.initial_surface)
         f.addRow(self.initial_group)
+        self.coverage_group = QtGui.QGroupBox("Bead coverage (curved layers)")
+        c = _form(self.coverage_group)
+        self.min_feature_width = QuantityField(mm(job.MinFeatureWidth), "mm",
+                                               "minimum feature width", 0.0, LENGTH_LIMIT,
+                                               example="1.85 mm")
+        self.min_feature_width.setToolTip("Regions narrower than one bead but at least this wide "
+                                          "get a single centre bead; narrower ones are left out "
+                                          "and reported")
+        c.addRow("Min. width", self.min_feature_width.widget)
+        self.bead_width_min = spin(float(job.BeadWidthMin), 0.0, 1.0, 2, "", 0.05)
+        self.bead_width_min.setToolTip("Adaptive bead width: smallest width as a fraction of "
+                                       "the bead spacing, in (0, 1] (1 and 1: fixed width)")
+        c.addRow("Width min", self.bead_width_min)
+        self.bead_width_max = spin(float(job.BeadWidthMax), 1.0, 100.0, 2, "", 0.05)
+        self.bead_width_max.setToolTip("Adaptive bead width: largest width as a fraction of the "
+                                       "bead spacing")
+        c.addRow("Width max", self.bead_width_max)
+        self.connect_insets = QtGui.QCheckBox("Connect insets")
+        self.connect_insets.setToolTip("Join consecutive rings of one region with a short "
+                                       "step-over into one arc-on path")
+        self.connect_insets.setChecked(job.ConnectInsets)
+        c.addRow(self.connect_insets)
+        self.measure_coverage = QtGui.QCheckBox("Measure coverage")
+        self.measure_coverage.setToolTip("Void and overlap share of every layer (the path "
+                                         "layers' VoidShare / OverlapShare)")
+        self.measure_coverage.setChecked(job.MeasureCoverage)
+        c.addRow(self.measure_coverage)
+        f.addRow(self.coverage_group)
         return tab
 
     def _robot_tab(self, job):
@@ -313,6 +341,7 @@ class TaskPanelJob:
             self.estimate_label.setText("no voxel grid: a thin wall is planned on its surface")
         initial = self.initial_path.currentText()
         self.initial_group.setEnabled(curved)
+        self.coverage_group.setEnabled(curved)
         self.initial_point.setEnabled(initial == "Plane")
         self.initial_normal.setEnabled(initial == "Plane")
         self.initial_surface.setEnabled(initial == "Surface")
@@ -434,6 +463,11 @@ class TaskPanelJob:
             "InitialSurface": (self.initial_surface.value(), self.initial_surface.code(d)),
             "SurfaceMethod": self.surface_method.currentText(),
             "NarrowStrips": self.narrow_strips.currentText(),
+            "MinFeatureWidth": self.min_feature_width.value(),
+            "BeadWidthMin": self.bead_width_min.value(),
+            "BeadWidthMax": self.bead_width_max.value(),
+            "ConnectInsets": self.connect_insets.isChecked(),
+            "MeasureCoverage": self.measure_coverage.isChecked(),
             "PathDisplay": self.path_display.currentText(),
             "CellFile": self.cell_file.text(),
             "ToolAlongTravel": self.tool_along_travel.isChecked(),
