@@ -13,6 +13,7 @@
 
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/geom/triangle_bvh.hpp"
+#include "curvedslicer/paths/coverage.hpp"
 #include "curvedslicer/paths/iso_lines.hpp"
 #include "curvedslicer/paths/narrow_strips.hpp"
 #include "curvedslicer/paths/path_fit.hpp"
@@ -27,8 +28,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 const char* const kStages[] = {"surface index", "initial curves", "surface geodesic", "iso-lines",
-                               "fit",           "order",          "deposition"};
-enum Stage { kIndex, kCurves, kGeodesic, kIso, kFit, kOrder, kDeposition, kStageCount };
+                               "fit",           "order",          "deposition",      "coverage"};
+enum Stage { kIndex, kCurves, kGeodesic, kIso, kFit, kOrder, kDeposition, kCoverage, kStageCount };
 
 std::string formatMm(double value) {
   char buffer[64];
@@ -580,6 +581,11 @@ PlanLayer LayerPlanner::planLayer(std::size_t li, const LayerSurface& surface,
     field = computeLayerGeodesic(surface.mesh, curves, boundaryVertices, progress, layer);
   }
   if (field) planOnField(*field, curves, *query, li == 0, progress, layer);
+  if (options_.measureCoverage && !surface.mesh.empty()) {
+    progress.report(0.98, kStages[kCoverage]);
+    layer.coverage =
+        timer_.run(kCoverage, [&] { return computeLayerCoverage(surface.mesh, layer.paths, s_); });
+  }
   // The material under the next layer is this layer's surface (if it has one).
   if (query) support_.emplace(std::move(query->bvh));
   return layer;
