@@ -341,9 +341,9 @@ void reportNarrowStrips(const NarrowStripResult& strips, std::vector<std::string
 /// The options of the thin-region beads (issue 15 item 2).
 void validateThinRegionOptions(const PlannerOptions& o) {
   if (!std::isfinite(o.minFeatureWidth) || o.minFeatureWidth == 0.0) {
-    throw InvalidInput("minimum feature width must be a positive number of mm: " +
-                       formatMm(o.minFeatureWidth) +
-                       "; pass a value such as 1.85, or a negative one for half the bead spacing");
+    throw InvalidInput(
+        "minimum feature width must be a positive number of mm: " + formatMm(o.minFeatureWidth) +
+        "; pass a value such as 1.85, or a negative one for half the bead spacing");
   }
   checkPositive(o.spotWeldSpeed, "spot weld speed (mm/s)", "8");
 }
@@ -461,6 +461,18 @@ double largestFiniteDistance(const SurfaceGeodesicResult& gdtc) {
   return maxDistance;
 }
 
+/// Copies of the closed iso-lines shorter than `minLength`, all levels.
+std::vector<Polyline> copyShortRings(const std::vector<std::vector<Polyline>>& levelLines,
+                                     double minLength) {
+  std::vector<Polyline> rings;
+  for (const std::vector<Polyline>& lines : levelLines) {
+    for (const Polyline& line : lines) {
+      if (line.closed && line.length() < minLength) rings.push_back(line);
+    }
+  }
+  return rings;
+}
+
 /// Closed iso-lines shorter than `minLength`, taken out of `levelLines` (the others keep their
 /// order): the fragment rule drops them unless one is the only cover of its region (thin regions).
 std::vector<Polyline> takeShortRings(std::vector<std::vector<Polyline>>& levelLines,
@@ -530,9 +542,10 @@ class LayerPlanner {
   void noteMissingBeads(const std::vector<double>& values, double maxDistance,
                         const std::vector<RawBead>& beads, std::size_t dropped, PlanLayer& layer);
   // thin regions (issue 15 item 2)
-  void addThinRegionBeads(const SurfaceGeodesicResult& gdtc, const std::vector<Polyline>& shortRings,
-                          const SurfaceQuery& query, std::vector<RawBead>& beads,
-                          std::size_t& dropped, PlanLayer& layer);
+  void addThinRegionBeads(const SurfaceGeodesicResult& gdtc,
+                          const std::vector<Polyline>& shortRings,
+                          const std::vector<Polyline>& fitWouldDrop, const SurfaceQuery& query,
+                          std::vector<RawBead>& beads, std::size_t& dropped, PlanLayer& layer);
   void addThinBead(const ThinBead& thin, const ThinRegionPlanner& planner,
                    const SurfaceQuery& query, std::vector<RawBead>& beads, std::size_t& lost);
 
@@ -648,10 +661,13 @@ void LayerPlanner::planOnField(const SurfaceGeodesicResult& gdtc,
       s_, maxDistance, fromBoundary_ ? IsoValueStart::Boundary : IsoValueStart::InteriorCurve);
   std::vector<std::vector<Polyline>> levelLines = extractLevelLines(gdtc, curves, values);
   progress.check();
+  // Short rings as the iso-lines give them: the narrow-strip rule drops them too.
+  const std::vector<Polyline> shortRings =
+      fromBoundary_ ? copyShortRings(levelLines, stages_.minLength) : std::vector<Polyline>{};
   if (options_.narrowStrips == NarrowStripMode::CentreBead && !values.empty()) {
     resolveNarrowStripsOf(gdtc, values, levelLines, layer);
   }
-  const std::vector<Polyline> shortRings =
+  const std::vector<Polyline> fitWouldDrop =
       fromBoundary_ ? takeShortRings(levelLines, stages_.minLength) : std::vector<Polyline>{};
   std::vector<RawBead> beads;
   std::size_t dropped = 0;
@@ -660,7 +676,9 @@ void LayerPlanner::planOnField(const SurfaceGeodesicResult& gdtc,
     tail_.fit(lines, query.bvh, normalOf, beads, dropped);
     progress.check();
   }
-  if (fromBoundary_) addThinRegionBeads(gdtc, shortRings, query, beads, dropped, layer);
+  if (fromBoundary_) {
+    addThinRegionBeads(gdtc, shortRings, fitWouldDrop, query, beads, dropped, layer);
+  }
   tail_.countDropped(dropped);
   noteMissingBeads(values, maxDistance, beads, dropped, layer);
   progress.report(0.9, kStages[kOrder]);
@@ -759,8 +777,9 @@ void reportThinRegions(const ThinRegionResult& thin, double s, double minWidth, 
                        " spot(s) on tiny islands (dwell " + formatMm(dwell) + " s), " +
                        std::to_string(rings) + " short ring(s) kept as their only cover";
     if (narrow > 0) {
-      note += "; " + std::to_string(narrow) + " of them narrower than one bead (s = " +
-              formatMm(s) + " mm), width shortfall up to " + formatMm(shortfall) + " mm";
+      note += "; " + std::to_string(narrow) +
+              " of them narrower than one bead (s = " + formatMm(s) +
+              " mm), width shortfall up to " + formatMm(shortfall) + " mm";
     }
     warnings.push_back(note);
   }
@@ -778,10 +797,12 @@ void reportThinRegions(const ThinRegionResult& thin, double s, double minWidth, 
   }
 }
 
-/// Beads for the parts of the layer no ring reaches (paths/thin_regions.hpp); short rings that
-/// stay dropped are counted in `dropped`.
+/// Beads for the parts of the layer no ring reaches (paths/thin_regions.hpp). `shortRings`: the
+/// short closed iso-lines before the narrow-strip rule; `fitWouldDrop`: those left after it,
+/// which the fit would drop — counted in `dropped` unless kept.
 void LayerPlanner::addThinRegionBeads(const SurfaceGeodesicResult& gdtc,
                                       const std::vector<Polyline>& shortRings,
+                                      const std::vector<Polyline>& fitWouldDrop,
                                       const SurfaceQuery& query, std::vector<RawBead>& beads,
                                       std::size_t& dropped, PlanLayer& layer) {
   ThinRegionOptions o;
@@ -794,12 +815,15 @@ void LayerPlanner::addThinRegionBeads(const SurfaceGeodesicResult& gdtc,
   for (const RawBead& b : beads) ringBeads.push_back(b.line);
   const ThinRegionResult thin =
       timer_.run(kIso, [&] { return planner.plan(ringBeads, shortRings); });
-  std::size_t keptRings = 0, lost = 0;
+  std::size_t keptFitDrops = 0, lost = 0;
   for (const ThinBead& t : thin.beads) {
-    keptRings += t.kind == ThinBeadKind::KeptRing;
+    if (t.kind == ThinBeadKind::KeptRing) {
+      keptFitDrops += std::any_of(fitWouldDrop.begin(), fitWouldDrop.end(),
+                                  [&](const Polyline& r) { return r.points == t.line.points; });
+    }
     addThinBead(t, planner, query, beads, lost);
   }
-  dropped += shortRings.size() - keptRings + lost;
+  dropped += fitWouldDrop.size() - keptFitDrops + lost;
   const double minWidth = options_.minFeatureWidth < 0.0 ? 0.5 * s_ : options_.minFeatureWidth;
   reportThinRegions(thin, s_, minWidth, planner.beadWidthFor(s_) / options_.spotWeldSpeed,
                     layer.warnings);
@@ -844,7 +868,10 @@ void LayerPlanner::finish() {
     throw InvalidInput("bead spacing is wider than every layer: " + formatMm(s_) +
                        " mm, the layers reach at most " + formatMm(widest_) +
                        " mm from their initial curves; choose a bead spacing below " +
-                       formatMm(fromBoundary_ ? 2.0 * widest_ : widest_) + " mm");
+                       formatMm(fromBoundary_ ? 2.0 * widest_ : widest_) + " mm" +
+                       (fromBoundary_ ? " (or a minimum feature width below " +
+                                            formatMm(2.0 * widest_) + " mm for centre beads)"
+                                      : std::string()));
   }
   throw InvalidInput("no layer got a path: " + firstReason_ +
                      "; change the initial curve or the bead spacing");

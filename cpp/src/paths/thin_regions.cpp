@@ -28,9 +28,7 @@ std::string formatNumber(double value) {
 /// Union-find over vertex indices (path halving, union by index so labels are deterministic).
 struct DisjointSets {
   std::vector<std::int32_t> parent;
-  explicit DisjointSets(std::size_t n) : parent(n) {
-    std::iota(parent.begin(), parent.end(), 0);
-  }
+  explicit DisjointSets(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
   std::int32_t find(std::int32_t v) {
     while (parent[v] != v) v = parent[v] = parent[parent[v]];
     return v;
@@ -48,7 +46,7 @@ struct RegionInfo {
   Vec3 weightedCentroid = Vec3::Zero();
   Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
   double maxDistance = -1.0;
-  std::int32_t top = -1;  // vertex with the largest GDTC (lowest index on ties)
+  std::int32_t top = -1;                   // vertex with the largest GDTC (lowest index on ties)
   std::vector<std::pair<Vec3, Vec3>> rim;  // boundary edges of the region
 };
 
@@ -70,7 +68,13 @@ double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b) {
 struct RidgeTree {
   std::vector<std::int32_t> parent;
   std::vector<double> arc;
-  std::int32_t farthest = -1;  // largest arc
+  std::int32_t farthest = -1;  // largest arc among vertices with GDTC ≥ m/2 (the ridge's reach)
+};
+
+/// How an end of the centre line moves: outward by `shift` along `out` (negative: inward).
+struct EndFit {
+  Vec3 out = Vec3::UnitX();  ///< unit, the line's direction at the end, pointing out of it
+  double shift = 0.0;        ///< mm
 };
 
 }  // namespace
@@ -110,6 +114,7 @@ struct ThinRegionPlanner::Impl {
   void labelRegions();
   void buildAdjacency();
   void collectRims();
+  EndFit findEndShift(std::int32_t region, const Polyline& line, double w) const;
   double clearance(std::int32_t region, const Vec3& p) const;
   Inscribed findInscribed(std::int32_t region) const;
   std::int32_t regionAt(const Vec3& p, ClosestPoint& hint) const;
@@ -272,7 +277,7 @@ RidgeTree ThinRegionPlanner::Impl::searchRidge(std::int32_t from, double m) cons
     const auto [c, v] = queue.top();
     queue.pop();
     if (c > cost[v]) continue;
-    if (tree.arc[v] > best) {
+    if (distance[v] >= 0.5 * m && tree.arc[v] > best) {
       best = tree.arc[v];
       tree.farthest = v;
     }
@@ -321,7 +326,70 @@ Polyline cutOpenLine(const Polyline& line, double a, double b) {
   return out;
 }
 
+/// Arc length from the start of `line` to its first point `depth` (> 0) inward from the start
+/// along −out (the ridge path may dip sideways into a corner near its end; the depth is measured
+/// along the line's axis there).
+double findArcAtDepth(const Polyline& line, const Vec3& out, double depth) {
+  const std::vector<double> cum = computeCumulativeLengths(line);
+  const Vec3 start = line.points.front();
+  for (std::size_t i = 1; i < line.points.size(); ++i) {
+    const double before = (start - line.points[i - 1]).dot(out);
+    const double after = (start - line.points[i]).dot(out);
+    if (after < depth) continue;
+    const double t = after > before ? (depth - before) / (after - before) : 1.0;
+    return cum[i - 1] + std::clamp(t, 0.0, 1.0) * (cum[i] - cum[i - 1]);
+  }
+  return cum.back();
+}
+
+/// The line with its start moved outward by front.shift (straight, along front.out) or trimmed to
+/// the depth −front.shift, and likewise its end; the caller checks that something is left.
+Polyline adjustEnds(const Polyline& line, const EndFit& front, const EndFit& back) {
+  const double length = line.length();
+  Polyline reversed = line;
+  std::reverse(reversed.points.begin(), reversed.points.end());
+  const double a = front.shift < 0.0 ? findArcAtDepth(line, front.out, -front.shift) : 0.0;
+  double b = back.shift < 0.0 ? length - findArcAtDepth(reversed, back.out, -back.shift) : length;
+  b = std::max(b, std::min(a + 1e-3, length));
+  Polyline out = cutOpenLine(line, std::min(a, b), b);
+  if (front.shift > 0.0) {
+    out.points.insert(out.points.begin(), line.points.front() + front.shift * front.out);
+  }
+  if (back.shift > 0.0) out.points.push_back(line.points.back() + back.shift * back.out);
+  return out;
+}
+
 }  // namespace
+
+/// How far the start of `line` (an end of the ridge path, inside the region) must move outward
+/// along the line's direction there (negative: inward, a trim) so that the bead's round end, w/2
+/// beyond it, just reaches the region's tip: the farthest boundary point ahead of the end within
+/// w/2 of the line's axis.
+EndFit ThinRegionPlanner::Impl::findEndShift(std::int32_t region, const Polyline& line,
+                                             double w) const {
+  const Vec3 end = line.points.front();
+  const double length = line.length();
+  EndFit fit;
+  // The direction of the line between w and 2·w from the end (past the end's dip into a corner).
+  Vec3 out = evaluatePolylineAt(line, std::min(length / 3.0, w)) -
+             evaluatePolylineAt(line, std::min(2.0 * length / 3.0, 2.0 * w));
+  if (!(out.norm() > 1e-12)) {
+    fit.shift = -0.5 * w;
+    return fit;
+  }
+  out.normalize();
+  fit.out = out;
+  double tip = 0.0;
+  for (const auto& [a, b] : regions[region].rim) {
+    for (const Vec3& p : {a, b, Vec3(0.5 * (a + b))}) {
+      const Vec3 r = p - end;
+      const double along = r.dot(out);
+      if ((r - along * out).norm() <= 0.5 * w) tip = std::max(tip, along);
+    }
+  }
+  fit.shift = tip - 0.5 * w;
+  return fit;
+}
 
 /// The ridge path A→B of the region (file comment, step 3), resampled and smoothed, not trimmed.
 Polyline ThinRegionPlanner::Impl::findCentreLine(std::int32_t region) const {
@@ -359,9 +427,16 @@ void ThinRegionPlanner::Impl::planRegion(std::int32_t region, ThinRegionResult& 
   const double length = centre.length();
   ThinBead bead;
   bead.width = w;
-  if (centre.points.size() >= 2 && length - w >= 0.25 * w) {
+  EndFit front, back;
+  if (centre.points.size() >= 2) {
+    front = findEndShift(region, centre, w);
+    Polyline reversed = centre;
+    std::reverse(reversed.points.begin(), reversed.points.end());
+    back = findEndShift(region, reversed, w);
+  }
+  if (centre.points.size() >= 2 && length + front.shift + back.shift >= 0.25 * w) {
     bead.kind = ThinBeadKind::CentreLine;
-    bead.line = cutOpenLine(centre, 0.5 * w, length - 0.5 * w);
+    bead.line = adjustEnds(centre, front, back);
   } else {
     bead.kind = ThinBeadKind::Spot;
     const Vec3 middle = inscribed.centre;
@@ -385,10 +460,10 @@ double ThinRegionPlanner::beadWidthFor(double regionWidth) const {
 ThinRegionPlanner::ThinRegionPlanner(const TriMesh& mesh, const std::vector<double>& distance,
                                      const ThinRegionOptions& options) {
   if (distance.size() != mesh.vertexCount()) {
-    throw InvalidInput("thin regions need one GDTC value per vertex: " +
-                       std::to_string(distance.size()) + " values for " +
-                       std::to_string(mesh.vertexCount()) +
-                       " vertices; pass the field of the same mesh");
+    throw InvalidInput(
+        "thin regions need one GDTC value per vertex: " + std::to_string(distance.size()) +
+        " values for " + std::to_string(mesh.vertexCount()) +
+        " vertices; pass the field of the same mesh");
   }
   if (!std::isfinite(options.beadSpacing) || options.beadSpacing <= 0.0) {
     throw InvalidInput("bead spacing must be a positive number of mm: " +

@@ -7,24 +7,32 @@
 //   1. Short rings: a closed iso-line shorter than the planner's fragment length that lies in the
 //      region is its only cover (a small disc with a ring at s/2 whose bead covers it all): it is
 //      kept as it is.
-//   2. Width: W = 2·m, m the largest GDTC in the region (its inscribed half-width). W below the
-//      minimum feature width: the region is left out and reported with its size and location.
+//   2. Width: W = 2·m, m the inscribed half-width: the largest straight distance to the region's
+//      boundary edges over its vertices and a barycentric grid (step 1/4) on its triangles (the
+//      vertex GDTC alone underestimates m on a region a few edges wide). W below the minimum
+//      feature width: the region is left out and reported with its size and location.
 //   3. Centre line (medial axis): the GDTC ridge, found as a longest path along it. Edges cost
 //      ℓ/(d̄ + 0.1·m)² (ℓ the edge length, d̄ the mean GDTC of its ends), so cheapest paths run along
-//      the ridge; from the highest vertex the tree-farthest vertex (arc length along the cheapest
-//      path) is one tip A, the tree-farthest from A the other tip B, and the cheapest path A→B is the
-//      centre line. It is resampled, smoothed by two box filters as wide as the mean edge (the
-//      vertex path zig-zags by up to half an edge), and w/2 is trimmed at each tip so the bead's
-//      round end reaches the tip (w the bead width at the tip).
-//   4. Tiny island: when less than w/4 is left after trimming (the centre line is shorter than
-//      about one bead), the region gets a spot: two points `spotSeparation` apart at the middle of
-//      the centre line, to be deposited with a dwell (the planner states the dwell rule).
+//      the ridge; from the highest vertex the tree-farthest vertex with GDTC ≥ m/2 (arc length
+//      along the cheapest path) is one end A, the tree-farthest such vertex from A the other end
+//      B, and the cheapest path A→B is the centre line. It is resampled, smoothed by two box
+//      filters as wide as the mean edge (the vertex path zig-zags by up to half an edge). Each end
+//      then moves along the line's direction there (taken between w and 2·w from the end, past a
+//      dip into a corner) until the bead's round end, w/2 beyond it, just reaches the region's
+//      tip — the farthest boundary point ahead within w/2 of the line: trimmed where the tip is
+//      closer than w/2, extended straight where it is farther (w the region's bead width).
+//   4. Tiny island: when less than w/4 is left after moving the ends (the centre line is shorter
+//      than about one bead), the region gets a spot: two points `spotSeparation` apart along the
+//      centre line at the inscribed disc's centre, to be deposited with a dwell (the planner
+//      states the dwell rule).
 // A region narrower than one bead (W < s) gets one bead and a note with the shortfall s − W.
-// Bead widths: s when widthMin = widthMax = 1 (fixed); otherwise the local width 2·d (d the GDTC
-// interpolated at the point of the centre line) clamped to [widthMin·s, widthMax·s].
+// Bead widths: s when widthMin = widthMax = 1 (fixed); otherwise the local width 2·d (d the larger
+// of the interpolated GDTC and the straight distance to the region's boundary edges at the point
+// of the centre line) clamped to [widthMin·s, widthMax·s].
 // Preconditions: the GDTC from the layer's boundary (InitialCurveKind::Boundary) on an indexed
-// mesh, part frame, mm. Cost: O(V log V) per region without beads (two Dijkstra searches), one
-// closest-point query per point of the rings.
+// mesh, part frame, mm. Cost: per region without beads O(V log V) (two Dijkstra searches) and
+// O(T·R) for the inscribed disc (T triangles, R boundary edges); one closest-point query per
+// point of the rings.
 #pragma once
 
 #include <cstddef>
@@ -54,8 +62,8 @@ enum class ThinBeadKind {
 
 struct ThinBead {
   ThinBeadKind kind = ThinBeadKind::CentreLine;
-  Polyline line;        ///< part frame, mm; on (CentreLine, Spot) or near (KeptRing) the mesh
-  double width = 0.0;   ///< mm, bead width at the region's widest point (spot: its width)
+  Polyline line;       ///< part frame, mm; on (CentreLine, Spot) or near (KeptRing) the mesh
+  double width = 0.0;  ///< mm, bead width at the region's widest point (spot: its width)
 };
 
 /// One region without a ring bead and what became of it.
