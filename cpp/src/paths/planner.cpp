@@ -751,8 +751,8 @@ std::string describeRegion(const ThinRegion& r) {
          formatMm(r.extent) + " mm long, " + formatMm(r.area) + " mm²";
 }
 
-/// The thin-region notes of one layer: per outcome a summary with the shortfall; every region
-/// left out in full (the first ten, then their count and area).
+/// The thin-region notes of one layer: per outcome a summary with the shortfall and the longest
+/// spot dwell (s); every region left out in full (the first ten, then their count and area).
 void reportThinRegions(const ThinRegionResult& thin, double s, double minWidth, double dwell,
                        std::vector<std::string>& warnings) {
   std::size_t narrow = 0, spots = 0, lines = 0, rings = 0, leftOut = 0;
@@ -774,7 +774,7 @@ void reportThinRegions(const ThinRegionResult& thin, double s, double minWidth, 
   if (lines + spots + rings > 0) {
     std::string note = "parts of the layer no ring reaches: " + std::to_string(lines) +
                        " bead(s) on their centre line, " + std::to_string(spots) +
-                       " spot(s) on tiny islands (dwell " + formatMm(dwell) + " s), " +
+                       " spot(s) on tiny islands (dwell up to " + formatMm(dwell) + " s), " +
                        std::to_string(rings) + " short ring(s) kept as their only cover";
     if (narrow > 0) {
       note += "; " + std::to_string(narrow) +
@@ -825,8 +825,9 @@ void LayerPlanner::addThinRegionBeads(const SurfaceGeodesicResult& gdtc,
   }
   dropped += fitWouldDrop.size() - keptFitDrops + lost;
   const double minWidth = options_.minFeatureWidth < 0.0 ? 0.5 * s_ : options_.minFeatureWidth;
-  reportThinRegions(thin, s_, minWidth, planner.beadWidthFor(s_) / options_.spotWeldSpeed,
-                    layer.warnings);
+  double longestDwell = 0.0;
+  for (const RawBead& b : beads) longestDwell = std::max(longestDwell, b.dwell);
+  reportThinRegions(thin, s_, minWidth, longestDwell, layer.warnings);
 }
 
 /// One thin-region bead: a spot is projected as it is (widths w, dwell w / spotWeldSpeed); a

@@ -128,7 +128,7 @@ TEST(ThinRegions, TinyIslandGetsASpotWithTheDwellRule) {
   EXPECT_NEAR((0.5 * (spot.points[0].position + spot.points[1].position) - Vec3(5, 5, 2)).norm(),
               0.0, 0.1);
   for (const PathPoint& p : spot.points) EXPECT_EQ(p.width, kS);
-  EXPECT_TRUE(hasWarning(layer, "1 spot(s) on tiny islands (dwell 0.4625 s)"));
+  EXPECT_TRUE(hasWarning(layer, "1 spot(s) on tiny islands (dwell up to 0.4625 s)"));
   EXPECT_EQ(layer.coverage.voidShare, 0.0);
 
   PlannerOptions slower;
