@@ -95,11 +95,12 @@ class TestPaths(PathTestCase):
         self.assertLess(max(abs(d - 1.65) for d in spacing), 0.03, spacing)
 
     def test_layer_without_room_for_a_bead_has_a_null_shape(self):
-        # A cone narrowing from r = 20 to 2 mm: with 12 mm beads the upper layers are too small.
+        # A cone narrowing from r = 20 to 0.5 mm: with 12 mm beads the top layer (r about 2.5 mm)
+        # is narrower than the minimum feature width 0.5·s = 6 mm even for a centre bead or spot.
         cone = self.doc.addObject("Part::Feature", "Cone")
-        cone.Shape = Part.makeCone(20, 2, 10)
+        cone.Shape = Part.makeCone(20, 0.5, 10)
         self.doc.recompute()
-        job = api.make_job(self.doc, cone, layer_thickness=2.0, voxel_size=0.5, bead_spacing=12.0,
+        job = api.make_job(self.doc, cone, layer_thickness=1.0, voxel_size=0.5, bead_spacing=12.0,
                            cell_file="")
         api.run(job, progress=False)
         features = api.path_features(job)

@@ -20,6 +20,7 @@
 #include "curvedslicer/paths/path_fit.hpp"
 #include "curvedslicer/paths/polyline.hpp"
 #include "curvedslicer/paths/surface_curves.hpp"
+#include "curvedslicer/paths/thin_regions.hpp"
 
 namespace curvedslicer {
 
@@ -182,10 +183,12 @@ struct SurfaceQuery {
   }
 };
 
-/// One bead before ordering: its points and per-point normals.
+/// One bead before ordering: its points, per-point normals and (when set) widths, and its dwell.
 struct RawBead {
   Polyline line;
   std::vector<Vec3> normals;
+  std::vector<double> widths;  ///< mm per point; empty: PathPoint::width stays 0 (= s)
+  double dwell = 0.0;          ///< s, spot deposit (thin regions)
 };
 
 /// Fits the iso-lines at one value and turns them into beads on the surface.
@@ -246,16 +249,19 @@ LayerOrder orderBeads(const std::vector<RawBead>& beads, int layerIndex,
     const RawBead& b = beads[o.source];
     const std::vector<Vec3> points = applyOrder(b.line.points, b.line.closed, o);
     const std::vector<Vec3> normals = applyOrder(b.normals, b.line.closed, o);
+    const std::vector<double> widths = applyOrder(b.widths, b.line.closed, o);
     PlanPath path;
     path.layer = layerIndex;
     path.index = static_cast<int>(k);
     path.closed = b.line.closed;
     path.length = b.line.length();
+    path.dwell = b.dwell;
     path.points.resize(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
       path.points[i].position = points[i];
       path.points[i].normal = normals[i];
       path.points[i].deposition = -normals[i];
+      if (i < widths.size()) path.points[i].width = widths[i];
     }
     layer.paths.push_back(std::move(path));
   }
@@ -360,6 +366,16 @@ void reportNarrowStrips(const NarrowStripResult& strips, std::vector<std::string
   }
 }
 
+/// The options of the thin-region beads (issue 15 item 2).
+void validateThinRegionOptions(const PlannerOptions& o) {
+  if (!std::isfinite(o.minFeatureWidth) || o.minFeatureWidth == 0.0) {
+    throw InvalidInput(
+        "minimum feature width must be a positive number of mm: " + formatMm(o.minFeatureWidth) +
+        "; pass a value such as 1.85, or a negative one for half the bead spacing");
+  }
+  checkPositive(o.spotWeldSpeed, "spot weld speed (mm/s)", "8");
+}
+
 void validatePlannerOptions(const PlannerOptions& o) {
   checkPositive(o.beadSpacing, "bead spacing", "3.7");
   checkPositive(o.pointSpacing, "point spacing", "2");
@@ -380,6 +396,7 @@ void validatePlannerOptions(const PlannerOptions& o) {
                        std::to_string(o.improvementPasses) + "; pass 0 or more");
   }
   checkCoverageOptions(o);
+  validateThinRegionOptions(o);
 }
 
 void validateThinWallOptions(const ThinWallOptions& o) {
@@ -500,6 +517,38 @@ double largestFiniteDistance(const SurfaceGeodesicResult& gdtc) {
   return maxDistance;
 }
 
+/// Copies of the closed iso-lines shorter than `minLength`, all levels.
+std::vector<Polyline> copyShortRings(const std::vector<std::vector<Polyline>>& levelLines,
+                                     double minLength) {
+  std::vector<Polyline> rings;
+  for (const std::vector<Polyline>& lines : levelLines) {
+    for (const Polyline& line : lines) {
+      if (line.closed && line.length() < minLength) rings.push_back(line);
+    }
+  }
+  return rings;
+}
+
+/// Closed iso-lines shorter than `minLength`, taken out of `levelLines` (the others keep their
+/// order): the fragment rule drops them unless one is the only cover of its region (thin regions).
+std::vector<Polyline> takeShortRings(std::vector<std::vector<Polyline>>& levelLines,
+                                     double minLength) {
+  std::vector<Polyline> rings;
+  for (std::vector<Polyline>& lines : levelLines) {
+    std::size_t w = 0;
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      if (lines[i].closed && lines[i].length() < minLength) {
+        rings.push_back(std::move(lines[i]));
+        continue;
+      }
+      if (w != i) lines[w] = std::move(lines[i]);
+      ++w;
+    }
+    lines.resize(w);
+  }
+  return rings;
+}
+
 // ---- volume layers ----
 
 /// planLayers, layer by layer: the options turned into stage options once, and what one layer
@@ -554,6 +603,13 @@ class LayerPlanner {
                         const std::vector<RawBead>& beads, std::size_t dropped, PlanLayer& layer);
   void connectInsetsOf(const SurfaceQuery& query, const std::vector<int>& beadLevels,
                        PlanLayer& layer);
+  // thin regions (issue 15 item 2)
+  void addThinRegionBeads(const SurfaceGeodesicResult& gdtc,
+                          const std::vector<Polyline>& shortRings,
+                          const std::vector<Polyline>& fitWouldDrop, const SurfaceQuery& query,
+                          std::vector<RawBead>& beads, std::size_t& dropped, PlanLayer& layer);
+  void addThinBead(const ThinBead& thin, const ThinRegionPlanner& planner,
+                   const SurfaceQuery& query, std::vector<RawBead>& beads, std::size_t& lost);
 
   const PlannerOptions& options_;
   const double s_;
@@ -667,9 +723,14 @@ void LayerPlanner::planOnField(const SurfaceGeodesicResult& gdtc,
       s_, maxDistance, fromBoundary_ ? IsoValueStart::Boundary : IsoValueStart::InteriorCurve);
   std::vector<std::vector<Polyline>> levelLines = extractLevelLines(gdtc, curves, values);
   progress.check();
+  // Short rings as the iso-lines give them: the narrow-strip rule drops them too.
+  const std::vector<Polyline> shortRings =
+      fromBoundary_ ? copyShortRings(levelLines, stages_.minLength) : std::vector<Polyline>{};
   if (options_.narrowStrips == NarrowStripMode::CentreBead && !values.empty()) {
     resolveNarrowStripsOf(gdtc, values, levelLines, layer);
   }
+  const std::vector<Polyline> fitWouldDrop =
+      fromBoundary_ ? takeShortRings(levelLines, stages_.minLength) : std::vector<Polyline>{};
   std::vector<RawBead> beads;
   std::size_t dropped = 0;
   const auto normalOf = [&](const ClosestPoint& c) { return query.normalAt(c); };
@@ -679,6 +740,10 @@ void LayerPlanner::planOnField(const SurfaceGeodesicResult& gdtc,
     beadLevels.resize(beads.size(), static_cast<int>(k));
     progress.check();
   }
+  if (fromBoundary_) {
+    addThinRegionBeads(gdtc, shortRings, fitWouldDrop, query, beads, dropped, layer);
+  }
+  beadLevels.resize(beads.size(), -1);  // thin-region beads belong to no level: never joined
   tail_.countDropped(dropped);
   noteMissingBeads(values, maxDistance, beads, dropped, layer);
   progress.report(0.9, kStages[kOrder]);
@@ -745,7 +810,7 @@ void LayerPlanner::connectInsetsOf(const SurfaceQuery& query, const std::vector<
 void LayerPlanner::noteMissingBeads(const std::vector<double>& values, double maxDistance,
                                     const std::vector<RawBead>& beads, std::size_t dropped,
                                     PlanLayer& layer) {
-  if (values.empty()) {
+  if (values.empty() && beads.empty()) {
     warn(layer, "no room for a bead: the layer reaches at most " + formatMm(maxDistance) +
                     " mm from its initial curve, less than " +
                     (fromBoundary_ ? "s/2 = " + formatMm(0.5 * s_) : "s = " + formatMm(s_)) +
@@ -758,6 +823,125 @@ void LayerPlanner::noteMissingBeads(const std::vector<double>& values, double ma
   }
 }
 
+// ---- thin regions (issue 15 item 2) ----
+
+/// "at x,y,z mm, W mm wide, E mm long, A mm²" for a region's note.
+std::string describeRegion(const ThinRegion& r) {
+  return "at " + formatVec(r.centroid) + " mm, " + formatMm(r.width) + " mm wide, " +
+         formatMm(r.extent) + " mm long, " + formatMm(r.area) + " mm²";
+}
+
+/// The thin-region notes of one layer: per outcome a summary with the shortfall and the longest
+/// spot dwell (s); every region left out in full (the first ten, then their count and area).
+void reportThinRegions(const ThinRegionResult& thin, double s, double minWidth, double dwell,
+                       std::vector<std::string>& warnings) {
+  std::size_t narrow = 0, spots = 0, lines = 0, rings = 0, leftOut = 0;
+  double shortfall = 0.0, leftOutArea = 0.0;
+  for (const ThinRegion& r : thin.regions) {
+    if (r.leftOut) {
+      ++leftOut;
+      leftOutArea += r.area;
+      continue;
+    }
+    spots += r.kind == ThinBeadKind::Spot;
+    lines += r.kind == ThinBeadKind::CentreLine;
+    rings += r.kind == ThinBeadKind::KeptRing;
+    if (r.width < s) {
+      ++narrow;
+      shortfall = std::max(shortfall, s - r.width);
+    }
+  }
+  if (lines + spots + rings > 0) {
+    std::string note = "parts of the layer no ring reaches: " + std::to_string(lines) +
+                       " bead(s) on their centre line, " + std::to_string(spots) +
+                       " spot(s) on tiny islands (dwell up to " + formatMm(dwell) + " s), " +
+                       std::to_string(rings) + " short ring(s) kept as their only cover";
+    if (narrow > 0) {
+      note += "; " + std::to_string(narrow) +
+              " of them narrower than one bead (s = " + formatMm(s) +
+              " mm), width shortfall up to " + formatMm(shortfall) + " mm";
+    }
+    warnings.push_back(note);
+  }
+  constexpr std::size_t kDetails = 10;
+  std::size_t listed = 0;
+  for (const ThinRegion& r : thin.regions) {
+    if (!r.leftOut || listed++ >= kDetails) continue;
+    warnings.push_back("region " + describeRegion(r) + " left out: narrower than the minimum " +
+                       "feature width " + formatMm(minWidth) + " mm");
+  }
+  if (leftOut > kDetails) {
+    warnings.push_back("… and " + std::to_string(leftOut - kDetails) +
+                       " more region(s) left out, " + formatMm(leftOutArea) +
+                       " mm² in all on this layer");
+  }
+}
+
+/// Beads for the parts of the layer no ring reaches (paths/thin_regions.hpp). `shortRings`: the
+/// short closed iso-lines before the narrow-strip rule; `fitWouldDrop`: those left after it,
+/// which the fit would drop — counted in `dropped` unless kept.
+void LayerPlanner::addThinRegionBeads(const SurfaceGeodesicResult& gdtc,
+                                      const std::vector<Polyline>& shortRings,
+                                      const std::vector<Polyline>& fitWouldDrop,
+                                      const SurfaceQuery& query, std::vector<RawBead>& beads,
+                                      std::size_t& dropped, PlanLayer& layer) {
+  ThinRegionOptions o;
+  o.beadSpacing = s_;
+  o.minFeatureWidth = options_.minFeatureWidth;
+  o.widthMin = options_.widthMin;
+  o.widthMax = options_.widthMax;
+  const ThinRegionPlanner planner(gdtc.mesh, gdtc.distance, o);
+  std::vector<Polyline> ringBeads;
+  for (const RawBead& b : beads) ringBeads.push_back(b.line);
+  const ThinRegionResult thin =
+      timer_.run(kIso, [&] { return planner.plan(ringBeads, shortRings); });
+  std::size_t keptFitDrops = 0, lost = 0;
+  for (const ThinBead& t : thin.beads) {
+    if (t.kind == ThinBeadKind::KeptRing) {
+      keptFitDrops += std::any_of(fitWouldDrop.begin(), fitWouldDrop.end(),
+                                  [&](const Polyline& r) { return r.points == t.line.points; });
+    }
+    addThinBead(t, planner, query, beads, lost);
+  }
+  dropped += fitWouldDrop.size() - keptFitDrops + lost;
+  const double minWidth = options_.minFeatureWidth < 0.0 ? 0.5 * s_ : options_.minFeatureWidth;
+  double longestDwell = 0.0;
+  for (const RawBead& b : beads) longestDwell = std::max(longestDwell, b.dwell);
+  reportThinRegions(thin, s_, minWidth, longestDwell, layer.warnings);
+}
+
+/// One thin-region bead: a spot is projected as it is (widths w, dwell w / spotWeldSpeed); a
+/// centre line or kept ring is fitted like the rings, whatever its length. `lost`: fits that
+/// left too few points.
+void LayerPlanner::addThinBead(const ThinBead& thin, const ThinRegionPlanner& planner,
+                               const SurfaceQuery& query, std::vector<RawBead>& beads,
+                               std::size_t& lost) {
+  if (thin.kind == ThinBeadKind::Spot) {
+    RawBead bead;
+    ClosestPoint hint;
+    for (const Vec3& p : thin.line.points) {
+      hint = query.bvh.closestPoint(p, hint);
+      bead.line.points.push_back(hint.point);
+      bead.normals.push_back(query.normalAt(hint));
+    }
+    bead.widths.assign(bead.line.points.size(), thin.width);
+    bead.dwell = thin.width / options_.spotWeldSpeed;
+    beads.push_back(std::move(bead));
+    return;
+  }
+  const std::size_t before = beads.size();
+  const auto normalOf = [&](const ClosestPoint& c) { return query.normalAt(c); };
+  timer_.run(kFit, [&] {
+    fitBeads({thin.line}, 0.0, stages_.fit, query.bvh, normalOf, beads, result_.stats, lost);
+    return 0;
+  });
+  if (beads.size() == before) return;
+  RawBead& bead = beads.back();
+  bead.widths = thin.kind == ThinBeadKind::KeptRing
+                    ? std::vector<double>(bead.line.points.size(), s_)
+                    : planner.widthsAt(bead.line.points);
+}
+
 void LayerPlanner::finish() {
   finishStats(result_, timer_);
   if (result_.plan.pathCount() > 0) return;
@@ -765,7 +949,10 @@ void LayerPlanner::finish() {
     throw InvalidInput("bead spacing is wider than every layer: " + formatMm(s_) +
                        " mm, the layers reach at most " + formatMm(widest_) +
                        " mm from their initial curves; choose a bead spacing below " +
-                       formatMm(fromBoundary_ ? 2.0 * widest_ : widest_) + " mm");
+                       formatMm(fromBoundary_ ? 2.0 * widest_ : widest_) + " mm" +
+                       (fromBoundary_ ? " (or a minimum feature width below " +
+                                            formatMm(2.0 * widest_) + " mm for centre beads)"
+                                      : std::string()));
   }
   throw InvalidInput("no layer got a path: " + firstReason_ +
                      "; change the initial curve or the bead spacing");

@@ -28,6 +28,10 @@
 // the normal of a point is the surface direction of increasing GDTC (the wall's growth
 // direction); V points to the nearest point of the previous bead (bead 1: of the edge).
 //
+//   3b. thin regions (Boundary only; "iso-lines"): paths/thin_regions.hpp — a connected part of
+//      the layer that no ring reaches gets a bead on its centre line, a spot (2 points, dwell
+//      w / spotWeldSpeed) when it is a tiny island, or keeps its short ring; narrower than s: a
+//      note with the shortfall; narrower than `minFeatureWidth`: left out and reported;
 // Problems of one layer (no boundary, an initial curve that misses it, no room for a bead) are
 // written into PlanLayer::warnings and the layer keeps no paths; when no layer gets a path at all
 // the call throws InvalidInput naming the reason (e.g. the spacing is wider than every layer).
@@ -114,6 +118,11 @@ struct PlannerOptions {
   bool connectInsets = true;
   /// Issue 15: measure every layer's coverage (paths/coverage.hpp) into PlanLayer::coverage.
   bool measureCoverage = true;
+  /// Issue 15, thin regions (paths/thin_regions.hpp): mm/s, the weld speed a spot's dwell is
+  /// reckoned with. A spot (a tiny island) dwells w / spotWeldSpeed seconds, the time the torch
+  /// takes to lay one bead width of bead, so it deposits about one bead's worth (a round deposit
+  /// w across). Default: the default cell's weld speed (robot/cell.hpp ProcessDescription).
+  double spotWeldSpeed = 8.0;
 };
 
 /// Which boundary loop of a wall surface is the edge it grows from.
