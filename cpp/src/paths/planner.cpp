@@ -13,6 +13,7 @@
 
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/geom/triangle_bvh.hpp"
+#include "curvedslicer/paths/adaptive_width.hpp"
 #include "curvedslicer/paths/iso_lines.hpp"
 #include "curvedslicer/paths/narrow_strips.hpp"
 #include "curvedslicer/paths/path_fit.hpp"
@@ -54,6 +55,18 @@ void checkPositive(double value, const char* what, const char* example) {
   if (!std::isfinite(value) || value <= 0.0) {
     throw InvalidInput(std::string(what) + " must be a positive number of mm: " + formatMm(value) +
                        "; pass a value such as " + example);
+  }
+}
+
+/// Adaptive bead width range (fractions of s): 0 < widthMin <= 1 <= widthMax, both finite.
+void checkWidthRange(double widthMin, double widthMax) {
+  if (!std::isfinite(widthMin) || !std::isfinite(widthMax) || !(widthMin > 0.0) || widthMin > 1.0 ||
+      widthMax < 1.0) {
+    throw InvalidInput(
+        "bead width range must contain the bead spacing (0 < min <= 1 <= max, "
+        "fractions of s): " +
+        formatMm(widthMin) + "," + formatMm(widthMax) +
+        "; pass e.g. 0.7,1.3, or 1,1 for a fixed width");
   }
 }
 
@@ -157,6 +170,7 @@ struct SurfaceQuery {
 struct RawBead {
   Polyline line;
   std::vector<Vec3> normals;
+  double width = 0.0;  ///< mm, PathPoint::width of its points (0: the plan's bead spacing)
 };
 
 /// Fits the iso-lines at one value and turns them into beads on the surface.
@@ -227,6 +241,7 @@ LayerOrder orderBeads(const std::vector<RawBead>& beads, int layerIndex,
       path.points[i].position = points[i];
       path.points[i].normal = normals[i];
       path.points[i].deposition = -normals[i];
+      path.points[i].width = b.width;
     }
     layer.paths.push_back(std::move(path));
   }
@@ -350,6 +365,7 @@ void validatePlannerOptions(const PlannerOptions& o) {
     throw InvalidInput("ordering improvement passes must not be negative: " +
                        std::to_string(o.improvementPasses) + "; pass 0 or more");
   }
+  checkWidthRange(o.widthMin, o.widthMax);
 }
 
 void validateThinWallOptions(const ThinWallOptions& o) {
@@ -491,6 +507,26 @@ class LayerPlanner {
                              std::vector<std::vector<Polyline>>& levelLines, PlanLayer& layer);
   void noteMissingBeads(const std::vector<double>& values, double maxDistance,
                         const std::vector<RawBead>& beads, std::size_t dropped, PlanLayer& layer);
+  std::vector<double> fitFixedWidthLevels(const SurfaceGeodesicResult& gdtc,
+                                          const std::vector<Polyline>& curves,
+                                          const SurfaceQuery& query, double maxDistance,
+                                          const Progress& progress, PlanLayer& layer,
+                                          std::vector<RawBead>& beads, std::size_t& dropped);
+  // adaptive bead width (paths/adaptive_width.hpp)
+  bool adaptiveWidth() const { return options_.widthMin < 1.0 || options_.widthMax > 1.0; }
+  std::vector<double> fitAdaptiveRegions(const SurfaceGeodesicResult& gdtc,
+                                         const std::vector<Polyline>& curves,
+                                         const SurfaceQuery& query, const Progress& progress,
+                                         PlanLayer& layer, std::vector<RawBead>& beads,
+                                         std::size_t& dropped);
+  std::vector<std::vector<Polyline>> extractRegionLevelLines(const TriMesh& mesh,
+                                                             const std::vector<double>& field,
+                                                             const std::vector<Polyline>& curves,
+                                                             const std::vector<double>& values);
+  void noteClampedWidth(const RegionRings& rings, double halfWidth, PlanLayer& layer);
+  void resolveRegionNarrowStrips(const TriMesh& mesh, const std::vector<double>& field,
+                                 const std::vector<double>& values, double width,
+                                 std::vector<std::vector<Polyline>>& levelLines, PlanLayer& layer);
 
   const PlannerOptions& options_;
   const double s_;
@@ -595,20 +631,12 @@ void LayerPlanner::planOnField(const SurfaceGeodesicResult& gdtc,
                              "(a separate piece of the layer); they get no paths");
   }
   progress.report(0.7, kStages[kIso]);
-  const std::vector<double> values = computeIsoValues(
-      s_, maxDistance, fromBoundary_ ? IsoValueStart::Boundary : IsoValueStart::InteriorCurve);
-  std::vector<std::vector<Polyline>> levelLines = extractLevelLines(gdtc, curves, values);
-  progress.check();
-  if (options_.narrowStrips == NarrowStripMode::CentreBead && !values.empty()) {
-    resolveNarrowStripsOf(gdtc, values, levelLines, layer);
-  }
   std::vector<RawBead> beads;
   std::size_t dropped = 0;
-  const auto normalOf = [&](const ClosestPoint& c) { return query.normalAt(c); };
-  for (const std::vector<Polyline>& lines : levelLines) {
-    tail_.fit(lines, query.bvh, normalOf, beads, dropped);
-    progress.check();
-  }
+  const std::vector<double> values =
+      adaptiveWidth()
+          ? fitAdaptiveRegions(gdtc, curves, query, progress, layer, beads, dropped)
+          : fitFixedWidthLevels(gdtc, curves, query, maxDistance, progress, layer, beads, dropped);
   tail_.countDropped(dropped);
   noteMissingBeads(values, maxDistance, beads, dropped, layer);
   progress.report(0.9, kStages[kOrder]);
@@ -618,6 +646,29 @@ void LayerPlanner::planOnField(const SurfaceGeodesicResult& gdtc,
   dep.surface = support_ ? &*support_ : nullptr;
   dep.earlierBeads = firstLayer;
   tail_.deposit(dep, options_.deposition, layer);
+}
+
+/// The iso-lines at (k + ½)·s (or k·s) over the whole layer, narrow strips resolved, fitted into
+/// `beads`; returns the iso-values.
+std::vector<double> LayerPlanner::fitFixedWidthLevels(const SurfaceGeodesicResult& gdtc,
+                                                      const std::vector<Polyline>& curves,
+                                                      const SurfaceQuery& query, double maxDistance,
+                                                      const Progress& progress, PlanLayer& layer,
+                                                      std::vector<RawBead>& beads,
+                                                      std::size_t& dropped) {
+  const std::vector<double> values = computeIsoValues(
+      s_, maxDistance, fromBoundary_ ? IsoValueStart::Boundary : IsoValueStart::InteriorCurve);
+  std::vector<std::vector<Polyline>> levelLines = extractLevelLines(gdtc, curves, values);
+  progress.check();
+  if (options_.narrowStrips == NarrowStripMode::CentreBead && !values.empty()) {
+    resolveNarrowStripsOf(gdtc, values, levelLines, layer);
+  }
+  const auto normalOf = [&](const ClosestPoint& c) { return query.normalAt(c); };
+  for (const std::vector<Polyline>& lines : levelLines) {
+    tail_.fit(lines, query.bvh, normalOf, beads, dropped);
+    progress.check();
+  }
+  return values;
 }
 
 // ---- iso-lines ----
@@ -671,6 +722,123 @@ void LayerPlanner::noteMissingBeads(const std::vector<double>& values, double ma
   } else if (dropped > 0) {
     layer.warnings.push_back(tail_.droppedNote(dropped));
   }
+}
+
+// ---- adaptive bead width (issue 15; paths/adaptive_width.hpp) ----
+
+/// The region of the vertex of `mesh` nearest to `p` (initial curves run through the inserted
+/// mesh's vertices, so the nearest one is on the curve).
+std::int32_t regionNear(const TriMesh& mesh, const std::vector<std::int32_t>& region,
+                        const Vec3& p) {
+  std::size_t best = 0;
+  double bestDistance = kInf;
+  for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+    const double d = (mesh.vertices[v] - p).squaredNorm();
+    if (d < bestDistance) {
+      bestDistance = d;
+      best = v;
+    }
+  }
+  return region.empty() ? -1 : region[best];
+}
+
+/// Per connected region of the layer: a whole number of rings of one width within the allowed
+/// range (computeRegionRings), iso-lines of the region alone at its values, its narrow strips at
+/// its width, fitted into `beads` with that width. Returns every region's values (ascending).
+std::vector<double> LayerPlanner::fitAdaptiveRegions(const SurfaceGeodesicResult& gdtc,
+                                                     const std::vector<Polyline>& curves,
+                                                     const SurfaceQuery& query,
+                                                     const Progress& progress, PlanLayer& layer,
+                                                     std::vector<RawBead>& beads,
+                                                     std::size_t& dropped) {
+  std::int32_t regionCount = 0;
+  const std::vector<std::int32_t> region = labelMeshRegions(gdtc.mesh, regionCount);
+  std::vector<double> halfWidth(regionCount, 0.0);
+  for (std::size_t v = 0; v < gdtc.distance.size(); ++v) {
+    if (std::isfinite(gdtc.distance[v])) {
+      halfWidth[region[v]] = std::max(halfWidth[region[v]], gdtc.distance[v]);
+    }
+  }
+  const IsoValueStart start =
+      fromBoundary_ ? IsoValueStart::Boundary : IsoValueStart::InteriorCurve;
+  const auto normalOf = [&](const ClosestPoint& c) { return query.normalAt(c); };
+  std::vector<double> allValues;
+  std::vector<double> field(gdtc.distance.size());
+  for (std::int32_t r = 0; r < regionCount; ++r) {
+    const RegionRings rings =
+        computeRegionRings(halfWidth[r], s_, options_.widthMin, options_.widthMax, start);
+    if (rings.values.empty()) continue;
+    noteClampedWidth(rings, halfWidth[r], layer);
+    for (std::size_t v = 0; v < field.size(); ++v) {
+      field[v] = region[v] == r ? gdtc.distance[v] : kInf;
+    }
+    std::vector<Polyline> regionCurves;
+    for (const Polyline& c : curves) {
+      if (!c.points.empty() && regionNear(gdtc.mesh, region, c.points.front()) == r) {
+        regionCurves.push_back(c);
+      }
+    }
+    std::vector<std::vector<Polyline>> levelLines =
+        extractRegionLevelLines(gdtc.mesh, field, regionCurves, rings.values);
+    if (options_.narrowStrips == NarrowStripMode::CentreBead) {
+      resolveRegionNarrowStrips(gdtc.mesh, field, rings.values, rings.width, levelLines, layer);
+    }
+    const std::size_t first = beads.size();
+    for (const std::vector<Polyline>& lines : levelLines) {
+      tail_.fit(lines, query.bvh, normalOf, beads, dropped);
+      progress.check();
+    }
+    for (std::size_t b = first; b < beads.size(); ++b) beads[b].width = rings.width;
+    allValues.insert(allValues.end(), rings.values.begin(), rings.values.end());
+  }
+  std::sort(allValues.begin(), allValues.end());
+  return allValues;
+}
+
+/// A layer note where a region's whole number of beads would need a width outside the range.
+void LayerPlanner::noteClampedWidth(const RegionRings& rings, double halfWidth, PlanLayer& layer) {
+  if (!rings.widthClamped) return;
+  layer.warnings.push_back("adaptive bead width: a region reaching " + formatMm(halfWidth) +
+                           " mm from its initial curve needs beads " + formatMm(rings.wholeWidth) +
+                           " mm wide for a whole number of rings, outside the range " +
+                           formatMm(options_.widthMin * s_) + "–" +
+                           formatMm(options_.widthMax * s_) + " mm; " + formatMm(rings.width) +
+                           " mm used");
+}
+
+/// extractLevelLines for one region: `field` is the GDTC inside the region, +inf elsewhere;
+/// value 0 is the region's initial curves.
+std::vector<std::vector<Polyline>> LayerPlanner::extractRegionLevelLines(
+    const TriMesh& mesh, const std::vector<double>& field, const std::vector<Polyline>& curves,
+    const std::vector<double>& values) {
+  return timer_.run(kIso, [&] {
+    std::vector<double> positive;
+    for (const double value : values) {
+      if (value > 0.0) positive.push_back(value);
+    }
+    std::vector<std::vector<Polyline>> lines = extractIsoLines(mesh, field, positive);
+    if (positive.size() < values.size()) lines.insert(lines.begin(), curves);
+    return lines;
+  });
+}
+
+/// resolveNarrowStripsOf for one region at its bead width: paths of one level closer than
+/// 0.95·w' become one centre bead.
+void LayerPlanner::resolveRegionNarrowStrips(const TriMesh& mesh, const std::vector<double>& field,
+                                             const std::vector<double>& values, double width,
+                                             std::vector<std::vector<Polyline>>& levelLines,
+                                             PlanLayer& layer) {
+  std::vector<double> edgeValues;
+  for (const double value : values) {
+    edgeValues.push_back(value + 0.5 * width + narrowStrips_.innerEdgeOffset);
+  }
+  const std::vector<std::vector<Polyline>> innerEdges =
+      timer_.run(kIso, [&] { return extractIsoLines(mesh, field, edgeValues); });
+  NarrowStripResult strips = timer_.run(kIso, [&] {
+    return resolveNarrowStrips(levelLines, values, width, narrowStrips_, innerEdges);
+  });
+  reportNarrowStrips(strips, layer.warnings);
+  levelLines = std::move(strips.levels);
 }
 
 void LayerPlanner::finish() {
