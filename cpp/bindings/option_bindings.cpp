@@ -246,7 +246,19 @@ void bindPlannerOptions(py::module_& m) {
       .choice(
           "narrow_strips", member(&O::narrowStrips),
           [](const std::string& s) { return parseNarrowStripMode(s); }, narrowStripModeName,
-          "where paths of one level come closer than 0.95·s: 'centre_bead' | 'overlap'");
+          "where paths of one level come closer than 0.95·s: 'centre_bead' | 'overlap'")
+      .value("min_feature_width", member(&O::minFeatureWidth),
+             "mm; regions narrower than a bead but at least this wide get one centre bead; "
+             "narrower ones are left out and reported; < 0: half the bead spacing")
+      .value("width_min", member(&O::widthMin),
+             "adaptive bead width: smallest width as a fraction of the bead spacing, in (0, 1]")
+      .value("width_max", member(&O::widthMax),
+             "adaptive bead width: largest width as a fraction of the bead spacing, >= 1 "
+             "(width_min = width_max = 1: fixed width)")
+      .value("connect_insets", member(&O::connectInsets),
+             "join consecutive rings of one region into one arc-on path (fewer arc starts)")
+      .value("measure_coverage", member(&O::measureCoverage),
+             "measure every layer's bead coverage (void and overlap shares) into the plan");
   bindPathOrderFields(c);
   c.finish();
 }

@@ -14,6 +14,7 @@
 
 #include "binding_helpers.hpp"
 #include "curvedslicer/export/exporter.hpp"
+#include "curvedslicer/paths/coverage.hpp"
 #include "curvedslicer/plan/plan_io.hpp"
 #include "curvedslicer/robot/cell.hpp"
 #include "curvedslicer/robot/configuration.hpp"
@@ -210,6 +211,40 @@ py::dict exportProgramPy(const std::string& planJson, const std::string& cellJso
   return exportResultDict(result);
 }
 
+/// A layer's coverage as a dict, or None when not measured.
+py::object coverageDict(const LayerCoverage& c) {
+  if (!c.measured) return py::none();
+  py::dict d;
+  d["area_mm2"] = c.area;
+  d["void_share"] = c.voidShare;
+  d["overlap_share"] = c.overlapShare;
+  d["bead_width_mm"] = c.beadWidth;
+  d["arc_starts"] = c.arcStarts;
+  py::list voids;
+  for (const CoverageVoid& v : c.voids) {
+    py::dict vd;
+    vd["area_mm2"] = v.area;
+    vd["centre_mm"] = py::make_tuple(v.centre.x(), v.centre.y(), v.centre.z());
+    vd["size_mm"] = v.size;
+    voids.append(vd);
+  }
+  d["voids"] = voids;
+  return d;
+}
+
+/// The plan's coverage in total (paths/coverage.hpp summarizeCoverage).
+py::dict coverageTotalsDict(const Plan& plan) {
+  const PlanCoverageSummary s = summarizeCoverage(plan, 3);
+  py::dict d;
+  d["measured_layers"] = s.measuredLayers;
+  d["area_mm2"] = s.area;
+  d["void_share"] = s.voidShare;
+  d["overlap_share"] = s.overlapShare;
+  d["arc_starts"] = s.arcStarts;
+  d["worst_layers"] = s.worstLayers;
+  return d;
+}
+
 py::dict planSummaryPy(const std::string& planJson) {
   const Plan plan = parsePlanJson(planJson, "plan");
   py::dict d;
@@ -225,9 +260,11 @@ py::dict planSummaryPy(const std::string& planJson) {
     l["height"] = layer.height;
     l["paths"] = layer.paths.size();
     l["warnings"] = layer.warnings;
+    l["coverage"] = coverageDict(layer.coverage);
     perLayer.append(l);
   }
   d["per_layer"] = perLayer;
+  d["coverage"] = coverageTotalsDict(plan);
   const PlanParameters& p = plan.parameters;
   py::dict params;
   params["layer_thickness_mm"] = p.layerThickness;
@@ -240,12 +277,19 @@ py::dict planSummaryPy(const std::string& planJson) {
   params["initial_curve"] = p.initialCurve;
   if (!p.narrowStrips.empty()) params["narrow_strips"] = p.narrowStrips;
   if (p.cornerAngle) params["corner_angle_deg"] = *p.cornerAngle;
+  if (p.minFeatureWidth) params["min_feature_width_mm"] = *p.minFeatureWidth;
+  if (p.beadWidthRange) {
+    params["bead_width_range"] = py::make_tuple((*p.beadWidthRange)[0], (*p.beadWidthRange)[1]);
+  }
+  if (p.connectInsets) params["connect_insets"] = *p.connectInsets;
   d["parameters"] = params;
   return d;
 }
 
-// Every path as (layer, index, closed, points (k, 3), normals (k, 3), deposition (k, 3)).
-py::list planPathsPy(const std::string& planJson) {
+// Every path as (layer, index, closed, points (k, 3), normals (k, 3), deposition (k, 3)), and
+// with_widths: also widths (k,) mm (0 in memory = the bead spacing, as the file writes it) and
+// dwell (s).
+py::list planPathsPy(const std::string& planJson, bool withWidths) {
   const Plan plan = parsePlanJson(planJson, "plan");
   py::list out;
   for (const PlanLayer& layer : plan.layers) {
@@ -261,7 +305,17 @@ py::list planPathsPy(const std::string& planJson) {
           dep.mutable_at(i, c) = p.deposition[c];
         }
       }
-      out.append(py::make_tuple(path.layer, path.index, path.closed, pts, nrm, dep));
+      if (!withWidths) {
+        out.append(py::make_tuple(path.layer, path.index, path.closed, pts, nrm, dep));
+        continue;
+      }
+      py::array_t<double> widths(k);
+      for (py::ssize_t i = 0; i < k; ++i) {
+        const double w = path.points[static_cast<std::size_t>(i)].width;
+        widths.mutable_at(i) = w > 0.0 ? w : plan.parameters.beadSpacing;
+      }
+      out.append(
+          py::make_tuple(path.layer, path.index, path.closed, pts, nrm, dep, widths, path.dwell));
     }
   }
   return out;
@@ -290,12 +344,17 @@ void registerPlanBindings(py::module_& m) {
       "input).",
       py::arg("plan_json"));
   m.def("plan_summary", &planSummaryPy,
-        "Validated plan JSON -> {model, start, layers, paths, points, per_layer, parameters}.",
+        "Validated plan JSON -> {model, start, layers, paths, points, per_layer (index, height, "
+        "paths, warnings, coverage: None or {area_mm2, void_share, overlap_share, bead_width_mm, "
+        "arc_starts, voids: [{area_mm2, centre_mm, size_mm}]}), coverage (totals: "
+        "measured_layers, area_mm2, void_share, overlap_share (area-weighted), arc_starts, "
+        "worst_layers), parameters}.",
         py::arg("plan_json"));
   m.def("plan_paths", &planPathsPy,
         "Validated plan JSON -> [(layer, index, closed, points (k,3) mm, normals (k,3), "
-        "deposition (k,3))] in deposition order.",
-        py::arg("plan_json"));
+        "deposition (k,3))] in deposition order; with_widths=True appends widths (k,) mm and "
+        "dwell (s) to every tuple.",
+        py::arg("plan_json"), py::arg("with_widths") = false);
   m.def(
       "plan_csv", [](const std::string& text) { return formatPlanCsv(parsePlanJson(text)); },
       "The plan's CSV table (plan_io.hpp).", py::arg("plan_json"));

@@ -8,6 +8,7 @@
 #include "command_errors.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/core/progress.hpp"
+#include "curvedslicer/paths/coverage.hpp"
 #include "curvedslicer/pipeline/layer_output.hpp"
 #include "curvedslicer/pipeline/option_parsing.hpp"
 #include "curvedslicer/pipeline/plan_job.hpp"
@@ -78,6 +79,27 @@ ModelInput readInputs(const PlanArguments& args, PlanCommandJob& job) {
   return model;
 }
 
+/// Total void and overlap share, arc starts and the layers with the largest void share.
+void printCoverage(const Plan& plan) {
+  const PlanCoverageSummary s = summarizeCoverage(plan, 3);
+  if (s.measuredLayers == 0) {
+    std::printf("curvedslicer: %zu arc starts; coverage not measured\n", s.arcStarts);
+    return;
+  }
+  std::string worst;
+  for (const int index : s.worstLayers) {
+    char item[64];
+    std::snprintf(item, sizeof(item), "%slayer %d (%.1f %%)", worst.empty() ? "" : ", ", index,
+                  100.0 * plan.layers[index].coverage.voidShare);
+    worst += item;
+  }
+  std::printf(
+      "curvedslicer: coverage: %.2f %% void, %.2f %% overlap (area-weighted over %zu layers), "
+      "%zu arc starts%s%s\n",
+      100.0 * s.voidShare, 100.0 * s.overlapShare, s.measuredLayers, s.arcStarts,
+      worst.empty() ? "" : "; most void: ", worst.c_str());
+}
+
 void printSummary(const PlanJobResult& result, const fs::path& outputDir) {
   const Plan& plan = result.planned.plan;
   for (const PlanLayer& layer : plan.layers) {
@@ -90,6 +112,7 @@ void printSummary(const PlanJobResult& result, const fs::path& outputDir) {
       plan.pathCount(), plan.pointCount(), plan.layers.size(), outputDir.string().c_str(),
       kPlanJsonFileName, kPlanCsvFileName, kReportFileName,
       result.layerFiles.empty() ? "" : ", layer files");
+  printCoverage(plan);
 }
 
 double secondsSince(std::chrono::steady_clock::time_point begin) {

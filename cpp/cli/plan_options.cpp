@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "curvedslicer/core/error.hpp"
 #include "curvedslicer/field/geodesic_field.hpp"
 #include "plan_command.hpp"
 
@@ -22,11 +23,12 @@ Output (all files appear together, or none on any error):
   DIR/layer_0001.ply ...  one surface per layer (not with --thin-wall)
   DIR/voxel_sets.ply      the voxel layer sets of the paper's eq. 13 (not with --thin-wall)
   DIR/plan.json           the deposition plan: layers, paths in deposition order, per point the
-                          position, layer normal and deposition direction (schema:
+                          position, layer normal, deposition direction and bead width,
+                          per layer the bead coverage (schema:
                           resources/schema/plan.schema.json)
-  DIR/plan.csv            the same points as a table: layer,path,point,closed,x,y,z,n,v
+  DIR/plan.csv            the same points as a table: layer,path,point,closed,x,y,z,n,v,w
   DIR/report.json         the layer report plus a "plan" section (per-layer paths and warnings,
-                          stage times, deposition statistics)
+                          stage times, deposition statistics, coverage per layer and in total)
 
 Exit codes: 0 success, 2 invalid input (including usage errors), 3 file I/O error,
 4 resource limit (memory budget), 5 numerical failure, 130 interrupted (Ctrl-C), 1 other.)";
@@ -71,6 +73,36 @@ void addPlannerOptions(CLI::App& plan, OptionBindings<PlannerOptions>& b) {
         "MODE", [](std::string_view text, PlannerOptions& o) {
           o.narrowStrips = parseNarrowStripMode(std::string(text));
         });
+  b.add(plan, "--min-feature-width",
+        "Regions narrower than one bead but at least this wide get a single\n"
+        "bead on their centre line (with a note of the shortfall); narrower\n"
+        "ones are left out and reported, mm > 0 (default s/2).",
+        "MM", [](std::string_view text, PlannerOptions& o) {
+          // The struct's "< 0 = s/2" is this option's absence: a given value must be > 0.
+          const double w = parseLength(text, "minimum feature width (--min-feature-width)");
+          if (!(w > 0.0)) {
+            throw InvalidInput(
+                "minimum feature width (--min-feature-width) must be a positive "
+                "number of mm: " +
+                std::string(text) + "; pass e.g. 1.85, or leave it out for half the bead spacing");
+          }
+          o.minFeatureWidth = w;
+        });
+  b.add(
+      plan, "--bead-width-range",
+      "Adaptive bead width: per-point widths between MIN*s and MAX*s,\n"
+      "0 < MIN <= 1 <= MAX (e.g. 0.7,1.3); off = fixed width s (default " +
+          std::string(PlannerOptions{}.widthMin == 1.0 && PlannerOptions{}.widthMax == 1.0 ? "off"
+                                                                                           : "on") +
+          ").",
+      "MIN,MAX|off",
+      [](std::string_view text, PlannerOptions& o) { parseBeadWidthRange(text, o); });
+  b.addFlag(plan, "--no-connect-insets", &PlannerOptions::connectInsets, false,
+            "Deposit every ring as its own arc-on path instead of joining\n"
+            "consecutive rings of one region with a short step-over.");
+  b.addFlag(plan, "--no-coverage", &PlannerOptions::measureCoverage, false,
+            "Do not measure the layers' bead coverage (void and overlap\n"
+            "shares in plan.json, report.json and the summary).");
 }
 
 /// The model, the layer job's options (as `layers`), the initial curve, the thin wall, output.

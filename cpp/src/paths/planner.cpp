@@ -14,6 +14,7 @@
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/geom/triangle_bvh.hpp"
 #include "curvedslicer/paths/adaptive_width.hpp"
+#include "curvedslicer/paths/coverage.hpp"
 #include "curvedslicer/paths/iso_lines.hpp"
 #include "curvedslicer/paths/narrow_strips.hpp"
 #include "curvedslicer/paths/path_fit.hpp"
@@ -27,8 +28,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 const char* const kStages[] = {"surface index", "initial curves", "surface geodesic", "iso-lines",
-                               "fit",           "order",          "deposition"};
-enum Stage { kIndex, kCurves, kGeodesic, kIso, kFit, kOrder, kDeposition, kStageCount };
+                               "fit",           "order",          "deposition",      "coverage"};
+enum Stage { kIndex, kCurves, kGeodesic, kIso, kFit, kOrder, kDeposition, kCoverage, kStageCount };
 
 std::string formatMm(double value) {
   char buffer[64];
@@ -51,22 +52,37 @@ void checkCornerAngle(double degrees) {
   }
 }
 
+/// Issue 15's options: a minimum feature width > 0 (or < 0 for s/2), a width range that
+/// contains the bead spacing.
+void checkCoverageOptions(const PlannerOptions& o) {
+  if (!std::isfinite(o.minFeatureWidth) || o.minFeatureWidth == 0.0) {
+    throw InvalidInput("minimum feature width (--min-feature-width, MinFeatureWidth) must be a "
+                       "positive number of mm: " +
+                       formatMm(o.minFeatureWidth) + "; pass e.g. " + formatMm(0.5 * o.beadSpacing) +
+                       " (half the bead spacing, the default)");
+  }
+  if (!std::isfinite(o.widthMin) || !std::isfinite(o.widthMax) || o.widthMin <= 0.0 ||
+      o.widthMin > o.widthMax) {
+    throw InvalidInput("bead width range (--bead-width-range, BeadWidthMin/BeadWidthMax) must be "
+                       "two fractions of the bead spacing with 0 < min <= max: " +
+                       formatMm(o.widthMin) + "," + formatMm(o.widthMax) +
+                       "; pass e.g. 0.7,1.3, or off for a fixed width");
+  }
+  if (o.widthMin > 1.0 || o.widthMax < 1.0) {
+    throw InvalidInput("bead width range (--bead-width-range, BeadWidthMin/BeadWidthMax) excludes "
+                       "the bead spacing: " +
+                       formatMm(o.widthMin) + "," + formatMm(o.widthMax) + " × s = " +
+                       formatMm(o.widthMin * o.beadSpacing) + "–" +
+                       formatMm(o.widthMax * o.beadSpacing) + " mm, s = " +
+                       formatMm(o.beadSpacing) +
+                       " mm; choose a range with min <= 1 <= max, e.g. 0.7,1.3, or off");
+  }
+}
+
 void checkPositive(double value, const char* what, const char* example) {
   if (!std::isfinite(value) || value <= 0.0) {
     throw InvalidInput(std::string(what) + " must be a positive number of mm: " + formatMm(value) +
                        "; pass a value such as " + example);
-  }
-}
-
-/// Adaptive bead width range (fractions of s): 0 < widthMin <= 1 <= widthMax, both finite.
-void checkWidthRange(double widthMin, double widthMax) {
-  if (!std::isfinite(widthMin) || !std::isfinite(widthMax) || !(widthMin > 0.0) || widthMin > 1.0 ||
-      widthMax < 1.0) {
-    throw InvalidInput(
-        "bead width range must contain the bead spacing (0 < min <= 1 <= max, "
-        "fractions of s): " +
-        formatMm(widthMin) + "," + formatMm(widthMax) +
-        "; pass e.g. 0.7,1.3, or 1,1 for a fixed width");
   }
 }
 
@@ -365,7 +381,7 @@ void validatePlannerOptions(const PlannerOptions& o) {
     throw InvalidInput("ordering improvement passes must not be negative: " +
                        std::to_string(o.improvementPasses) + "; pass 0 or more");
   }
-  checkWidthRange(o.widthMin, o.widthMax);
+  checkCoverageOptions(o);
 }
 
 void validateThinWallOptions(const ThinWallOptions& o) {
@@ -478,6 +494,10 @@ class LayerPlanner {
     stages_.record(options, result.plan.parameters);
     result.plan.parameters.initialCurve = options.initialCurve.describe();
     result.plan.parameters.narrowStrips = narrowStripModeName(options.narrowStrips);
+    result.plan.parameters.minFeatureWidth =
+        options.minFeatureWidth < 0.0 ? 0.5 * s_ : options.minFeatureWidth;
+    result.plan.parameters.beadWidthRange = std::array<double, 2>{options.widthMin, options.widthMax};
+    result.plan.parameters.connectInsets = options.connectInsets;
     if (!startSurface.empty()) support_.emplace(startSurface);
   }
 
@@ -573,6 +593,11 @@ PlanLayer LayerPlanner::planLayer(std::size_t li, const LayerSurface& surface,
     field = computeLayerGeodesic(surface.mesh, curves, boundaryVertices, progress, layer);
   }
   if (field) planOnField(*field, curves, *query, li == 0, progress, layer);
+  if (options_.measureCoverage && !surface.mesh.empty()) {
+    progress.report(0.98, kStages[kCoverage]);
+    layer.coverage =
+        timer_.run(kCoverage, [&] { return computeLayerCoverage(surface.mesh, layer.paths, s_); });
+  }
   // The material under the next layer is this layer's surface (if it has one).
   if (query) support_.emplace(std::move(query->bvh));
   return layer;

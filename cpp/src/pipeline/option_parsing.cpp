@@ -197,6 +197,21 @@ std::vector<double> parseNumberList(std::string_view text, std::size_t count, st
   return values;
 }
 
+}  // namespace
+
+void parseBeadWidthRange(std::string_view text, PlannerOptions& options) {
+  if (text == "off") {
+    options.widthMin = options.widthMax = 1.0;
+    return;
+  }
+  const std::vector<double> range = parseNumberList(
+      text, 2, "--bead-width-range", "0.7,1.3 (fractions of the bead spacing) or off");
+  options.widthMin = range[0];
+  options.widthMax = range[1];
+}
+
+namespace {
+
 std::string formatNumbers(const Vec3& v) {
   char buffer[96];
   std::snprintf(buffer, sizeof(buffer), "%.9g,%.9g,%.9g", v.x(), v.y(), v.z());

@@ -6,6 +6,7 @@
 
 #include "curvedslicer/core/atomic_file.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
+#include "curvedslicer/paths/coverage.hpp"
 #include "curvedslicer/pipeline/layer_output.hpp"
 #include "curvedslicer/pipeline/report_json.hpp"
 #include "curvedslicer/plan/plan_io.hpp"
@@ -28,6 +29,23 @@ Json depositionReport(const DepositionStats& d) {
       {"max_distance_mm", d.maxDistance}};
 }
 
+/// A layer's coverage (null when not measured): shares, arc starts and the largest voids.
+Json coverageReport(const LayerCoverage& c) {
+  if (!c.measured) return Json(nullptr);
+  Json voids = Json::array();
+  for (const CoverageVoid& v : c.voids) {
+    voids.push_back(Json{{"area_mm2", v.area},
+                         {"centre_mm", Json::array({v.centre.x(), v.centre.y(), v.centre.z()})},
+                         {"size_mm", v.size}});
+  }
+  return Json{{"area_mm2", c.area},
+              {"void_share", c.voidShare},
+              {"overlap_share", c.overlapShare},
+              {"bead_width_mm", c.beadWidth},
+              {"arc_starts", c.arcStarts},
+              {"voids", voids}};
+}
+
 Json layerReport(const PlanLayer& layer) {
   double length = 0.0;
   std::size_t points = 0;
@@ -35,8 +53,24 @@ Json layerReport(const PlanLayer& layer) {
     length += p.length;
     points += p.points.size();
   }
-  return Json{{"index", layer.index}, {"height_mm", layer.height}, {"paths", layer.paths.size()},
-              {"points", points},     {"arc_length_mm", length},   {"warnings", layer.warnings}};
+  return Json{{"index", layer.index},
+              {"height_mm", layer.height},
+              {"paths", layer.paths.size()},
+              {"points", points},
+              {"arc_length_mm", length},
+              {"warnings", layer.warnings},
+              {"coverage", coverageReport(layer.coverage)}};
+}
+
+/// The plan's coverage in total (paths/coverage.hpp summarizeCoverage).
+Json coverageTotals(const Plan& plan) {
+  const PlanCoverageSummary s = summarizeCoverage(plan, 10);
+  Json j{{"measured_layers", s.measuredLayers}, {"arc_starts", s.arcStarts}};
+  j["area_mm2"] = s.measuredLayers > 0 ? Json(s.area) : Json(nullptr);
+  j["void_share"] = s.measuredLayers > 0 ? Json(s.voidShare) : Json(nullptr);
+  j["overlap_share"] = s.measuredLayers > 0 ? Json(s.overlapShare) : Json(nullptr);
+  j["worst_layers"] = s.worstLayers;
+  return j;
 }
 
 Json plannerInputs(const PlanParameters& p) {
@@ -47,6 +81,11 @@ Json plannerInputs(const PlanParameters& p) {
                      {"initial_curve", p.initialCurve},
                      {"surface_method", p.surfaceMethod}};
   if (!p.narrowStrips.empty()) inputs["narrow_strips"] = p.narrowStrips;
+  if (p.minFeatureWidth) inputs["min_feature_width_mm"] = *p.minFeatureWidth;
+  if (p.beadWidthRange) {
+    inputs["bead_width_range"] = Json::array({(*p.beadWidthRange)[0], (*p.beadWidthRange)[1]});
+  }
+  if (p.connectInsets) inputs["connect_insets"] = *p.connectInsets;
   return inputs;
 }
 
@@ -103,6 +142,7 @@ Json makePlanReportSection(const PlanResult& planned) {
   j["dropped_fragments"] = s.droppedFragments;
   j["seams_too_close"] = s.seamsTooClose;
   j["max_fit_deviation_mm"] = s.maxFitDeviation;
+  j["coverage"] = coverageTotals(planned.plan);
   j["deposition"] = depositionReport(s.deposition);
   Json times = Json::array();
   for (const PlanStageTime& t : s.stageTimes) {

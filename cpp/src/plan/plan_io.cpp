@@ -24,8 +24,10 @@ namespace {
 using Json = nlohmann::json;
 
 constexpr double kUnitTolerance = 1e-6;
-constexpr std::array<const char*, 9> kPointFields = {"x",  "y",  "z",  "nx", "ny",
-                                                     "nz", "vx", "vy", "vz"};
+/// Version 2's point fields; version 1 has the first 9 (no width).
+constexpr std::array<const char*, 10> kPointFields = {"x",  "y",  "z",  "nx", "ny",
+                                                      "nz", "vx", "vy", "vz", "w"};
+constexpr std::size_t kVersion1PointFields = 9;
 constexpr const char* kRegenerate = "regenerate the plan with `curvedslicer plan`";
 
 // ---- number and string formatting ---------------------------------------------------------------
@@ -79,6 +81,33 @@ void checkUnit(const Vec3& v, const std::string& where, const std::string& origi
   }
 }
 
+/// A measured coverage reads back: finite numbers, shares in [0, 1], no negative area or size.
+void checkCoverage(const LayerCoverage& c, const std::string& where, const std::string& origin) {
+  if (!c.measured) return;
+  const std::initializer_list<std::pair<const char*, double>> values = {
+      {"/area_mm2", c.area},
+      {"/void_share", c.voidShare},
+      {"/overlap_share", c.overlapShare},
+      {"/bead_width_mm", c.beadWidth}};
+  for (const auto& [key, value] : values) {
+    checkFinite(value, where + key, origin);
+    const bool share = key[1] != 'a' && key[1] != 'b';
+    if (value < 0.0 || (share && value > 1.0)) {
+      throw InvalidInput(origin + ": " + where + key +
+                         " is out of range: " + std::to_string(value) + "; " + kRegenerate);
+    }
+  }
+  for (const CoverageVoid& v : c.voids) {
+    for (int i = 0; i < 3; ++i) checkFinite(v.centre[i], where + "/voids centre", origin);
+    checkFinite(v.area, where + "/voids area", origin);
+    checkFinite(v.size, where + "/voids size", origin);
+    if (v.area < 0.0 || v.size < 0.0) {
+      throw InvalidInput(origin + ": " + where + "/voids has a negative area or size; " +
+                         kRegenerate);
+    }
+  }
+}
+
 void checkPlan(const Plan& plan, const std::string& origin) {
   const PlanParameters& p = plan.parameters;
   const std::initializer_list<std::pair<const char*, double>> params = {
@@ -96,6 +125,7 @@ void checkPlan(const Plan& plan, const std::string& origin) {
                          ": expected its position " + std::to_string(l) + "; " + kRegenerate);
     }
     checkFinite(layer.height, pointer(l) + "/height_mm", origin);
+    checkCoverage(layer.coverage, pointer(l) + "/coverage", origin);
     for (std::size_t pi = 0; pi < layer.paths.size(); ++pi) {
       const PlanPath& path = layer.paths[pi];
       const int k = static_cast<int>(pi);
@@ -110,6 +140,11 @@ void checkPlan(const Plan& plan, const std::string& origin) {
                            std::to_string(k) + "; " + kRegenerate);
       }
       checkFinite(path.length, pointer(l, k) + "/length_mm", origin);
+      checkFinite(path.dwell, pointer(l, k) + "/dwell_s", origin);
+      if (path.dwell < 0.0) {
+        throw InvalidInput(origin + ": " + pointer(l, k) + "/dwell_s is negative: " +
+                           std::to_string(path.dwell) + "; " + kRegenerate);
+      }
       if (path.length < 0.0) {
         throw InvalidInput(origin + ": " + pointer(l, k) + "/length_mm is negative: " +
                            std::to_string(path.length) + "; " + kRegenerate);
@@ -125,6 +160,11 @@ void checkPlan(const Plan& plan, const std::string& origin) {
         for (int i = 0; i < 3; ++i) checkFinite(q.position[i], where + " position", origin);
         checkUnit(q.normal, where + " normal", origin);
         checkUnit(q.deposition, where + " deposition direction", origin);
+        checkFinite(q.width, where + " width", origin);
+        if (q.width < 0.0) {
+          throw InvalidInput(origin + ": " + where +
+                             " width is negative: " + std::to_string(q.width) + "; " + kRegenerate);
+        }
       }
     }
   }
@@ -202,37 +242,105 @@ class Reader {
   std::string origin_;
 };
 
-PlanPath readPath(const Reader& r, const Json& j, const std::string& where) {
-  r.expectKeys(j, where, {"layer", "index", "closed", "length_mm", "points"});
+/// What the layers' reading depends on: the file's version and, for version 1, the width every
+/// point gets (the bead spacing).
+struct FileFormat {
+  int version = Plan::kFormatVersion;
+  double beadSpacing = 0.0;
+  std::size_t pointFields() const {
+    return version == 1 ? kVersion1PointFields : kPointFields.size();
+  }
+};
+
+std::string describePointFields(std::size_t count) {
+  std::string text;
+  for (std::size_t i = 0; i < count; ++i) text += (i ? " " : "") + std::string(kPointFields[i]);
+  return text;
+}
+
+PathPoint readPoint(const Reader& r, const Json& row, const std::string& at,
+                    const FileFormat& format) {
+  const std::size_t n = format.pointFields();
+  if (!row.is_array() || row.size() != n) {
+    r.fail(at, (row.is_array() ? "has " + std::to_string(row.size()) + " numbers"
+                               : "is a " + std::string(row.type_name())) +
+                   ": expected " + std::to_string(n) + " (" + describePointFields(n) + ")");
+  }
+  std::array<double, 10> v{};
+  for (std::size_t c = 0; c < n; ++c) v[c] = r.number(row[c], at + "/" + std::to_string(c));
+  PathPoint p;
+  p.position = Vec3(v[0], v[1], v[2]);
+  p.normal = Vec3(v[3], v[4], v[5]);
+  p.deposition = Vec3(v[6], v[7], v[8]);
+  p.width = format.version == 1 ? format.beadSpacing : v[9];
+  if (p.width < 0.0) r.fail(at + "/9", "must not be negative: " + abbreviateJson(row[9]));
+  return p;
+}
+
+PlanPath readPath(const Reader& r, const Json& j, const std::string& where,
+                  const FileFormat& format) {
+  if (format.version == 1) {
+    r.expectKeys(j, where, {"layer", "index", "closed", "length_mm", "points"});
+  } else {
+    r.expectKeys(j, where, {"layer", "index", "closed", "length_mm", "points"}, {"dwell_s"});
+  }
   PlanPath path;
   path.layer = r.integer(j["layer"], where + "/layer");
   path.index = r.integer(j["index"], where + "/index");
   path.closed = r.boolean(j["closed"], where + "/closed");
   path.length = r.number(j["length_mm"], where + "/length_mm");
+  if (j.contains("dwell_s")) path.dwell = r.nonNegative(j["dwell_s"], where + "/dwell_s");
   const Json& points = r.array(j["points"], where + "/points");
   path.points.reserve(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const std::string at = where + "/points/" + std::to_string(i);
-    const Json& row = points[i];
-    if (!row.is_array() || row.size() != kPointFields.size()) {
-      r.fail(at, (row.is_array() ? "has " + std::to_string(row.size()) + " numbers"
-                                 : "is a " + std::string(row.type_name())) +
-                     ": expected 9 (x y z nx ny nz vx vy vz)");
-    }
-    std::array<double, 9> v{};
-    for (std::size_t c = 0; c < v.size(); ++c)
-      v[c] = r.number(row[c], at + "/" + std::to_string(c));
-    PathPoint p;
-    p.position = Vec3(v[0], v[1], v[2]);
-    p.normal = Vec3(v[3], v[4], v[5]);
-    p.deposition = Vec3(v[6], v[7], v[8]);
-    path.points.push_back(p);
+    path.points.push_back(readPoint(r, points[i], where + "/points/" + std::to_string(i), format));
   }
   return path;
 }
 
-PlanLayer readLayer(const Reader& r, const Json& j, const std::string& where) {
-  r.expectKeys(j, where, {"index", "height_mm", "surface", "warnings", "paths"});
+/// A share of the layer area: a number in [0, 1].
+double readShare(const Reader& r, const Json& j, const std::string& where) {
+  const double v = r.nonNegative(j, where);
+  if (v > 1.0) r.fail(where, "is " + abbreviateJson(j) + ": expected a share in [0, 1]");
+  return v;
+}
+
+Vec3 readVec3(const Reader& r, const Json& j, const std::string& where) {
+  if (!j.is_array() || j.size() != 3) r.fail(where, "must be an array of 3 numbers");
+  return Vec3(r.number(j[0], where + "/0"), r.number(j[1], where + "/1"),
+              r.number(j[2], where + "/2"));
+}
+
+LayerCoverage readCoverage(const Reader& r, const Json& j, const std::string& where) {
+  r.expectKeys(j, where,
+               {"area_mm2", "void_share", "overlap_share", "bead_width_mm", "arc_starts", "voids"});
+  LayerCoverage c;
+  c.measured = true;
+  c.area = r.nonNegative(j["area_mm2"], where + "/area_mm2");
+  c.voidShare = readShare(r, j["void_share"], where + "/void_share");
+  c.overlapShare = readShare(r, j["overlap_share"], where + "/overlap_share");
+  c.beadWidth = r.nonNegative(j["bead_width_mm"], where + "/bead_width_mm");
+  c.arcStarts = static_cast<std::size_t>(r.integer(j["arc_starts"], where + "/arc_starts"));
+  const Json& voids = r.array(j["voids"], where + "/voids");
+  for (std::size_t i = 0; i < voids.size(); ++i) {
+    const std::string at = where + "/voids/" + std::to_string(i);
+    r.expectKeys(voids[i], at, {"area_mm2", "centre_mm", "size_mm"});
+    CoverageVoid v;
+    v.area = r.nonNegative(voids[i]["area_mm2"], at + "/area_mm2");
+    v.centre = readVec3(r, voids[i]["centre_mm"], at + "/centre_mm");
+    v.size = r.nonNegative(voids[i]["size_mm"], at + "/size_mm");
+    c.voids.push_back(v);
+  }
+  return c;
+}
+
+PlanLayer readLayer(const Reader& r, const Json& j, const std::string& where,
+                    const FileFormat& format) {
+  if (format.version == 1) {
+    r.expectKeys(j, where, {"index", "height_mm", "surface", "warnings", "paths"});
+  } else {
+    r.expectKeys(j, where, {"index", "height_mm", "surface", "warnings", "paths"}, {"coverage"});
+  }
   PlanLayer layer;
   layer.index = r.integer(j["index"], where + "/index");
   layer.height = r.nonNegative(j["height_mm"], where + "/height_mm");
@@ -241,17 +349,19 @@ PlanLayer readLayer(const Reader& r, const Json& j, const std::string& where) {
   for (std::size_t i = 0; i < warnings.size(); ++i) {
     layer.warnings.push_back(r.string(warnings[i], where + "/warnings/" + std::to_string(i)));
   }
+  if (j.contains("coverage")) layer.coverage = readCoverage(r, j["coverage"], where + "/coverage");
   const Json& paths = r.array(j["paths"], where + "/paths");
   layer.paths.reserve(paths.size());
   for (std::size_t i = 0; i < paths.size(); ++i) {
-    layer.paths.push_back(readPath(r, paths[i], where + "/paths/" + std::to_string(i)));
+    layer.paths.push_back(readPath(r, paths[i], where + "/paths/" + std::to_string(i), format));
   }
   return layer;
 }
 
-Plan readDocument(const Reader& r, const Json& doc) {
+/// The "version" (1 or 2), checked before anything else so that a newer file gets the "update"
+/// message, not a key error.
+int readVersion(const Reader& r, const Json& doc) {
   if (!doc.is_object()) r.fail("", "must be a JSON object, found " + std::string(doc.type_name()));
-  // Format and version first, so that a newer file gets the "update" message, not a key error.
   if (!doc.contains("format") || !doc["format"].is_string() ||
       doc["format"].get<std::string>() != kPlanFormatName) {
     throw InvalidInput(
@@ -270,17 +380,48 @@ Plan readDocument(const Reader& r, const Json& doc) {
                        std::to_string(Plan::kFormatVersion) + "); update curvedslicer to read it");
   }
   if (version < 1) r.fail("/version", "is not a valid version: " + std::to_string(version));
-  r.expectKeys(doc, "",
-               {"format", "version", "model", "start", "parameters", "point_fields", "layers"});
-  Plan plan;
-  plan.model = r.string(doc["model"], "/model");
-  plan.start = r.string(doc["start"], "/start");
-  const Json& pj = doc["parameters"];
-  r.expectKeys(pj, "/parameters",
-               {"layer_thickness_mm", "voxel_size_mm", "bead_spacing_mm", "point_spacing_mm",
-                "fit_tolerance_mm", "field_method", "surface_method", "initial_curve"},
-               {"narrow_strips", "corner_angle_deg"});
-  PlanParameters& p = plan.parameters;
+  return static_cast<int>(version);
+}
+
+/// The issue-15 parameters (version 2, each optional).
+void readCoverageParameters(const Reader& r, const Json& pj, PlanParameters& p) {
+  if (pj.contains("min_feature_width_mm")) {
+    const double w = r.number(pj["min_feature_width_mm"], "/parameters/min_feature_width_mm");
+    if (!(w > 0.0)) {
+      r.fail("/parameters/min_feature_width_mm",
+             "is " + abbreviateJson(pj["min_feature_width_mm"]) + ": expected a width > 0 mm");
+    }
+    p.minFeatureWidth = w;
+  }
+  if (pj.contains("bead_width_range")) {
+    const std::string where = "/parameters/bead_width_range";
+    const Json& range = pj["bead_width_range"];
+    if (!range.is_array() || range.size() != 2) r.fail(where, "must be an array of 2 numbers");
+    const std::array<double, 2> v = {r.number(range[0], where + "/0"),
+                                     r.number(range[1], where + "/1")};
+    if (!(v[0] > 0.0 && v[0] <= 1.0 && v[1] >= 1.0)) {
+      r.fail(where, "is " + abbreviateJson(range) +
+                        ": expected [min, max] fractions of the bead spacing, 0 < min <= 1 <= max");
+    }
+    p.beadWidthRange = v;
+  }
+  if (pj.contains("connect_insets")) {
+    p.connectInsets = r.boolean(pj["connect_insets"], "/parameters/connect_insets");
+  }
+}
+
+PlanParameters readParameters(const Reader& r, const Json& pj, int version) {
+  const std::initializer_list<const char*> required = {
+      "layer_thickness_mm", "voxel_size_mm", "bead_spacing_mm", "point_spacing_mm",
+      "fit_tolerance_mm",   "field_method",  "surface_method",  "initial_curve"};
+  if (version == 1) {
+    r.expectKeys(pj, "/parameters", required, {"narrow_strips", "corner_angle_deg"});
+  } else {
+    r.expectKeys(pj, "/parameters", required,
+                 {"narrow_strips", "corner_angle_deg", "min_feature_width_mm", "bead_width_range",
+                  "connect_insets"});
+  }
+  PlanParameters p;
   p.layerThickness = r.nonNegative(pj["layer_thickness_mm"], "/parameters/layer_thickness_mm");
   p.voxelSize = r.nonNegative(pj["voxel_size_mm"], "/parameters/voxel_size_mm");
   p.beadSpacing = r.nonNegative(pj["bead_spacing_mm"], "/parameters/bead_spacing_mm");
@@ -304,20 +445,40 @@ Plan readDocument(const Reader& r, const Json& doc) {
     }
     p.cornerAngle = angle;
   }
-  const Json& fields = r.array(doc["point_fields"], "/point_fields");
-  bool fieldsOk = fields.size() == kPointFields.size();
+  readCoverageParameters(r, pj, p);
+  return p;
+}
+
+void readPointFields(const Reader& r, const Json& fields, const FileFormat& format) {
+  const std::size_t n = format.pointFields();
+  bool fieldsOk = fields.size() == n;
   for (std::size_t i = 0; fieldsOk && i < fields.size(); ++i) {
     fieldsOk = fields[i].is_string() && fields[i].get<std::string>() == kPointFields[i];
   }
   if (!fieldsOk) {
-    r.fail("/point_fields", "is " + abbreviateJson(fields) +
-                                ": expected [\"x\",\"y\",\"z\",\"nx\",\"ny\",\"nz\",\"vx\",\"vy\","
-                                "\"vz\"]");
+    std::string expected = "[";
+    for (std::size_t i = 0; i < n; ++i)
+      expected += (i ? ",\"" : "\"") + std::string(kPointFields[i]) + "\"";
+    r.fail("/point_fields", "is " + abbreviateJson(fields) + ": expected " + expected + "]" +
+                                (format.version == 1 ? " (version 1)" : ""));
   }
+}
+
+Plan readDocument(const Reader& r, const Json& doc) {
+  FileFormat format;
+  format.version = readVersion(r, doc);
+  r.expectKeys(doc, "",
+               {"format", "version", "model", "start", "parameters", "point_fields", "layers"});
+  Plan plan;
+  plan.model = r.string(doc["model"], "/model");
+  plan.start = r.string(doc["start"], "/start");
+  plan.parameters = readParameters(r, doc["parameters"], format.version);
+  format.beadSpacing = plan.parameters.beadSpacing;
+  readPointFields(r, r.array(doc["point_fields"], "/point_fields"), format);
   const Json& layers = r.array(doc["layers"], "/layers");
   plan.layers.reserve(layers.size());
   for (std::size_t i = 0; i < layers.size(); ++i) {
-    plan.layers.push_back(readLayer(r, layers[i], "/layers/" + std::to_string(i)));
+    plan.layers.push_back(readLayer(r, layers[i], "/layers/" + std::to_string(i), format));
   }
   checkPlan(plan, r.origin());
   return plan;
@@ -378,11 +539,35 @@ void appendParameters(std::string& out, const PlanParameters& p) {
     appendKey(out, "    ", "corner_angle_deg");
     appendNumber(out, *p.cornerAngle);
   }
+  if (p.minFeatureWidth) {
+    out += ",\n";
+    appendKey(out, "    ", "min_feature_width_mm");
+    appendNumber(out, *p.minFeatureWidth);
+  }
+  if (p.beadWidthRange) {
+    out += ",\n";
+    appendKey(out, "    ", "bead_width_range");
+    out += "[";
+    appendNumber(out, (*p.beadWidthRange)[0]);
+    out += ", ";
+    appendNumber(out, (*p.beadWidthRange)[1]);
+    out += "]";
+  }
+  if (p.connectInsets) {
+    out += ",\n";
+    appendKey(out, "    ", "connect_insets");
+    out += *p.connectInsets ? "true" : "false";
+  }
   out += "\n  },\n";
 }
 
+/// The width written for a point: its own, or the bead spacing where it is 0.
+double widthOf(const PathPoint& q, double beadSpacing) {
+  return q.width > 0.0 ? q.width : beadSpacing;
+}
+
 /// One path object, followed by "," unless it is the layer's last.
-void appendPath(std::string& out, const PlanPath& path, bool last) {
+void appendPath(std::string& out, const PlanPath& path, double beadSpacing, bool last) {
   out += "        {\n";
   appendKey(out, "          ", "layer");
   out += std::to_string(path.layer) + ",\n";
@@ -393,6 +578,11 @@ void appendPath(std::string& out, const PlanPath& path, bool last) {
   appendKey(out, "          ", "length_mm");
   appendNumber(out, path.length);
   out += ",\n";
+  if (path.dwell > 0.0) {
+    appendKey(out, "          ", "dwell_s");
+    appendNumber(out, path.dwell);
+    out += ",\n";
+  }
   appendKey(out, "          ", "points");
   out += "[\n";
   for (std::size_t qi = 0; qi < path.points.size(); ++qi) {
@@ -405,14 +595,51 @@ void appendPath(std::string& out, const PlanPath& path, bool last) {
         appendNumber(out, (*vs[v])[c]);
       }
     }
+    out += ", ";
+    appendNumber(out, widthOf(q, beadSpacing));
     out += qi + 1 < path.points.size() ? "],\n" : "]\n";
   }
   out += "          ]\n";
   out += last ? "        }\n" : "        },\n";
 }
 
+void appendVec3(std::string& out, const Vec3& v) {
+  out += "[";
+  for (int c = 0; c < 3; ++c) {
+    if (c) out += ", ";
+    appendNumber(out, v[c]);
+  }
+  out += "]";
+}
+
+/// `"coverage": {...},` of a layer whose coverage was measured; one line per void patch.
+void appendCoverage(std::string& out, const LayerCoverage& c) {
+  appendKey(out, "      ", "coverage");
+  out += "{\"area_mm2\": ";
+  appendNumber(out, c.area);
+  out += ", \"void_share\": ";
+  appendNumber(out, c.voidShare);
+  out += ", \"overlap_share\": ";
+  appendNumber(out, c.overlapShare);
+  out += ", \"bead_width_mm\": ";
+  appendNumber(out, c.beadWidth);
+  out += ", \"arc_starts\": " + std::to_string(c.arcStarts) + ", \"voids\": [";
+  for (std::size_t i = 0; i < c.voids.size(); ++i) {
+    out += i ? ",\n" : "\n";
+    out += "        {\"area_mm2\": ";
+    appendNumber(out, c.voids[i].area);
+    out += ", \"centre_mm\": ";
+    appendVec3(out, c.voids[i].centre);
+    out += ", \"size_mm\": ";
+    appendNumber(out, c.voids[i].size);
+    out += "}";
+  }
+  out += c.voids.empty() ? "]},\n" : "\n      ]},\n";
+}
+
 /// One layer object (index `li`), followed by "," unless it is the plan's last.
-void appendLayer(std::string& out, const PlanLayer& layer, std::size_t li, bool last) {
+void appendLayer(std::string& out, const PlanLayer& layer, std::size_t li, double beadSpacing,
+                 bool last) {
   out += "    {\n";
   appendKey(out, "      ", "index");
   out += std::to_string(layer.index) + ",\n";
@@ -429,10 +656,11 @@ void appendLayer(std::string& out, const PlanLayer& layer, std::size_t li, bool 
     appendString(out, layer.warnings[w], pointer(static_cast<int>(li)) + "/warnings");
   }
   out += "],\n";
+  if (layer.coverage.measured) appendCoverage(out, layer.coverage);
   appendKey(out, "      ", "paths");
   out += layer.paths.empty() ? "[]\n" : "[\n";
   for (std::size_t pi = 0; pi < layer.paths.size(); ++pi) {
-    appendPath(out, layer.paths[pi], pi + 1 == layer.paths.size());
+    appendPath(out, layer.paths[pi], beadSpacing, pi + 1 == layer.paths.size());
   }
   if (!layer.paths.empty()) out += "      ]\n";
   out += last ? "    }\n" : "    },\n";
@@ -468,7 +696,8 @@ std::string formatPlanJson(const Plan& plan) {
   appendKey(out, "  ", "layers");
   out += plan.layers.empty() ? "[]\n" : "[\n";
   for (std::size_t li = 0; li < plan.layers.size(); ++li) {
-    appendLayer(out, plan.layers[li], li, li + 1 == plan.layers.size());
+    appendLayer(out, plan.layers[li], li, plan.parameters.beadSpacing,
+                li + 1 == plan.layers.size());
   }
   if (!plan.layers.empty()) out += "  ]\n";
   out += "}\n";
@@ -519,7 +748,7 @@ Plan readPlanJson(const std::filesystem::path& path) {
 
 std::string formatPlanCsv(const Plan& plan) {
   checkPlan(plan, "plan");
-  std::string out = "layer,path,point,closed,x_mm,y_mm,z_mm,nx,ny,nz,vx,vy,vz\n";
+  std::string out = "layer,path,point,closed,x_mm,y_mm,z_mm,nx,ny,nz,vx,vy,vz,w_mm\n";
   out.reserve(out.size() + plan.pointCount() * 180);
   for (const PlanLayer& layer : plan.layers) {
     for (const PlanPath& path : layer.paths) {
@@ -534,6 +763,8 @@ std::string formatPlanCsv(const Plan& plan) {
             appendNumber(out, (*v)[c]);
           }
         }
+        out += ',';
+        appendNumber(out, widthOf(q, plan.parameters.beadSpacing));
         out += '\n';
       }
     }

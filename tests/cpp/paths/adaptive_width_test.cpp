@@ -34,7 +34,7 @@ TriMesh makeFlatPatch(double x0, double x1, double y0, double y1, double z, int 
   return mesh;
 }
 
-/// Shares of a flat rectangle's area (sampled on a 0.1 mm grid) that no bead covers (void) and
+/// Shares of a flat rectangle's area (sampled on a 0.05 mm grid) that no bead covers (void) and
 /// that two or more paths cover (overlap); a path covers a point within half its width
 /// (PathPoint::width, or s where 0) of its centre line. Independent of the planner's own
 /// coverage measurement.
@@ -52,7 +52,7 @@ double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b) {
 
 Coverage measureRectangleCoverage(const PlanLayer& layer, double x1, double y1, double z,
                                   double s) {
-  const double step = 0.1;
+  const double step = 0.05;
   std::size_t samples = 0, voids = 0, overlaps = 0;
   for (double y = 0.5 * step; y < y1; y += step) {
     for (double x = 0.5 * step; x < x1; x += step) {
@@ -155,6 +155,8 @@ TEST(AdaptiveWidth, RectangleNotAWholeNumberOfBeadsIsFilled) {
   for (const PlanPath& path : layer.paths) {
     for (const PathPoint& q : path.points) EXPECT_NEAR(q.width, 23.0 / 6.0, 0.02);
   }
+  // The plan's own coverage numbers (paths/coverage.hpp) and the independent sampling here.
+  ASSERT_TRUE(layer.coverage.measured);
   const Coverage on = measureRectangleCoverage(layer, 23, 60, 1.5, 3.7);
   EXPECT_LE(on.voidShare, 0.01);
   EXPECT_LE(on.overlapShare, 0.05);
@@ -165,9 +167,11 @@ TEST(AdaptiveWidth, RectangleNotAWholeNumberOfBeadsIsFilled) {
   }
   const Coverage off = measureRectangleCoverage(fixed.plan.layers.at(0), 23, 60, 1.5, 3.7);
   std::printf(
-      "rectangle 23 x 60, s 3.7: adaptive void %.4f overlap %.4f; fixed void %.4f "
-      "overlap %.4f\n",
-      on.voidShare, on.overlapShare, off.voidShare, off.overlapShare);
+      "rectangle 23 x 60, s 3.7: adaptive void %.4f overlap %.4f (plan: %.4f, %.4f); "
+      "fixed void %.4f overlap %.4f (plan: %.4f, %.4f)\n",
+      on.voidShare, on.overlapShare, layer.coverage.voidShare, layer.coverage.overlapShare,
+      off.voidShare, off.overlapShare, fixed.plan.layers[0].coverage.voidShare,
+      fixed.plan.layers[0].coverage.overlapShare);
 }
 
 TEST(AdaptiveWidth, RejectsRangeWithoutTheBeadSpacing) {

@@ -11,6 +11,7 @@
 
 #include "common/shapes.hpp"
 #include "curvedslicer/core/error.hpp"
+#include "curvedslicer/paths/coverage.hpp"
 #include "curvedslicer/paths/planner.hpp"
 #include "curvedslicer/plan/plan_io.hpp"
 
@@ -112,9 +113,38 @@ TEST(Planner, FlatFirstLayerAbovePlate) {
   EXPECT_EQ(plan.parameters.beadSpacing, 3.7);
   EXPECT_NO_THROW(validatePlan(plan));
   // Stage times are reported for every stage.
-  ASSERT_EQ(result.stats.stageTimes.size(), 7u);
+  ASSERT_EQ(result.stats.stageTimes.size(), 8u);
   EXPECT_EQ(result.stats.stageTimes[0].name, "surface index");
   EXPECT_EQ(result.stats.stageTimes[2].name, "surface geodesic");
+  EXPECT_EQ(result.stats.stageTimes[7].name, "coverage");
+}
+
+TEST(Planner, MeasuresEveryLayersCoverage) {
+  // The 40 × 30 layer with 4 rings at (k + ½)·3.7 from the edge: what the planner records is the
+  // coverage of the layer surface by the planned paths; the largest void is the 10.4 × 0.4 mm
+  // strip inside the innermost ring (at the centre); the rest are the rings' corners (at most
+  // 16 · r²(1 − π/4) = 11.8 mm² for sharp corners, more where the fit rounds them).
+  const std::vector<LayerSurface> layers = {
+      makeLayer(1, 1.5, makeFlatPatch(0, 40, 0, 30, 1.5, 40, 30))};
+  const PlanResult result = planLayers(layers, TriMesh{}, PlannerOptions{});
+  const LayerCoverage& c = result.plan.layers[0].coverage;
+  EXPECT_TRUE(c.measured);
+  EXPECT_NEAR(c.area, 1200.0, 1e-6);
+  EXPECT_EQ(c.arcStarts, 4u);
+  EXPECT_DOUBLE_EQ(c.beadWidth, 3.7);
+  const LayerCoverage direct =
+      computeLayerCoverage(layers[0].mesh, result.plan.layers[0].paths, 3.7);
+  EXPECT_EQ(c.voidShare, direct.voidShare);
+  EXPECT_EQ(c.overlapShare, direct.overlapShare);
+  EXPECT_GT(c.voidShare * c.area, 10.4 * 0.4);
+  EXPECT_LT(c.voidShare, 0.03);
+  EXPECT_LT(c.overlapShare, 0.01);
+  ASSERT_FALSE(c.voids.empty());
+  EXPECT_NEAR((c.voids[0].centre - Vec3(20, 15, 1.5)).norm(), 0.0, 0.5);
+
+  PlannerOptions off;
+  off.measureCoverage = false;
+  EXPECT_FALSE(planLayers(layers, TriMesh{}, off).plan.layers[0].coverage.measured);
 }
 
 TEST(Planner, SphericalShellLayersPointRadiallyInward) {

@@ -19,7 +19,10 @@
 //   5. order ("order"): paths/ordering.hpp, from where the previous layer ended, seams at least
 //      `seamSeparation` (default 2·s) from the previous layer's seams;
 //   6. deposition ("deposition"): paths/deposition.hpp — first layer: the start surface and the
-//      earlier beads of the layer; later layers: the previous layer surface.
+//      earlier beads of the layer; later layers: the previous layer surface;
+//   7. coverage ("coverage", when `measureCoverage`): paths/coverage.hpp, the share of the layer
+//      surface no bead covers and the share two beads cover, into PlanLayer::coverage (thin
+//      walls: not measured).
 // `planThinWall` (the paper's turbine base): a wall surface and one of its boundary loops (the
 // edge on the substrate); curves at GDTC = k·s, k = 1, 2, …, each one bead and one plan layer;
 // the normal of a point is the surface direction of increasing GDTC (the wall's growth
@@ -144,7 +147,7 @@ struct ThinWallOptions {
 struct PlanStageTime {
   std::string name;  ///< "surface index" (closest-point tree and normals of the layer),
                      ///< "initial curves", "surface geodesic", "iso-lines", "fit", "order",
-                     ///< "deposition"
+                     ///< "deposition", "coverage"
   double seconds = 0.0;
 };
 

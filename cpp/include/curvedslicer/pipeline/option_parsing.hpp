@@ -83,6 +83,12 @@ double parseLength(std::string_view text, std::string_view what);
 /// @throws InvalidInput if the text is not a number.
 double parseAngle(std::string_view text, std::string_view what);
 
+/// Parses the adaptive bead width range (PlannerOptions::widthMin / widthMax, fractions of the
+/// bead spacing): "MIN,MAX" (e.g. "0.7,1.3") or "off" (fixed width: 1,1). Range checks are
+/// validatePlannerOptions'.
+/// @throws InvalidInput naming --bead-width-range if the text is neither form.
+void parseBeadWidthRange(std::string_view text, PlannerOptions& options);
+
 /// File format of the layer surfaces.
 enum class LayerFileFormat {
   Ply,  ///< binary little-endian PLY

@@ -11,6 +11,7 @@
 // forms lives in plan/plan_io.hpp.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -92,10 +93,19 @@ struct PlanParameters {
   /// degrees: turns sharper than this (within 0.2 mm) were kept as exact corners by the fit;
   /// absent in plans written before it existed (then not written to the file)
   std::optional<double> cornerAngle;
+  /// Issue 15 (volume plans; absent for thin walls and plans written before it existed): mm, the
+  /// minimum feature width the planner used (PlannerOptions::minFeatureWidth resolved, > 0)
+  std::optional<double> minFeatureWidth;
+  /// Issue 15: the bead width range {min, max} as fractions of the bead spacing ({1, 1}: fixed)
+  std::optional<std::array<double, 2>> beadWidthRange;
+  /// Issue 15: whether consecutive rings of one region were joined into one arc-on path
+  std::optional<bool> connectInsets;
 };
 
 struct Plan {
-  static constexpr int kFormatVersion = 1;
+  /// 2: per-point bead width, path dwell, per-layer coverage, issue-15 parameters (version-1 files
+  /// still read: width = bead spacing, coverage not measured).
+  static constexpr int kFormatVersion = 2;
   std::string model;  ///< the model file or document object the plan was made from
   std::string start;  ///< start-surface specification
   PlanParameters parameters;
