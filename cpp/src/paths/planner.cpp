@@ -13,6 +13,7 @@
 
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/geom/triangle_bvh.hpp"
+#include "curvedslicer/paths/adaptive_width.hpp"
 #include "curvedslicer/paths/connected_insets.hpp"
 #include "curvedslicer/paths/coverage.hpp"
 #include "curvedslicer/paths/iso_lines.hpp"
@@ -189,6 +190,14 @@ struct RawBead {
   std::vector<Vec3> normals;
   std::vector<double> widths;  ///< mm per point; empty: PathPoint::width stays 0 (= s)
   double dwell = 0.0;          ///< s, spot deposit (thin regions)
+};
+
+/// What the level stage hands on besides the beads: the level of every bead (connected insets;
+/// -1 = none) and the short closed iso-lines before and after the narrow-strip rule (thin regions).
+struct LevelFit {
+  std::vector<int> beadLevels;
+  std::vector<Polyline> shortRings;
+  std::vector<Polyline> fitWouldDrop;
 };
 
 /// Fits the iso-lines at one value and turns them into beads on the surface.
@@ -610,6 +619,27 @@ class LayerPlanner {
                           std::vector<RawBead>& beads, std::size_t& dropped, PlanLayer& layer);
   void addThinBead(const ThinBead& thin, const ThinRegionPlanner& planner,
                    const SurfaceQuery& query, std::vector<RawBead>& beads, std::size_t& lost);
+  std::vector<double> fitFixedWidthLevels(const SurfaceGeodesicResult& gdtc,
+                                          const std::vector<Polyline>& curves,
+                                          const SurfaceQuery& query, double maxDistance,
+                                          const Progress& progress, PlanLayer& layer,
+                                          std::vector<RawBead>& beads, std::size_t& dropped,
+                                          LevelFit& fit);
+  // adaptive bead width (paths/adaptive_width.hpp)
+  bool adaptiveWidth() const { return options_.widthMin < 1.0 || options_.widthMax > 1.0; }
+  std::vector<double> fitAdaptiveRegions(const SurfaceGeodesicResult& gdtc,
+                                         const std::vector<Polyline>& curves,
+                                         const SurfaceQuery& query, const Progress& progress,
+                                         PlanLayer& layer, std::vector<RawBead>& beads,
+                                         std::size_t& dropped, LevelFit& fit);
+  std::vector<std::vector<Polyline>> extractRegionLevelLines(const TriMesh& mesh,
+                                                             const std::vector<double>& field,
+                                                             const std::vector<Polyline>& curves,
+                                                             const std::vector<double>& values);
+  void noteClampedWidth(const RegionRings& rings, double halfWidth, PlanLayer& layer);
+  void resolveRegionNarrowStrips(const TriMesh& mesh, const std::vector<double>& field,
+                                 const std::vector<double>& values, double width,
+                                 std::vector<std::vector<Polyline>>& levelLines, PlanLayer& layer);
 
   const PlannerOptions& options_;
   const double s_;
@@ -719,29 +749,18 @@ void LayerPlanner::planOnField(const SurfaceGeodesicResult& gdtc,
                              "(a separate piece of the layer); they get no paths");
   }
   progress.report(0.7, kStages[kIso]);
-  const std::vector<double> values = computeIsoValues(
-      s_, maxDistance, fromBoundary_ ? IsoValueStart::Boundary : IsoValueStart::InteriorCurve);
-  std::vector<std::vector<Polyline>> levelLines = extractLevelLines(gdtc, curves, values);
-  progress.check();
-  // Short rings as the iso-lines give them: the narrow-strip rule drops them too.
-  const std::vector<Polyline> shortRings =
-      fromBoundary_ ? copyShortRings(levelLines, stages_.minLength) : std::vector<Polyline>{};
-  if (options_.narrowStrips == NarrowStripMode::CentreBead && !values.empty()) {
-    resolveNarrowStripsOf(gdtc, values, levelLines, layer);
-  }
-  const std::vector<Polyline> fitWouldDrop =
-      fromBoundary_ ? takeShortRings(levelLines, stages_.minLength) : std::vector<Polyline>{};
   std::vector<RawBead> beads;
   std::size_t dropped = 0;
-  const auto normalOf = [&](const ClosestPoint& c) { return query.normalAt(c); };
-  std::vector<int> beadLevels;  // connected insets: the level of every bead
-  for (std::size_t k = 0; k < levelLines.size(); ++k) {
-    tail_.fit(levelLines[k], query.bvh, normalOf, beads, dropped);
-    beadLevels.resize(beads.size(), static_cast<int>(k));
-    progress.check();
-  }
+  LevelFit fit;  // per bead its level (connected insets); the short rings (thin regions)
+  const std::vector<double> values =
+      adaptiveWidth()
+          ? fitAdaptiveRegions(gdtc, curves, query, progress, layer, beads, dropped, fit)
+          : fitFixedWidthLevels(gdtc, curves, query, maxDistance, progress, layer, beads, dropped,
+                                fit);
+  std::vector<int>& beadLevels = fit.beadLevels;
+  beadLevels.resize(beads.size(), -1);
   if (fromBoundary_) {
-    addThinRegionBeads(gdtc, shortRings, fitWouldDrop, query, beads, dropped, layer);
+    addThinRegionBeads(gdtc, fit.shortRings, fit.fitWouldDrop, query, beads, dropped, layer);
   }
   beadLevels.resize(beads.size(), -1);  // thin-region beads belong to no level: never joined
   tail_.countDropped(dropped);
@@ -754,6 +773,33 @@ void LayerPlanner::planOnField(const SurfaceGeodesicResult& gdtc,
   dep.surface = support_ ? &*support_ : nullptr;
   dep.earlierBeads = firstLayer;
   tail_.deposit(dep, options_.deposition, layer);
+}
+
+/// The iso-lines at (k + ½)·s (or k·s) over the whole layer, narrow strips resolved, fitted into
+/// `beads`; returns the iso-values.
+std::vector<double> LayerPlanner::fitFixedWidthLevels(const SurfaceGeodesicResult& gdtc,
+                                                      const std::vector<Polyline>& curves,
+                                                      const SurfaceQuery& query, double maxDistance,
+                                                      const Progress& progress, PlanLayer& layer,
+                                                      std::vector<RawBead>& beads,
+                                                      std::size_t& dropped, LevelFit& fit) {
+  const std::vector<double> values = computeIsoValues(
+      s_, maxDistance, fromBoundary_ ? IsoValueStart::Boundary : IsoValueStart::InteriorCurve);
+  std::vector<std::vector<Polyline>> levelLines = extractLevelLines(gdtc, curves, values);
+  progress.check();
+  // Short rings as the iso-lines give them: the narrow-strip rule drops them too.
+  if (fromBoundary_) fit.shortRings = copyShortRings(levelLines, stages_.minLength);
+  if (options_.narrowStrips == NarrowStripMode::CentreBead && !values.empty()) {
+    resolveNarrowStripsOf(gdtc, values, levelLines, layer);
+  }
+  if (fromBoundary_) fit.fitWouldDrop = takeShortRings(levelLines, stages_.minLength);
+  const auto normalOf = [&](const ClosestPoint& c) { return query.normalAt(c); };
+  for (std::size_t k = 0; k < levelLines.size(); ++k) {
+    tail_.fit(levelLines[k], query.bvh, normalOf, beads, dropped);
+    fit.beadLevels.resize(beads.size(), static_cast<int>(k));
+    progress.check();
+  }
+  return values;
 }
 
 // ---- iso-lines ----
@@ -940,6 +986,131 @@ void LayerPlanner::addThinBead(const ThinBead& thin, const ThinRegionPlanner& pl
   bead.widths = thin.kind == ThinBeadKind::KeptRing
                     ? std::vector<double>(bead.line.points.size(), s_)
                     : planner.widthsAt(bead.line.points);
+
+// ---- adaptive bead width (issue 15; paths/adaptive_width.hpp) ----
+
+/// The region of the vertex of `mesh` nearest to `p` (initial curves run through the inserted
+/// mesh's vertices, so the nearest one is on the curve).
+std::int32_t regionNear(const TriMesh& mesh, const std::vector<std::int32_t>& region,
+                        const Vec3& p) {
+  std::size_t best = 0;
+  double bestDistance = kInf;
+  for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+    const double d = (mesh.vertices[v] - p).squaredNorm();
+    if (d < bestDistance) {
+      bestDistance = d;
+      best = v;
+    }
+  }
+  return region.empty() ? -1 : region[best];
+}
+
+void appendAll(std::vector<Polyline>& to, std::vector<Polyline> from) {
+  to.insert(to.end(), std::make_move_iterator(from.begin()), std::make_move_iterator(from.end()));
+}
+
+/// Per connected region of the layer: a whole number of rings of one width within the allowed
+/// range (computeRegionRings), iso-lines of the region alone at its values, its narrow strips at
+/// its width, fitted into `beads` with that width. Returns every region's values (ascending).
+std::vector<double> LayerPlanner::fitAdaptiveRegions(const SurfaceGeodesicResult& gdtc,
+                                                     const std::vector<Polyline>& curves,
+                                                     const SurfaceQuery& query,
+                                                     const Progress& progress, PlanLayer& layer,
+                                                     std::vector<RawBead>& beads,
+                                                     std::size_t& dropped, LevelFit& fit) {
+  std::int32_t regionCount = 0;
+  const std::vector<std::int32_t> region = labelMeshRegions(gdtc.mesh, regionCount);
+  std::vector<double> halfWidth(regionCount, 0.0);
+  for (std::size_t v = 0; v < gdtc.distance.size(); ++v) {
+    if (std::isfinite(gdtc.distance[v])) {
+      halfWidth[region[v]] = std::max(halfWidth[region[v]], gdtc.distance[v]);
+    }
+  }
+  const IsoValueStart start =
+      fromBoundary_ ? IsoValueStart::Boundary : IsoValueStart::InteriorCurve;
+  const auto normalOf = [&](const ClosestPoint& c) { return query.normalAt(c); };
+  std::vector<double> allValues;
+  std::vector<double> field(gdtc.distance.size());
+  for (std::int32_t r = 0; r < regionCount; ++r) {
+    const RegionRings rings =
+        computeRegionRings(halfWidth[r], s_, options_.widthMin, options_.widthMax, start);
+    if (rings.values.empty()) continue;
+    noteClampedWidth(rings, halfWidth[r], layer);
+    for (std::size_t v = 0; v < field.size(); ++v) {
+      field[v] = region[v] == r ? gdtc.distance[v] : kInf;
+    }
+    std::vector<Polyline> regionCurves;
+    for (const Polyline& c : curves) {
+      if (!c.points.empty() && regionNear(gdtc.mesh, region, c.points.front()) == r) {
+        regionCurves.push_back(c);
+      }
+    }
+    std::vector<std::vector<Polyline>> levelLines =
+        extractRegionLevelLines(gdtc.mesh, field, regionCurves, rings.values);
+    if (fromBoundary_) appendAll(fit.shortRings, copyShortRings(levelLines, stages_.minLength));
+    if (options_.narrowStrips == NarrowStripMode::CentreBead) {
+      resolveRegionNarrowStrips(gdtc.mesh, field, rings.values, rings.width, levelLines, layer);
+    }
+    if (fromBoundary_) appendAll(fit.fitWouldDrop, takeShortRings(levelLines, stages_.minLength));
+    const std::size_t first = beads.size();
+    for (std::size_t k = 0; k < levelLines.size(); ++k) {
+      tail_.fit(levelLines[k], query.bvh, normalOf, beads, dropped);
+      fit.beadLevels.resize(beads.size(), static_cast<int>(k));
+      progress.check();
+    }
+    for (std::size_t b = first; b < beads.size(); ++b) {
+      beads[b].widths.assign(beads[b].line.points.size(), rings.width);
+    }
+    allValues.insert(allValues.end(), rings.values.begin(), rings.values.end());
+  }
+  std::sort(allValues.begin(), allValues.end());
+  return allValues;
+}
+
+/// A layer note where a region's whole number of beads would need a width outside the range.
+void LayerPlanner::noteClampedWidth(const RegionRings& rings, double halfWidth, PlanLayer& layer) {
+  if (!rings.widthClamped) return;
+  layer.warnings.push_back("adaptive bead width: a region reaching " + formatMm(halfWidth) +
+                           " mm from its initial curve needs beads " + formatMm(rings.wholeWidth) +
+                           " mm wide for a whole number of rings, outside the range " +
+                           formatMm(options_.widthMin * s_) + "–" +
+                           formatMm(options_.widthMax * s_) + " mm; " + formatMm(rings.width) +
+                           " mm used");
+}
+
+/// extractLevelLines for one region: `field` is the GDTC inside the region, +inf elsewhere;
+/// value 0 is the region's initial curves.
+std::vector<std::vector<Polyline>> LayerPlanner::extractRegionLevelLines(
+    const TriMesh& mesh, const std::vector<double>& field, const std::vector<Polyline>& curves,
+    const std::vector<double>& values) {
+  return timer_.run(kIso, [&] {
+    std::vector<double> positive;
+    for (const double value : values) {
+      if (value > 0.0) positive.push_back(value);
+    }
+    std::vector<std::vector<Polyline>> lines = extractIsoLines(mesh, field, positive);
+    if (positive.size() < values.size()) lines.insert(lines.begin(), curves);
+    return lines;
+  });
+}
+
+/// resolveNarrowStripsOf for one region at its bead width: paths of one level closer than
+/// 0.95·w' become one centre bead.
+void LayerPlanner::resolveRegionNarrowStrips(const TriMesh& mesh, const std::vector<double>& field,
+                                             const std::vector<double>& values, double width,
+                                             std::vector<std::vector<Polyline>>& levelLines,
+                                             PlanLayer& layer) {
+  std::vector<double> edgeValues;
+  for (const double value : values) {
+    edgeValues.push_back(value + 0.5 * width + narrowStrips_.innerEdgeOffset);
+  }
+  const std::vector<std::vector<Polyline>> innerEdges =
+      timer_.run(kIso, [&] { return extractIsoLines(mesh, field, edgeValues); });
+  NarrowStripResult strips = timer_.run(kIso, [&] {
+    return resolveNarrowStrips(levelLines, values, width, narrowStrips_, innerEdges);
+  });
+  reportNarrowStrips(strips, layer.warnings);
+  levelLines = std::move(strips.levels);
 }
 
 void LayerPlanner::finish() {

@@ -500,7 +500,64 @@ void checkSpeedsExpressible(Field& pr, const ProcessDescription& proc) {
   }
 }
 
-ProcessDescription readProcess(Field& top) {
+/// An array of arrays of numbers (a bead-model table), shape checked by validateBeadModel.
+std::vector<std::vector<double>> readTable(Field& f, std::string_view key, std::string_view hint) {
+  const Json& j = f.require(key, hint);
+  std::vector<std::vector<double>> rows;
+  if (!j.is_array()) f.fail(key, "must be an array of rows of numbers", abbreviateJson(j), hint);
+  for (const auto& row : j) {
+    if (!row.is_array())
+      f.fail(key, "must be an array of rows of numbers", abbreviateJson(j), hint);
+    std::vector<double>& out = rows.emplace_back();
+    for (const auto& e : row) {
+      if (!e.is_number()) f.fail(key, "must hold only numbers", abbreviateJson(row), hint);
+      out.push_back(e.get<double>());
+    }
+  }
+  return rows;
+}
+
+std::vector<double> readList(Field& f, std::string_view key, std::string_view hint) {
+  const Json& j = f.require(key, hint);
+  if (!j.is_array()) f.fail(key, "must be an array of numbers", abbreviateJson(j), hint);
+  std::vector<double> out;
+  for (const auto& e : j) {
+    if (!e.is_number()) f.fail(key, "must be an array of numbers", abbreviateJson(j), hint);
+    out.push_back(e.get<double>());
+  }
+  return out;
+}
+
+/// The optional bead model (robot/bead_model.hpp): WFS × TS grid, width and height tables.
+BeadModel readBeadModel(Field& pr, std::string_view origin) {
+  if (!pr.has("bead_model")) return {};
+  Field b = pr.object("bead_model", "give the bead width and height over wire feed and speed");
+  BeadModel m;
+  m.source = b.string("source", "", "where the table comes from");
+  m.wireFeeds = readList(b, "wire_feed_m_min", "give the table's wire feed speeds in m/min");
+  m.travelSpeeds = readList(b, "travel_speed_mm_s", "give the table's travel speeds in mm/s");
+  m.width = readTable(b, "width_mm", "give the bead widths, one row per wire feed");
+  m.height = readTable(b, "height_mm", "give the bead heights, one row per wire feed");
+  b.rejectUnknown();
+  try {
+    validateBeadModel(m);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(std::string(origin) + ": " + e.what());
+  }
+  return m;
+}
+
+Json beadModelJson(const BeadModel& m) {
+  Json table = Json::object();
+  table["source"] = m.source;
+  table["wire_feed_m_min"] = m.wireFeeds;
+  table["travel_speed_mm_s"] = m.travelSpeeds;
+  table["width_mm"] = m.width;
+  table["height_mm"] = m.height;
+  return table;
+}
+
+ProcessDescription readProcess(Field& top, std::string_view origin) {
   Field pr = top.object("process", "describe the welding process");
   ProcessDescription proc;
   proc.weldSpeed = pr.positive("weld_speed_mm_s", "give the welding speed in mm/s");
@@ -523,6 +580,7 @@ ProcessDescription readProcess(Field& top) {
                                         "the speed unit set in the controller");
   checkSpeedsExpressible(pr, proc);
   readArc(pr, proc);
+  proc.beadModel = readBeadModel(pr, origin);
   pr.rejectUnknown();
   return proc;
 }
@@ -734,7 +792,7 @@ Cell readCellDocument(const Json& root, std::string_view origin) {
   cell.robot = readRobot(top, origin);
   cell.tool = readTool(top, version, cell.notes);
   cell.positioner = readPositioner(top, version, cell.notes);
-  cell.process = readProcess(top);
+  cell.process = readProcess(top, origin);
   cell.exportOptions = readExport(top);
   cell.controller = readController(top, origin, cell.exportOptions.coordinated);
   cell.home = readHome(top, version, cell, cell.notes);
@@ -937,6 +995,7 @@ std::string writeCellJson(const Cell& cell) {
                       {"path_dwell_s", pr.pathDwell},
                       {"speed_unit", std::string(toString(pr.speedUnit))},
                       {"arc", arc}};
+  if (!pr.beadModel.empty()) j["process"]["bead_model"] = beadModelJson(pr.beadModel);
   const ExportDescription& e = cell.exportOptions;
   j["export"] = Json{{"coordinated", e.coordinated},
                      {"position_type", std::string(toString(e.positionType))},
@@ -1014,6 +1073,25 @@ Cell defaultCell() {
   pr.current = 0.0;
   pr.voltage = 0.0;
   pr.arcStartTime = 0.0;
+  // Example bead model (not measured; see resources/cells/README.md).
+  BeadModel& bead = pr.beadModel;
+  bead.source =
+      "Example table, not measured: computed from mass conservation for 1.2 mm steel wire (bead "
+      "section 2/3 x width x height = 0.9 x wire area x WFS / TS) with an assumed width/height "
+      "ratio 1.6 + 0.25 x WFS[m/min]; shaped like the WFS x TS grids of published GMA-AM bead "
+      "studies (resources/cells/README.md). Replace with your own calibration.";
+  bead.wireFeeds = {2.0, 3.5, 5.0, 6.5, 8.0};
+  bead.travelSpeeds = {4.0, 8.0, 12.0, 16.0, 20.0, 24.0};
+  bead.width = {{5.17, 3.66, 2.98, 2.58, 2.31, 2.11},
+                {7.42, 5.25, 4.29, 3.71, 3.32, 3.03},
+                {9.52, 6.73, 5.5, 4.76, 4.26, 3.89},
+                {11.55, 8.17, 6.67, 5.77, 5.16, 4.71},
+                {13.54, 9.57, 7.81, 6.77, 6.05, 5.53}};
+  bead.height = {{2.46, 1.74, 1.42, 1.23, 1.1, 1.0},
+                 {3.0, 2.12, 1.73, 1.5, 1.34, 1.22},
+                 {3.34, 2.36, 1.93, 1.67, 1.49, 1.36},
+                 {3.58, 2.53, 2.07, 1.79, 1.6, 1.46},
+                 {3.76, 2.66, 2.17, 1.88, 1.68, 1.53}};
   ExportDescription& e = cell.exportOptions;
   e.coordinated = true;
   e.positionType = PositionType::Base;

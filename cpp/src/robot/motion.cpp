@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include "curvedslicer/core/error.hpp"
@@ -317,6 +318,63 @@ void planPositionerAngles(const Plan& plan, const Cell& cell, const Vec3& gravit
     result.notes.push_back(std::to_string(inserted) +
                            " point(s) inserted so that a2 steps at most " +
                            fmt(options.maxA2Step / kDeg, 2) + " deg between path points");
+  }
+}
+
+// ---- weld process per point (issue 15) ----------------------------------------------------
+
+/// The plan's bead width at a motion point (0: the plan's bead spacing); inserted points and
+/// the closing move of a closed path take the plan point they follow / repeat.
+double planWidthAt(const Plan& plan, const MotionPoint& m) {
+  const std::vector<PathPoint>& points =
+      plan.layers[static_cast<std::size_t>(m.layer)].paths[static_cast<std::size_t>(m.path)].points;
+  if (points.empty()) return 0.0;
+  const auto i = static_cast<std::size_t>(std::max(m.index, 0));
+  return points[i < points.size() ? i : 0].width;
+}
+
+/// Bead width, wire feed and weld speed of every path point: where the plan gives a bead width
+/// (adaptive width) and the cell has a bead model, the model's WFS and TS for that width at the
+/// plan's layer thickness (warning where the model cannot reach both); elsewhere the cell's wire
+/// feed and weld speed (the process set up for the nominal bead, the bead spacing).
+void assignWeldProcess(const Plan& plan, const Cell& cell, MotionPlan& result,
+                       WarningLog& warnings) {
+  const ProcessDescription& process = cell.process;
+  const double height = plan.parameters.layerThickness;
+  const bool useModel = !process.beadModel.empty() && height > 0.0;
+  std::map<double, BeadSetting> settings;  // per bead width (one layer height per plan)
+  bool widths = false;                     // the plan gives bead widths (adaptive width)
+  for (MotionPoint& m : result.points) {
+    if (m.kind != MoveKind::Path) continue;
+    const double width = planWidthAt(plan, m);
+    m.beadWidth = width > 0.0 ? width : plan.parameters.beadSpacing;
+    if (!m.arcOn) continue;
+    m.wireFeed = process.wireFeed;
+    m.nominalSpeed = process.weldSpeed;
+    widths = widths || width > 0.0;
+    if (!useModel || !(width > 0.0)) continue;
+    auto it = settings.find(width);
+    if (it == settings.end()) {
+      it = settings.emplace(width, solveBeadSetting(process.beadModel, width, height)).first;
+    }
+    const BeadSetting& b = it->second;
+    m.wireFeed = b.wireFeed;
+    m.speed = b.travelSpeed;
+    m.nominalSpeed = b.travelSpeed;
+    if (!b.reached) {
+      warnings.add(
+          "bead model cannot give the bead width at the layer thickness (nearest table "
+          "setting used)",
+          pointName(m) + ": wanted " + fmt(width, 2) + " x " + fmt(height, 2) + " mm, model " +
+              fmt(b.achieved.width, 2) + " x " + fmt(b.achieved.height, 2) + " mm (short by " +
+              fmt(width - b.achieved.width, 2) + " x " + fmt(height - b.achieved.height, 2) +
+              " mm) at WFS " + fmt(b.wireFeed, 2) + " m/min, TS " + fmt(b.travelSpeed, 2) +
+              " mm/s");
+    }
+  }
+  if (widths && !process.beadModel.empty() && !(height > 0.0)) {
+    result.notes.push_back("bead model not used: the plan has no layer thickness (" +
+                           fmt(height, 3) + " mm); cell wire feed and weld speed used");
   }
 }
 
@@ -666,6 +724,7 @@ MotionPlan planMotion(const Plan& plan, const Cell& givenCell, const MotionOptio
   result.points.reserve(plan.pointCount() + plan.pathCount());
   WarningLog warnings;
   planPositionerAngles(plan, cell, gravity, options, progress.sub(0.0, 0.4), result, warnings);
+  assignWeldProcess(plan, cell, result, warnings);
   RobotKinematicsPass(cell, gravity, options, result, warnings).run(progress.sub(0.4, 0.95));
   result.nearSingularBand = options.nearSingularBand;
   planArcOffMoves(plan, cell, travelSetupOf(cell), options, result, progress.sub(0.95, 0.95));

@@ -53,7 +53,8 @@ MoveTime computeMoveTime(const MotionPoint& a, const MotionPoint& b, const Cell&
   const double partLength = (b.position - a.position).norm();
   if (b.arcOn) {
     t.length = partLength;
-    t.nominal = partLength / cell.process.weldSpeed;
+    // The weld speed planMotion set for the move (the cell's, or the bead model's).
+    t.nominal = partLength / (b.nominalSpeed > 0.0 ? b.nominalSpeed : cell.process.weldSpeed);
   } else {
     const double worldLength = (b.toolInWorld.translation() - a.toolInWorld.translation()).norm();
     t.length = std::max(partLength, worldLength);
@@ -125,7 +126,8 @@ std::string summariseReductions(const std::vector<SpeedReduction>& reductions, s
 /// Time fields of the estimates from the parameterised moves.
 void setEstimates(MotionPlan& motion, const ProcessDescription& process,
                   const std::vector<double>& arc, const std::vector<double>& travel,
-                  const std::vector<double>& travelLength, const std::vector<double>& dwell) {
+                  const std::vector<double>& travelLength, const std::vector<double>& dwell,
+                  const std::vector<double>* wire) {
   constexpr double kPi = 3.14159265358979323846;
   const double area = kPi * 0.25 * process.wireDiameter * process.wireDiameter;
   MotionEstimate total;
@@ -136,7 +138,8 @@ void setEstimates(MotionPlan& motion, const ProcessDescription& process,
     e.travelLength = travelLength[l];
     e.dwellTime = dwell[l];
     e.totalTime = e.arcTime + e.travelTime + e.dwellTime;
-    e.wireLength = process.wireFeed * 1000.0 / 60.0 * e.arcTime;
+    // Per-move wire feed (bead model) where it varies, else the cell's for the whole arc time.
+    e.wireLength = wire ? (*wire)[l] : process.wireFeed * 1000.0 / 60.0 * e.arcTime;
     e.depositedVolume = area * e.wireLength * process.depositionEfficiency;
     e.depositedMass = e.depositedVolume * process.wireDensity / 1000.0;
     total.beadLength += e.beadLength;
@@ -172,6 +175,8 @@ void parameteriseTime(MotionPlan& motion, const Cell& cell, const TimingOptions&
   const std::size_t layerCount = motion.layers.size();
   std::vector<double> arc(layerCount, 0.0), travel(layerCount, 0.0), travelLength(layerCount, 0.0);
   std::vector<double> dwellOfLayer(layerCount, 0.0);
+  std::vector<double> wire(layerCount, 0.0);  // mm of wire fed per layer at per-move feeds
+  bool variableFeed = false;
   double leading = 0.0;
   const std::vector<double> dwell = computeDwells(motion, cell.process, leading);
   for (std::size_t l = 0; l < layerCount; ++l) {
@@ -198,13 +203,16 @@ void parameteriseTime(MotionPlan& motion, const Cell& cell, const TimingOptions&
     const MoveTime move = computeMoveTime(a, b, cell, inverseSpeed, options.limitAxes);
     time += dwell[i - 1] + move.seconds;
     b.time = time;
-    const double nominalSpeed = b.arcOn ? cell.process.weldSpeed : cell.process.travelSpeed;
+    const double weldSpeed = b.nominalSpeed > 0.0 ? b.nominalSpeed : cell.process.weldSpeed;
+    const double nominalSpeed = b.arcOn ? weldSpeed : cell.process.travelSpeed;
     b.speed =
         move.seconds > 0.0 ? std::min(nominalSpeed, move.length / move.seconds) : nominalSpeed;
     const std::size_t layer =
         std::min(static_cast<std::size_t>(std::max(b.layer, 0)), layerCount ? layerCount - 1 : 0);
     if (b.arcOn) {
       if (layerCount) arc[layer] += move.seconds;
+      if (layerCount) wire[layer] += b.wireFeed * 1000.0 / 60.0 * move.seconds;
+      variableFeed = variableFeed || b.wireFeed != cell.process.wireFeed;
       if (move.axis != kNominal && move.seconds > move.nominal * tolerance) {
         b.flags |= kMotionSpeedReduced;
         ++reducedMoves;
@@ -219,7 +227,8 @@ void parameteriseTime(MotionPlan& motion, const Cell& cell, const TimingOptions&
     motion.warnings.push_back(
         summariseReductions(motion.speedReductions, reducedMoves, cell.process.weldSpeed));
   }
-  setEstimates(motion, cell.process, arc, travel, travelLength, dwellOfLayer);
+  setEstimates(motion, cell.process, arc, travel, travelLength, dwellOfLayer,
+               variableFeed ? &wire : nullptr);
 }
 
 }  // namespace curvedslicer

@@ -47,6 +47,7 @@
 #include <vector>
 
 #include "curvedslicer/core/types.hpp"
+#include "curvedslicer/robot/bead_model.hpp"
 
 namespace curvedslicer {
 
@@ -176,6 +177,9 @@ struct ProcessDescription {
   double current = 0.0;       ///< A, direct arc condition (ArcControl::Direct), > 0 then
   double voltage = 0.0;       ///< V, direct arc condition
   double arcStartTime = 0.0;  ///< s, crater / start time for direct conditions
+  /// Issue 15: bead width and height over WFS × TS (robot/bead_model.hpp), JSON
+  /// "process"/"bead_model" (optional); empty = none: every weld at weldSpeed and wireFeed.
+  BeadModel beadModel;
 };
 
 struct ExportDescription {
