@@ -32,6 +32,9 @@ RegionRings computeRegionRings(double halfWidth, double beadSpacing, double widt
   rings.wholeWidth = halfWidth / (k + offset);
   rings.width = std::clamp(rings.wholeWidth, widthMin * s, widthMax * s);
   rings.widthClamped = rings.width != rings.wholeWidth;
+  // A region from its boundary too narrow for one ring of the narrowest bead (two beads across)
+  // gets no ring: the thin-region rule gives it one bead on its centre line at its own width.
+  if (fromBoundary && k == 1.0 && rings.wholeWidth < widthMin * s) return RegionRings{};
   if (rings.widthClamped) {
     rings.values = computeIsoValues(rings.width, halfWidth, start);
     return rings;

@@ -374,11 +374,12 @@ TEST(StrictReaders, CurvedExampleAndCylinderPassInEveryFormat) {
   const MotionPlan curved = planAcceptanceModel(
       "custom_base_geom_to_slice.obj", "mesh:" + modelPath("custom_base_surface.obj").string(),
       true, 1.5, 2.0, 3.7, 5.0, cell);
-  ASSERT_GT(curved.paths.size(), 100u);
+  // Connected insets join the rings of a region (about 300 rings become about 80 welds).
+  ASSERT_GT(curved.paths.size(), 50u);
   expectStrictRoundTrip(curved, cell);
   const MotionPlan cylinder = planAcceptanceModel("simple_cylinder_closed_mid_res.stl", "", false,
                                                   3.0, 4.0, 10.0, 10.0, cell);
-  ASSERT_GT(cylinder.paths.size(), 100u);
+  ASSERT_GT(cylinder.paths.size(), 20u);
   expectStrictRoundTrip(cylinder, cell);
 }
 

@@ -91,6 +91,7 @@ PlanResult planRectangle(double widthMin, double widthMax) {
   const TriMesh plate = makeFlatPatch(-10, 33, -10, 70, 0.0, 2, 2);
   PlannerOptions options;
   options.beadSpacing = 3.7;
+  options.connectInsets = false;  // the rings one by one (joined, they are one path)
   options.widthMin = widthMin;
   options.widthMax = widthMax;
   return planLayers({layer}, plate, options);
@@ -133,6 +134,10 @@ TEST(AdaptiveWidth, WidthOutsideTheRangeIsClamped) {
   // Nothing to fill.
   EXPECT_TRUE(computeRegionRings(0.0, 3.7, 0.7, 1.3, IsoValueStart::Boundary).values.empty());
   EXPECT_TRUE(computeRegionRings(kInf, 3.7, 0.7, 1.3, IsoValueStart::Boundary).values.empty());
+  // Narrower than two beads of the narrowest width: no ring (a centre bead from the thin-region
+  // rule covers it at its own width).
+  EXPECT_TRUE(computeRegionRings(1.4, 3.7, 0.7, 1.3, IsoValueStart::Boundary).values.empty());
+  EXPECT_EQ(computeRegionRings(1.4, 3.7, 1.0, 1.0, IsoValueStart::Boundary).values.size(), 0u);
 }
 
 TEST(AdaptiveWidth, LabelsConnectedRegions) {

@@ -128,7 +128,9 @@ TEST(Planner, MeasuresEveryLayersCoverage) {
   // 16 · r²(1 − π/4) = 11.8 mm² for sharp corners, more where the fit rounds them).
   const std::vector<LayerSurface> layers = {
       makeLayer(1, 1.5, makeFlatPatch(0, 40, 0, 30, 1.5, 40, 30))};
-  const PlanResult result = planLayers(layers, TriMesh{}, PlannerOptions{});
+  PlannerOptions options;
+  options.connectInsets = false;  // four rings, four arc starts, no step-over overlap
+  const PlanResult result = planLayers(layers, TriMesh{}, options);
   const LayerCoverage& c = result.plan.layers[0].coverage;
   EXPECT_TRUE(c.measured);
   EXPECT_NEAR(c.area, 1200.0, 1e-6);
