@@ -75,10 +75,10 @@ def gui_session():
     check(os.path.dirname(dialog.path.text()) == os.path.expanduser("~"),
           "unsaved document: the export dialog starts in the home folder (%s)"
           % dialog.path.text())
-    dialog.program_name.setText("MACROTEST")
-    dialog.path.setText(os.path.join(EXPORT, "program.JBI"))
+    dialog.program_name.setText("MACROTES")
+    dialog.path.setText(os.path.join(EXPORT, "MACROTES.JBI"))  # file name = program name
     options = dialog.options()
-    check(options["format"] == "jbi" and options["program_name"] == "MACROTEST",
+    check(options["format"] == "jbi" and options["program_name"] == "MACROTES",
           "the export dialog's options: %s" % options)
     check(job_commands.export_selected_job(job, **options) is not None, "export from the GUI")
     FreeCADGui.Selection.clearSelection()
