@@ -205,7 +205,32 @@ class SampleClassifier {
   std::vector<BeadHit> hits_;
 };
 
-/// Calls f(centroid, area) for the n² sub-triangles of triangle t (n from the sample spacing h).
+/// A 64-bit mix (splitmix64's finaliser): deterministic pseudo-random bits from a key.
+std::uint64_t mixBits(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+/// Two numbers in [0, 1) from a key (53 bits each).
+std::array<double, 2> unitPair(std::uint64_t key) {
+  const std::uint64_t x = mixBits(key), y = mixBits(x ^ 0x5851f42d4c957f2dull);
+  constexpr double kScale = 1.0 / 9007199254740992.0;  // 2^-53
+  return {static_cast<double>(x >> 11) * kScale, static_cast<double>(y >> 11) * kScale};
+}
+
+/// A point uniformly placed in the triangle (o, o + u, o + v) by the unit pair r.
+Vec3 pointInTriangle(const Vec3& o, const Vec3& u, const Vec3& v, std::array<double, 2> r) {
+  if (r[0] + r[1] > 1.0) r = {1.0 - r[0], 1.0 - r[1]};
+  return o + r[0] * u + r[1] * v;
+}
+
+/// Calls f(point, area) for the n² sub-triangles of triangle t (n from the sample spacing h), one
+/// sample per sub-triangle at a position jittered inside it (stratified sampling). The offsets
+/// come from a hash of the triangle and sub-triangle indices: deterministic and independent of
+/// the thread count, and not aligned with the regular mesh (bead edges and small gaps between
+/// beads parallel to the mesh lines would alias with a fixed pattern).
 template <typename F>
 void forEachSample(const TriMesh& mesh, std::size_t t, double spacing, F&& f) {
   const Vec3 a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
@@ -213,10 +238,14 @@ void forEachSample(const TriMesh& mesh, std::size_t t, double spacing, F&& f) {
   const int n = std::max(1, static_cast<int>(std::ceil(longest / spacing)));
   const double area = mesh.triangleArea(t) / (static_cast<double>(n) * n);
   const Vec3 u = (b - a) / n, v = (c - a) / n;
+  std::uint64_t key = static_cast<std::uint64_t>(t) << 32;
   for (int i = 0; i < n; ++i) {
     for (int j = 0; i + j < n; ++j) {
-      f(Vec3(a + (i + 1.0 / 3.0) * u + (j + 1.0 / 3.0) * v), area);  // upward sub-triangle
-      if (i + j < n - 1) f(Vec3(a + (i + 2.0 / 3.0) * u + (j + 2.0 / 3.0) * v), area);
+      const Vec3 corner = a + i * u + j * v;
+      f(pointInTriangle(corner, u, v, unitPair(key++)), area);  // upward sub-triangle
+      if (i + j < n - 1) {  // downward sub-triangle (corner + u + v, corner + v, corner + u)
+        f(pointInTriangle(corner + u + v, -u, -v, unitPair(key++)), area);
+      }
     }
   }
 }

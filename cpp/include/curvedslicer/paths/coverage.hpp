@@ -8,8 +8,12 @@
 // or of coincident points, is a disc).
 //
 // Method: the surface is sampled area-weighted — each triangle is cut into n² congruent
-// sub-triangles (n = ⌈longest edge / sample spacing⌉) and each sub-triangle's centroid carries its
-// area, so the sample areas add up exactly to the surface area. Triangles are processed in a fixed
+// sub-triangles (n = ⌈longest edge / sample spacing⌉) and each sub-triangle carries its area on
+// one sample placed uniformly at random inside it (stratified sampling), so the sample areas add
+// up exactly to the surface area. The positions come from a hash of the triangle and
+// sub-triangle indices (deterministic); a fixed pattern such as the centroids would alias with a
+// regular layer mesh (narrow gaps between beads parallel to the mesh lines missed or hit on every
+// triangle alike). Triangles are processed in a fixed
 // number of blocks (OpenMP), summed in block order: the result does not depend on the thread
 // count. A sample is
 //   - void when no bead covers it;
@@ -36,7 +40,7 @@
 namespace curvedslicer {
 
 struct CoverageOptions {
-  /// mm, largest edge of the sub-triangles whose centroids are the area samples; < 0 means s/10
+  /// mm, largest edge of the sub-triangles that each hold one area sample; < 0 means s/10
   /// (s = the bead spacing passed to computeLayerCoverage).
   double sampleSpacing = -1.0;
   /// How many of the largest uncovered patches LayerCoverage::voids lists (largest first).
