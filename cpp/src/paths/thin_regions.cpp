@@ -447,6 +447,13 @@ void ThinRegionPlanner::Impl::planRegion(std::int32_t region, ThinRegionResult& 
     along.normalize();
     const double half = 0.5 * options.spotSeparation;
     bead.line.points = {middle - half * along, middle + half * along};
+    // A spot covers the disc of its width: wide enough to reach the island's farthest rim point
+    // (an island longer than it is wide), within the allowed range (fixed width: s).
+    double reach = 0.0;
+    for (const auto& [a, b] : r.rim) {
+      reach = std::max({reach, (a - middle).norm(), (b - middle).norm()});
+    }
+    bead.width = beadWidthFor(std::max(info.width, 2.0 * reach));
   }
   info.kind = bead.kind;
   result.regions.push_back(info);
