@@ -986,6 +986,7 @@ void LayerPlanner::addThinBead(const ThinBead& thin, const ThinRegionPlanner& pl
   bead.widths = thin.kind == ThinBeadKind::KeptRing
                     ? std::vector<double>(bead.line.points.size(), s_)
                     : planner.widthsAt(bead.line.points);
+}
 
 // ---- adaptive bead width (issue 15; paths/adaptive_width.hpp) ----
 
