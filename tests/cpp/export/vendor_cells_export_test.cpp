@@ -3,7 +3,8 @@
 // export that vendor's language (yaskawa → JBI, kuka → KRL, abb → RAPID, fanuc → LS) and G-code.
 // Every file is read back by the strict readers WITH THAT CELL: one move per motion point, one weld
 // per motion path, every position through that cell's forward kinematics within 0.01 mm of the
-// plan point, every program within the cell's line limit and every file under 4 MB.
+// plan point, every program within the cell's line limit and every file under 4 MB; KRL and
+// RAPID positions also turn the tool as planned, in the vendor's tool-frame convention.
 // CURVEDSLICER_VENDOR_PLANS=a.json[,b.json] (run by hand, not in CI) does the same for saved
 // plan files at full resolution and prints file counts and sizes (tests/bench/README.md).
 #include <gtest/gtest.h>
@@ -156,6 +157,7 @@ ExportSize expectVendorExport(const MotionPlan& motion, const Cell& cell, Export
                                                           : readRapidExport(r, placed);
       EXPECT_EQ(read.program.welds.size(), motion.paths.size());
       expectRoundTrip(read, motion, placed, kRoundTrip);
+      expectToolOrientation(read, motion, placed, format == ExportFormat::Krl);
       break;
     }
     default:
