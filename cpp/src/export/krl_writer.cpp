@@ -98,8 +98,7 @@ void declarePosition(ProgramText& dat, const MotionPlan& motion, const Cell& cel
       appendFixed(b, p.joints[j] * kRadToDeg, 4);
     }
   } else {
-    appendXyzAbc(b, kukaToolFrame(cell.exportOptions.coordinated ? p.toolInTable
-                                                                 : p.toolInWorld));
+    appendXyzAbc(b, kukaToolFrame(cell.exportOptions.coordinated ? p.toolInTable : p.toolInWorld));
     appendStatusTurn(b, configurations.at(i));
   }
   appendExternal(b, cell, p);

@@ -115,12 +115,12 @@ inline void expectToolOrientation(const ReadExport& read, const MotionPlan& moti
     const Mat3 planned = (cell.exportOptions.coordinated ? p.toolInTable : p.toolInWorld).linear();
     const Mat3 stated = read.positions[i].tcp.linear();
     const Vec3 torch = planned.col(2);
-    const double error = krl ? std::max((stated.col(0) - torch).norm(),
-                                        (stated.col(1) - planned.col(1)).norm())
-                             : (stated - planned).norm();
+    const double error =
+        krl ? std::max((stated.col(0) - torch).norm(), (stated.col(1) - planned.col(1)).norm())
+            : (stated - planned).norm();
     if (error > tolerance && off++ < 3) {
-      ADD_FAILURE() << (krl ? "KRL" : "RAPID") << " position " << i << " turns the tool "
-                    << error << " off the plan: " << read.program.moves[i].line;
+      ADD_FAILURE() << (krl ? "KRL" : "RAPID") << " position " << i << " turns the tool " << error
+                    << " off the plan: " << read.program.moves[i].line;
     }
   }
   EXPECT_EQ(off, 0u);

@@ -32,8 +32,8 @@ namespace {
 
 using namespace testing;
 
-constexpr double kRoundTrip = 0.01;                  ///< mm, reader → FK → plan point
-constexpr std::size_t kMaxFileBytes = 4u << 20;      ///< "no single file over a few MB"
+constexpr double kRoundTrip = 0.01;              ///< mm, reader → FK → plan point
+constexpr std::size_t kMaxFileBytes = 4u << 20;  ///< "no single file over a few MB"
 
 struct VendorCase {
   const char* file;
@@ -153,8 +153,8 @@ ExportSize expectVendorExport(const MotionPlan& motion, const Cell& cell, Export
       break;
     case ExportFormat::Krl:
     case ExportFormat::Rapid: {  // these readers check every file's lines against the limit
-      const ReadExport read = format == ExportFormat::Krl ? readKrlExport(r, placed)
-                                                          : readRapidExport(r, placed);
+      const ReadExport read =
+          format == ExportFormat::Krl ? readKrlExport(r, placed) : readRapidExport(r, placed);
       EXPECT_EQ(read.program.welds.size(), motion.paths.size());
       expectRoundTrip(read, motion, placed, kRoundTrip);
       expectToolOrientation(read, motion, placed, format == ExportFormat::Krl);
@@ -176,26 +176,25 @@ void expectEveryVendorExports(const Plan& plan, std::ostream* report = nullptr) 
     for (ExportFormat format : {v.language, ExportFormat::Gcode}) {
       const ExportSize s = expectVendorExport(motion, cell, format);
       if (report != nullptr) {
-        *report << v.file << " " << toString(format) << ": " << motion.points.size()
-                << " points, " << s.files << " files, largest " << s.largestName << " "
-                << s.largestBytes << " B, total " << s.totalBytes << " B, most lines "
-                << s.maxLines << "\n";
+        *report << v.file << " " << toString(format) << ": " << motion.points.size() << " points, "
+                << s.files << " files, largest " << s.largestName << " " << s.largestBytes
+                << " B, total " << s.totalBytes << " B, most lines " << s.maxLines << "\n";
       }
     }
   }
 }
 
 TEST(VendorCellsExport, CurvedExampleWithEveryVendorCell) {
-  const Plan plan = planModel("custom_base_geom_to_slice.obj",
-                              "mesh:" + modelPath("custom_base_surface.obj").string(), true, 1.5,
-                              2.0, 3.7, 5.0);
+  const Plan plan =
+      planModel("custom_base_geom_to_slice.obj",
+                "mesh:" + modelPath("custom_base_surface.obj").string(), true, 1.5, 2.0, 3.7, 5.0);
   ASSERT_GT(plan.layers.size(), 10u);
   expectEveryVendorExports(plan);
 }
 
 TEST(VendorCellsExport, CylinderWithEveryVendorCell) {
-  const Plan plan = planModel("simple_cylinder_closed_mid_res.stl", "", false, 3.0, 4.0, 10.0,
-                              10.0);
+  const Plan plan =
+      planModel("simple_cylinder_closed_mid_res.stl", "", false, 3.0, 4.0, 10.0, 10.0);
   ASSERT_GT(plan.layers.size(), 10u);
   expectEveryVendorExports(plan);
 }
