@@ -46,6 +46,16 @@ void appendXyzAbc(std::string& b, const Pose& tcp) {
   appendFixed(b, c.roll, 4);
 }
 
+/// The tool frame a KRL position states for the cell's TCP pose `tcp`. KUKA's flange frame has x
+/// out of the flange, the cell's z (it is the cell's flange turned -90 deg about y,
+/// resources/cells/README.md), and so has a calibrated $TOOL_DATA: the torch along x. The same
+/// TCP point, with the frame turned -90 deg about its own y, so that x is the cell's torch axis.
+Pose kukaToolFrame(const Pose& tcp) {
+  Pose kuka = tcp;
+  kuka.linear() = tcp.linear() * Eigen::AngleAxisd(-0.5 * kPi, Vec3::UnitY()).toRotationMatrix();
+  return kuka;
+}
+
 /// ",E1 tilt,E2 rotation,E3 0.0,…,E6 0.0}" (controller degrees).
 void appendExternal(std::string& b, const Cell& cell, const MotionPoint& p) {
   b += ",E1 ";
@@ -88,7 +98,7 @@ void declarePosition(ProgramText& dat, const MotionPlan& motion, const Cell& cel
       appendFixed(b, p.joints[j] * kRadToDeg, 4);
     }
   } else {
-    appendXyzAbc(b, cell.exportOptions.coordinated ? p.toolInTable : p.toolInWorld);
+    appendXyzAbc(b, kukaToolFrame(cell.exportOptions.coordinated ? p.toolInTable : p.toolInWorld));
     appendStatusTurn(b, configurations.at(i));
   }
   appendExternal(b, cell, p);

@@ -131,9 +131,9 @@ TEST(ExportCommand, CurvedExampleExportsWithEachVendorsCell) {
         (fs::path(CURVEDSLICER_SOURCE_DIR) / "resources" / "cells" / file).string();
     for (const char* format : {"csv", language}) {
       SCOPED_TRACE(std::string(file) + " " + format);
-      // The program is named after the file, which must be a valid name of that language (JBI:
-      // at most 8 characters).
-      const fs::path out = dir / (std::string("PART") + "." + format);
+      // One folder per cell; the file's stem is the program name (the export's name rule).
+      fs::create_directories(dir / file);
+      const fs::path out = dir / file / (std::string("BASE.") + format);
       EXPECT_EQ(runCli(dir, "export '" + (dir / "base" / "plan.json").string() + "' --cell '" +
                                 cell + "' --format " + format + " -o '" + out.string() + "'"),
                 0)

@@ -101,6 +101,31 @@ inline void expectRoundTrip(const ReadExport& read, const MotionPlan& motion, co
                               << " mm from the plan";
 }
 
+/// Every Cartesian position a KRL or RAPID program states turns the torch as planned: RAPID states
+/// the cell's tool frame (ABB's tool0 is the cell's flange), KRL states KUKA's tool frame, whose x
+/// is the torch axis (the cell tool's z) and whose y is the cell tool's y (KUKA's flange has x out
+/// of the flange; resources/cells/README.md). Axes compared within `tolerance` (unit vectors).
+inline void expectToolOrientation(const ReadExport& read, const MotionPlan& motion,
+                                  const Cell& cell, bool krl, double tolerance = 1e-5) {
+  ASSERT_EQ(read.positions.size(), motion.points.size());
+  std::size_t off = 0;
+  for (std::size_t i = 0; i < motion.points.size(); ++i) {
+    if (read.positions[i].jointTarget) continue;
+    const MotionPoint& p = motion.points[i];
+    const Mat3 planned = (cell.exportOptions.coordinated ? p.toolInTable : p.toolInWorld).linear();
+    const Mat3 stated = read.positions[i].tcp.linear();
+    const Vec3 torch = planned.col(2);
+    const double error =
+        krl ? std::max((stated.col(0) - torch).norm(), (stated.col(1) - planned.col(1)).norm())
+            : (stated - planned).norm();
+    if (error > tolerance && off++ < 3) {
+      ADD_FAILURE() << (krl ? "KRL" : "RAPID") << " position " << i << " turns the tool " << error
+                    << " off the plan: " << read.program.moves[i].line;
+    }
+  }
+  EXPECT_EQ(off, 0u);
+}
+
 // ---- KRL --------------------------------------------------------------------------------------
 
 /// Reads a KRL .dat: DEFDAT <stem>, declarations "DECL E6POS|E6AXIS XP<k>={…}", ENDDAT.
@@ -572,6 +597,7 @@ inline void expectKrlAndRapidReadBack(const MotionPlan& motion, const Cell& cell
         format == ExportFormat::Krl ? readKrlExport(result, cell) : readRapidExport(result, cell);
     EXPECT_EQ(read.program.welds.size(), motion.paths.size());
     expectRoundTrip(read, motion, placedCell(cell, motion));
+    expectToolOrientation(read, motion, cell, format == ExportFormat::Krl);
   }
 }
 

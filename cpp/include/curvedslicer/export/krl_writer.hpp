@@ -21,7 +21,8 @@
 // one preceded by $VEL_AXIS[1..6] and $VEL_EXTAX[1..2] = the percentage its planned duration
 // needs, writer_support.hpp); any other first motion is a PTP to an E6POS; every further point
 // (welds and the arc-off retract, travel and approach moves) is a LIN to an E6POS {X,Y,Z (mm),
-// A,B,C (deg; A about z, B about y, C about x), S, T, E1..E6}, `$VEL.CP` (m/s; a reduced weld
+// A,B,C (deg; A about z, B about y, C about x: KUKA's tool frame, x along the torch, the cell's
+// TCP frame turned -90 deg about its y as KUKA's flange is), S, T, E1..E6}, `$VEL.CP` (m/s; a reduced weld
 // speed rounded down) set when the speed changes, C_DIS only between weld points. S and T (T bit
 // k set when joint k+1 < 0; S bit 0 = back, bit 1 = elbow down, bit 2 = joint 5 < 0) come from the
 // weld's configuration (MotionPathSpan::configuration, constant from the path start to its end)
