@@ -17,11 +17,11 @@ struct ExportArguments {
   std::string cell;  ///< empty = the default cell (Motoman HP20D + tilt-rotate positioner)
   std::string format;
   std::string output;
-  std::string name;       ///< program / job name; empty = the output file's stem
+  std::string name;          ///< program / job name; empty = the output file's stem
   std::string gcodeMode;     ///< empty = ExportOptions{}.gcodeMode
   std::string gcodeDialect;  ///< empty = ExportOptions{}.gcodeDialect
   int gcodeLinesPerFile = ExportOptions{}.gcodeMaxLinesPerFile;
-  std::string date;       ///< empty = the fixed default (reproducible files)
+  std::string date;  ///< empty = the fixed default (reproducible files)
   bool warnUnreachable = false;
   bool allowForeignCell = false;  ///< write one vendor's language with another vendor's cell
   bool quiet = false;

@@ -255,8 +255,8 @@ void checkMainFileName(const ExportResult& result, const fs::path& mainFile) {
   throw InvalidInput("the output file name does not agree with the program name inside it: '" +
                      quoteForMessage(mainFile.filename().string()) + "' holds the " +
                      std::string(toString(result.format)) + " program " + program +
-                     " (the requested name cut to the format's rules); name the file " +
-                     program + mainFile.extension().string() +
+                     " (the requested name cut to the format's rules); name the file " + program +
+                     mainFile.extension().string() +
                      " or give --name / program_name the file's name");
 }
 

@@ -77,17 +77,15 @@ double moveDuration(const MotionPlan& motion, const Cell& cell, std::size_t i) {
   if (length > 1e-9 && p.speed > 0.0) return length / p.speed;
   const double planned = p.time - q.time - pathEndDwell(motion, cell, i - 1);
   if (planned > 0.0) return planned;
-  const double axes =
-      std::max(std::abs(p.a1 - q.a1) / cell.positioner.tilt.limit.maxSpeed,
-               std::abs(p.a2 - q.a2) / cell.positioner.rotation.limit.maxSpeed);
+  const double axes = std::max(std::abs(p.a1 - q.a1) / cell.positioner.tilt.limit.maxSpeed,
+                               std::abs(p.a2 - q.a2) / cell.positioner.rotation.limit.maxSpeed);
   return std::max(axes, 1e-3);
 }
 
 /// True if the G1 arriving at point i in tcp mode moves no linear axis at the file's resolution
 /// (the table turns under a fixed tool point): its F is then the rotary feed in deg/min.
 bool turnsTheTableOnly(const MotionPlan& motion, std::size_t i) {
-  return (motion.points[i].position - motion.points[i - 1].position).cwiseAbs().maxCoeff() <
-         5e-5;
+  return (motion.points[i].position - motion.points[i - 1].position).cwiseAbs().maxCoeff() < 5e-5;
 }
 
 /// deg/min of a rotary-only move in tcp mode: the combined A, C turn over the planned duration.
@@ -246,10 +244,9 @@ ExportResult GcodeWriter::write(const MotionPlan& motion, const Cell& cell,
       file.text = part.take();
       subFiles.push_back(std::move(file));
     }
-    result.warnings.push_back("the G-code is split into " + std::to_string(chunks.size()) +
-                              " sub-programs of at most " +
-                              std::to_string(options.gcodeMaxLinesPerFile) +
-                              " lines, called from " + name);
+    result.warnings.push_back(
+        "the G-code is split into " + std::to_string(chunks.size()) + " sub-programs of at most " +
+        std::to_string(options.gcodeMaxLinesPerFile) + " lines, called from " + name);
   }
   if (machine) {
     text.line("G94");

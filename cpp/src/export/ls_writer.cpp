@@ -242,8 +242,8 @@ ExportFile writeProgram(const LsContext& c, const std::string& name, IndexRange 
   text.line("/POS");
   const bool coordinated = c.cell.exportOptions.coordinated;
   const int userFrame = coordinated ? c.cell.exportOptions.userFrame : 0;
-  const std::string frames = "\tUF : " + std::to_string(userFrame) +
-                             ", UT : " + std::to_string(c.cell.tool.number) + ",";
+  const std::string frames =
+      "\tUF : " + std::to_string(userFrame) + ", UT : " + std::to_string(c.cell.tool.number) + ",";
   for (std::size_t i = range.begin; i < range.end; ++i) {
     reportEvery(c.progress, i, c.motion.points.size());
     const MotionPoint& p = c.motion.points[i];

@@ -13,12 +13,37 @@ namespace {
 
 using namespace export_detail;
 
-constexpr const char* kColumns[] = {
-    "layer",  "path",       "index",    "x_mm",   "y_mm",         "z_mm",   "nx",
-    "ny",     "nz",         "vx",       "vy",     "vz",           "a1_deg", "a2_deg",
-    "j1_deg", "j2_deg",     "j3_deg",   "j4_deg", "j5_deg",       "j6_deg", "speed_mm_s",
-    "arc_on", "path_start", "path_end", "time_s", "residual_deg", "flags",  "wire_feed_m_min",
-    "weld_schedule", "bead_width_mm", "kind"};
+constexpr const char* kColumns[] = {"layer",
+                                    "path",
+                                    "index",
+                                    "x_mm",
+                                    "y_mm",
+                                    "z_mm",
+                                    "nx",
+                                    "ny",
+                                    "nz",
+                                    "vx",
+                                    "vy",
+                                    "vz",
+                                    "a1_deg",
+                                    "a2_deg",
+                                    "j1_deg",
+                                    "j2_deg",
+                                    "j3_deg",
+                                    "j4_deg",
+                                    "j5_deg",
+                                    "j6_deg",
+                                    "speed_mm_s",
+                                    "arc_on",
+                                    "path_start",
+                                    "path_end",
+                                    "time_s",
+                                    "residual_deg",
+                                    "flags",
+                                    "wire_feed_m_min",
+                                    "weld_schedule",
+                                    "bead_width_mm",
+                                    "kind"};
 
 /// Wire feed (m/min) of the move arriving at `p`: its own (MotionPoint::wireFeed) or, where not
 /// set, the cell's; 0 with the arc off.

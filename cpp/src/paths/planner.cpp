@@ -30,7 +30,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 const char* const kStages[] = {"surface index", "initial curves", "surface geodesic", "iso-lines",
-                               "fit",           "order",          "deposition",      "coverage"};
+                               "fit",           "order",          "deposition",       "coverage"};
 enum Stage { kIndex, kCurves, kGeodesic, kIso, kFit, kOrder, kDeposition, kCoverage, kStageCount };
 
 std::string formatMm(double value) {
@@ -58,26 +58,28 @@ void checkCornerAngle(double degrees) {
 /// contains the bead spacing.
 void checkCoverageOptions(const PlannerOptions& o) {
   if (!std::isfinite(o.minFeatureWidth) || o.minFeatureWidth == 0.0) {
-    throw InvalidInput("minimum feature width (--min-feature-width, MinFeatureWidth) must be a "
-                       "positive number of mm: " +
-                       formatMm(o.minFeatureWidth) + "; pass e.g. " + formatMm(0.5 * o.beadSpacing) +
-                       " (half the bead spacing, the default)");
+    throw InvalidInput(
+        "minimum feature width (--min-feature-width, MinFeatureWidth) must be a "
+        "positive number of mm: " +
+        formatMm(o.minFeatureWidth) + "; pass e.g. " + formatMm(0.5 * o.beadSpacing) +
+        " (half the bead spacing, the default)");
   }
   if (!std::isfinite(o.widthMin) || !std::isfinite(o.widthMax) || o.widthMin <= 0.0 ||
       o.widthMin > o.widthMax) {
-    throw InvalidInput("bead width range (--bead-width-range, BeadWidthMin/BeadWidthMax) must be "
-                       "two fractions of the bead spacing with 0 < min <= max: " +
-                       formatMm(o.widthMin) + "," + formatMm(o.widthMax) +
-                       "; pass e.g. 0.7,1.3, or off for a fixed width");
+    throw InvalidInput(
+        "bead width range (--bead-width-range, BeadWidthMin/BeadWidthMax) must be "
+        "two fractions of the bead spacing with 0 < min <= max: " +
+        formatMm(o.widthMin) + "," + formatMm(o.widthMax) +
+        "; pass e.g. 0.7,1.3, or off for a fixed width");
   }
   if (o.widthMin > 1.0 || o.widthMax < 1.0) {
-    throw InvalidInput("bead width range (--bead-width-range, BeadWidthMin/BeadWidthMax) excludes "
-                       "the bead spacing: " +
-                       formatMm(o.widthMin) + "," + formatMm(o.widthMax) + " × s = " +
-                       formatMm(o.widthMin * o.beadSpacing) + "–" +
-                       formatMm(o.widthMax * o.beadSpacing) + " mm, s = " +
-                       formatMm(o.beadSpacing) +
-                       " mm; choose a range with min <= 1 <= max, e.g. 0.7,1.3, or off");
+    throw InvalidInput(
+        "bead width range (--bead-width-range, BeadWidthMin/BeadWidthMax) excludes "
+        "the bead spacing: " +
+        formatMm(o.widthMin) + "," + formatMm(o.widthMax) +
+        " × s = " + formatMm(o.widthMin * o.beadSpacing) + "–" +
+        formatMm(o.widthMax * o.beadSpacing) + " mm, s = " + formatMm(o.beadSpacing) +
+        " mm; choose a range with min <= 1 <= max, e.g. 0.7,1.3, or off");
   }
 }
 
@@ -579,7 +581,8 @@ class LayerPlanner {
     result.plan.parameters.narrowStrips = narrowStripModeName(options.narrowStrips);
     result.plan.parameters.minFeatureWidth =
         options.minFeatureWidth < 0.0 ? 0.5 * s_ : options.minFeatureWidth;
-    result.plan.parameters.beadWidthRange = std::array<double, 2>{options.widthMin, options.widthMax};
+    result.plan.parameters.beadWidthRange =
+        std::array<double, 2>{options.widthMin, options.widthMax};
     result.plan.parameters.connectInsets = options.connectInsets;
     if (!startSurface.empty()) support_.emplace(startSurface);
   }

@@ -630,7 +630,6 @@ RobotVendor readVendor(Field& top, std::vector<std::string>& notes) {
                                  "the robot controller's maker (decides the program languages)");
 }
 
-
 // ---- controller (vendor-specific program settings) -------------------------------------------
 
 KrlController readKrlController(Field& c) {
@@ -706,8 +705,7 @@ LsControllerSettings readLsController(Field& c) {
   Field f = c.object("ls", "give the Fanuc ArcTool settings");
   LsControllerSettings ls;
   ls.weldEquipment = f.integer("weld_equipment", 1, 2, "the ArcTool weld equipment number");
-  ls.arcStartSchedule =
-      f.integer("arc_start_schedule", 1, 99, "the weld schedule of Arc Start[n]");
+  ls.arcStartSchedule = f.integer("arc_start_schedule", 1, 99, "the weld schedule of Arc Start[n]");
   ls.arcEndSchedule = f.integer("arc_end_schedule", 1, 99, "the schedule of Arc End[n]");
   ls.maxLinesPerProgram = f.integer("max_lines_per_program", 20, 1000000,
                                     "/MN lines per program before the program is split");

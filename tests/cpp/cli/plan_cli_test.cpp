@@ -168,8 +168,8 @@ TEST(PlanCliCases, CoverageOptionsAreRecordedAndSummarised) {
   // coverage, the summary prints the totals; --no-coverage leaves the layers unmeasured.
   const fs::path model = modelPath("simple_box_closed_low_res.stl");
   const fs::path out = freshTempDir() / "out";
-  const Args base = {"plan", model.string(), "--layer-thickness", "20", "--voxel", "5",
-                     "--bead-spacing", "12"};
+  const Args base = {
+      "plan", model.string(), "--layer-thickness", "20", "--voxel", "5", "--bead-spacing", "12"};
   Args args = base;
   for (const char* a : {"--min-feature-width", "4", "--bead-width-range", "0.8,1.25",
                         "--no-connect-insets", "-o"}) {

@@ -174,9 +174,8 @@ TEST(ArcOffMoves, DwellsWaitAfterTheRetractWithTheTorchOffThePartInEveryFormat) 
   for (ExportFormat format : kRobotFormats) {
     expectDwells(exportAndRead(motion, cell, format).dwells, std::string(toString(format)));
   }
-  expectDwells(
-      gcodeDwells(exportProgram(motion, cell, ExportFormat::Gcode).files[0].text, 0.001),
-      "gcode generic");
+  expectDwells(gcodeDwells(exportProgram(motion, cell, ExportFormat::Gcode).files[0].text, 0.001),
+               "gcode generic");
   ExportOptions linuxcnc;
   linuxcnc.gcodeDialect = GcodeDialect::LinuxCnc;
   expectDwells(

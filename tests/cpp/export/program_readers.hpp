@@ -25,8 +25,8 @@
 #include <sstream>
 
 #include "curvedslicer/export/exporter.hpp"
-#include "curvedslicer/robot/positioner.hpp"
 #include "curvedslicer/robot/configuration.hpp"
+#include "curvedslicer/robot/positioner.hpp"
 #include "export_test_support.hpp"
 
 namespace curvedslicer::testing {
@@ -158,8 +158,7 @@ inline std::optional<Vec3> jbiPartPoint(const Cell& cell, const JbiJob& job, int
   const double a1 = tiltFromPulses(cell, iec->second[0]);
   const double a2 = rotationFromPulses(cell, iec->second[1]);
   if (job.cPosType == "BASE") {
-    return partPointFromRobotBase(cell, poseFromXyzRpy(v[0], v[1], v[2], v[3], v[4], v[5]), a1,
-                                  a2);
+    return partPointFromRobotBase(cell, poseFromXyzRpy(v[0], v[1], v[2], v[3], v[4], v[5]), a1, a2);
   }
   std::vector<double> degrees;
   for (int j = 0; j < 6; ++j) degrees.push_back(v[j] / cell.robot.pulsesPerDegree.at(j));
@@ -361,7 +360,8 @@ struct LsFile {
 };
 
 /// "\tKEY = value unit" items of a /POS line: each must be "<KEY> = <number> <unit>".
-inline void readLsValues(const std::string& line, const char* unit, std::map<std::string, double>& out) {
+inline void readLsValues(const std::string& line, const char* unit,
+                         std::map<std::string, double>& out) {
   for (std::string item : splitFields(line, ',')) {
     if (item.empty()) continue;
     const std::size_t eq = item.find('=');
@@ -394,8 +394,8 @@ inline void readLsFrames(const std::string& line, LsPosition& p) {
 /// The /ATTR keys a TP program has, in order (TCD is a block of its own).
 inline const std::vector<std::string>& lsAttrKeys() {
   static const std::vector<std::string> keys{
-      "OWNER",   "COMMENT", "PROG_SIZE", "CREATE",  "MODIFIED", "FILE_NAME",     "VERSION",
-      "LINE_COUNT", "MEMORY_SIZE", "PROTECT", "TCD", "DEFAULT_GROUP", "CONTROL_CODE"};
+      "OWNER",      "COMMENT",     "PROG_SIZE", "CREATE", "MODIFIED",      "FILE_NAME",   "VERSION",
+      "LINE_COUNT", "MEMORY_SIZE", "PROTECT",   "TCD",    "DEFAULT_GROUP", "CONTROL_CODE"};
   return keys;
 }
 
@@ -477,7 +477,8 @@ inline LsFile parseLsFile(const ExportFile& file, bool crlf) {
       }
       case kPos: {
         unsigned k = 0;
-        if (std::sscanf(line.c_str(), "P[%u]{", &k) == 1 && line == "P[" + std::to_string(k) + "]{") {
+        if (std::sscanf(line.c_str(), "P[%u]{", &k) == 1 &&
+            line == "P[" + std::to_string(k) + "]{") {
           EXPECT_EQ(ls.positions.count(k), 0u) << file.name << ": P[" << k << "] declared twice";
           current = k;
           ls.positions[k];
@@ -594,7 +595,8 @@ inline void readLsBody(const LsFile& ls, const Cell& cell, ReadProgram& program,
       ADD_FAILURE() << "unknown /MN line: " << line;
       continue;
     }
-    EXPECT_EQ(body, (move.joint ? "J P[" : "L P[") + std::to_string(p) + body.substr(body.find(']')))
+    EXPECT_EQ(body,
+              (move.joint ? "J P[" : "L P[") + std::to_string(p) + body.substr(body.find(']')))
         << "register number form: " << line;
     ++used[p];
     const auto it = ls.positions.find(p);
@@ -682,9 +684,9 @@ inline std::vector<std::pair<char, std::string>> gcodeWords(const std::string& l
 /// part-frame length of the move · F / 60.
 /// The lines of a G-code sub-program file, checked and stripped of its frame: linuxcnc
 /// `o<name> sub` … `o<name> endsub` `M2` in name.ngc; generic `O<n>` … `M99` in O<n>.ngc.
-inline std::vector<std::string> gcodeSubProgram(const ExportResult& result,
-                                                const std::string& name, bool linuxcnc,
-                                                bool crlf, std::map<std::string, int>& calls) {
+inline std::vector<std::string> gcodeSubProgram(const ExportResult& result, const std::string& name,
+                                                bool linuxcnc, bool crlf,
+                                                std::map<std::string, int>& calls) {
   ++calls[name];
   std::vector<std::string> body;
   for (std::size_t k = 1; k < result.files.size(); ++k) {
@@ -721,7 +723,8 @@ inline ReadProgram readGcodeProgram(const ExportResult& result, const Cell& cell
     if (startsWith(line, "; mode: ")) mode = line.substr(8, line.find(' ', 8) - 8);
     if (startsWith(line, "; dialect: ")) dialect = line.substr(11);
     if (startsWith(line, ";")) continue;
-    if (startsWith(line, "o<") && line.size() > 8 && line.compare(line.size() - 6, 6, "> call") == 0) {
+    if (startsWith(line, "o<") && line.size() > 8 &&
+        line.compare(line.size() - 6, 6, "> call") == 0) {
       EXPECT_EQ(dialect, "linuxcnc") << line;
       const auto sub = gcodeSubProgram(result, line.substr(2, line.size() - 8), true, crlf, calls);
       codes.insert(codes.end(), sub.begin(), sub.end());
@@ -824,8 +827,9 @@ inline ReadProgram readGcodeProgram(const ExportResult& result, const Cell& cell
 /// speed column, and as part point the TCP of the row's robot joints (forward kinematics,
 /// controller degrees) in the part frame of its positioner angles — so a round trip against the
 /// x/y/z columns checks the joints, not only the copied position.
-inline ReadProgram readNeutralProgram(const ExportResult& result, const Cell& cell,
-                                      std::vector<std::map<std::string, double>>* rowsOut = nullptr) {
+inline ReadProgram readNeutralProgram(
+    const ExportResult& result, const Cell& cell,
+    std::vector<std::map<std::string, double>>* rowsOut = nullptr) {
   EXPECT_EQ(result.files.size(), 1u);
   const std::string& text = result.files.front().text;
   std::vector<std::string> columns;
@@ -869,11 +873,11 @@ inline ReadProgram readNeutralProgram(const ExportResult& result, const Cell& ce
     move.joint = kind == "home" || program.moves.empty();
     move.speed = row.at("speed_mm_s");
     const double a1 = row.at("a1_deg") * kDegT, a2 = row.at("a2_deg") * kDegT;  // model angles
-    move.partPoint = partPointFromJointDegrees(
-        cell,
-        {row.at("j1_deg"), row.at("j2_deg"), row.at("j3_deg"), row.at("j4_deg"), row.at("j5_deg"),
-         row.at("j6_deg")},
-        a1, a2);
+    move.partPoint =
+        partPointFromJointDegrees(cell,
+                                  {row.at("j1_deg"), row.at("j2_deg"), row.at("j3_deg"),
+                                   row.at("j4_deg"), row.at("j5_deg"), row.at("j6_deg")},
+                                  a1, a2);
     program.moves.push_back(std::move(move));
     if (row.at("path_start") == 1.0) welds.on(program, line);
     if (row.at("path_end") == 1.0) welds.off(program, line);

@@ -61,7 +61,8 @@ ReadProgram readStrictly(const ExportResult& r, const Cell& cell) {
     case ExportFormat::Jbi:
       return readJbiProgram(r, cell);
     case ExportFormat::Ls:
-      return readLsProgram(r, cell, static_cast<std::size_t>(cell.controller.ls->maxLinesPerProgram));
+      return readLsProgram(r, cell,
+                           static_cast<std::size_t>(cell.controller.ls->maxLinesPerProgram));
     case ExportFormat::Gcode:
       return readGcodeProgram(r, cell);
     case ExportFormat::Csv:
@@ -113,8 +114,7 @@ void expectStrictRoundTrip(const MotionPlan& motion, const Cell& cell,
       // Part-relative speed of welds (G-code; machine mode through inverse time) on moves with
       // a part-frame length (a move that only turns the table has none to keep).
       const MotionPoint& p = motion.points[i];
-      const bool hasLength =
-          i > 0 && (p.position - motion.points[i - 1].position).norm() > 0.1;
+      const bool hasLength = i > 0 && (p.position - motion.points[i - 1].position).norm() > 0.1;
       if (p.arcOn && hasLength && std::isfinite(m.speed) && v.format == ExportFormat::Gcode &&
           std::abs(m.speed - p.speed) > 0.005 * p.speed && speedOff++ < 3) {
         ADD_FAILURE() << "weld speed " << m.speed << " mm/s, planned " << p.speed << ": " << m.line;

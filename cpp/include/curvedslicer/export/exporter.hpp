@@ -59,7 +59,7 @@ struct ExportOptions {
   /// Date written into program headers (JBI ///DATE), "YYYY/MM/DD HH:MM". Fixed by default so a
   /// saved plan re-exports byte-identical programs.
   std::string date = "2000/01/01 00:00";
-  GcodeMode gcodeMode = GcodeMode::Tcp;             ///< G-code only
+  GcodeMode gcodeMode = GcodeMode::Tcp;               ///< G-code only
   GcodeDialect gcodeDialect = GcodeDialect::Generic;  ///< G-code only
   /// G-code only: lines per sub-program file (about 60 bytes each; 0 or >= 10) when the program
   /// is split into sub-programs called from the main file; 0 = never split.

@@ -5,8 +5,9 @@
 //   tcp      X Y Z are the point in the part frame; the controller's tool-centre-point control
 //            turns them into machine motion, switched on at the start and off at the end with the
 //            dialect's codes; F (G94, mm/min) is then the speed relative to the part; a move that
-//            only turns the table (X Y Z change by less than 0.00005 mm) has F in deg/min, the combined
-//            A, C turn over its duration (as below), as RS-274 reads F for rotary-only moves;
+//            only turns the table (X Y Z change by less than 0.00005 mm) has F in deg/min, the
+//            combined A, C turn over its duration (as below), as RS-274 reads F for rotary-only
+//            moves;
 //   machine  X Y Z are already transformed by the table's forward kinematics: the point in the
 //            positioner base frame for the given A, C (computePartInPositionerBase), so a plain
 //            trivial-kinematics controller reproduces the path. A constant F would make the speed

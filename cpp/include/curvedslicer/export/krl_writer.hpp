@@ -22,11 +22,11 @@
 // needs, writer_support.hpp); any other first motion is a PTP to an E6POS; every further point
 // (welds and the arc-off retract, travel and approach moves) is a LIN to an E6POS {X,Y,Z (mm),
 // A,B,C (deg; A about z, B about y, C about x: KUKA's tool frame, x along the torch, the cell's
-// TCP frame turned -90 deg about its y as KUKA's flange is), S, T, E1..E6}, `$VEL.CP` (m/s; a reduced weld
-// speed rounded down) set when the speed changes, C_DIS only between weld points. S and T (T bit
-// k set when joint k+1 < 0; S bit 0 = back, bit 1 = elbow down, bit 2 = joint 5 < 0) come from the
-// weld's configuration (MotionPathSpan::configuration, constant from the path start to its end)
-// and at arc-off points from the point's own joints.
+// TCP frame turned -90 deg about its y as KUKA's flange is), S, T, E1..E6}, `$VEL.CP` (m/s; a
+// reduced weld speed rounded down) set when the speed changes, C_DIS only between weld points. S
+// and T (T bit k set when joint k+1 < 0; S bit 0 = back, bit 1 = elbow down, bit 2 = joint 5 < 0)
+// come from the weld's configuration (MotionPathSpan::configuration, constant from the path start
+// to its end) and at arc-off points from the point's own joints.
 //
 // Arc (output arc_on_output = n): with an arc-established input m, after the (exact-stop) move
 // onto the path start `$OUT[n]=TRUE` and `WAIT FOR $IN[m]`; without one, `TRIGGER WHEN

@@ -49,21 +49,21 @@ struct PlanPath {
 
 /// A patch of a layer no bead covers (issue 15), for the user to find it.
 struct CoverageVoid {
-  double area = 0.0;              ///< mm² of layer surface
-  Vec3 centre = Vec3::Zero();     ///< mm, part frame, area-weighted centre of the patch
-  double size = 0.0;              ///< mm, largest extent of the patch
+  double area = 0.0;           ///< mm² of layer surface
+  Vec3 centre = Vec3::Zero();  ///< mm, part frame, area-weighted centre of the patch
+  double size = 0.0;           ///< mm, largest extent of the patch
 };
 
 /// How well the beads of one layer cover its surface (issue 15), measured on the layer surface:
 /// a surface point is covered by a bead when it lies within half the bead's width of the bead's
 /// centre line (PathPoint::width, or the bead spacing where 0).
 struct LayerCoverage {
-  bool measured = false;      ///< false: not measured (plans of format version 1, thin walls)
-  double area = 0.0;          ///< mm², layer surface area
-  double voidShare = 0.0;     ///< [0, 1], share of the area no bead covers
-  double overlapShare = 0.0;  ///< [0, 1], share of the area two or more beads cover
-  double beadWidth = 0.0;     ///< mm, nominal bead width (the bead spacing)
-  std::size_t arcStarts = 0;  ///< paths of the layer (each path is one arc start)
+  bool measured = false;            ///< false: not measured (plans of format version 1, thin walls)
+  double area = 0.0;                ///< mm², layer surface area
+  double voidShare = 0.0;           ///< [0, 1], share of the area no bead covers
+  double overlapShare = 0.0;        ///< [0, 1], share of the area two or more beads cover
+  double beadWidth = 0.0;           ///< mm, nominal bead width (the bead spacing)
+  std::size_t arcStarts = 0;        ///< paths of the layer (each path is one arc start)
   std::vector<CoverageVoid> voids;  ///< the largest uncovered patches, largest first (at most 10)
 };
 

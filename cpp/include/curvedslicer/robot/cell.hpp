@@ -232,7 +232,8 @@ struct LsControllerSettings {
 /// Yaskawa settings beyond process/arc (JSON controller/jbi); optional.
 struct JbiControllerSettings {
   /// > 0: `WAIT IN#(n)=ON` after every ARCON, the input the welder sets once the arc is
-  /// established (ARCON itself waits for the arc-confirm signal where the welder sends it); 0: none.
+  /// established (ARCON itself waits for the arc-confirm signal where the welder sends it); 0:
+  /// none.
   int arcWaitInput = 0;
 };
 
