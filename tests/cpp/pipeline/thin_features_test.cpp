@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "common/sanitized_build.hpp"
 #include "common/test_paths.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
 #include "curvedslicer/pipeline/plan_job.hpp"
@@ -14,6 +15,7 @@ namespace curvedslicer {
 namespace {
 
 TEST(ThinFeatures, BranchesEveryLayerWithAreaGetsPathsAndAtMostTenPercentVoid) {
+  CURVEDSLICER_SKIP_IF_SANITIZED("ThinRegions.* (tests/cpp/paths/thin_regions_test.cpp)");
   const TriMesh model = readMesh(testing::modelPath("branches_70_closed_low_res.stl"));
   PlanJobOptions options;
   options.layerJob.layers.layerThickness = 1.5;

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <string>
 
+#include "common/sanitized_build.hpp"
 #include "common/test_paths.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
@@ -290,6 +291,7 @@ TEST(Travel, CurvedExampleKeepsTheClearanceAndStartsAndEndsAtHome) {
 }
 
 TEST(Travel, CylinderKeepsTheClearanceAndStartsAndEndsAtHome) {
+  CURVEDSLICER_SKIP_IF_SANITIZED("Travel.CurvedExampleKeepsTheClearanceAndStartsAndEndsAtHome");
   const Plan& plan = cylinderPlan();
   ASSERT_GT(plan.pathCount(), 10u);
   const Cell cell = placedCell(plan);
