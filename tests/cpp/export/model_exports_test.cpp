@@ -22,6 +22,7 @@
 #include "curvedslicer/pipeline/option_parsing.hpp"
 #include "curvedslicer/pipeline/plan_job.hpp"
 #include "export_test_support.hpp"
+#include "model_plans.hpp"
 #include "program_readers.hpp"
 #include "program_readers_krl_rapid.hpp"
 #include "synthetic_motion.hpp"
@@ -35,13 +36,6 @@ using namespace testing;
 /// (hysteresis keeps a weld's configuration while a joint moves a little past a boundary).
 constexpr double kBoundaryBand = 15.0 * kDegT;
 
-struct ModelCase {
-  std::string model;
-  std::string start;  ///< empty: plane:bottom
-  bool capHoles = false;
-  double layerThickness = 1.5, voxel = 2.0, beadSpacing = 3.7, pointSpacing = 2.0;
-};
-
 /// The motion of a model's plan, and how many connected-inset links the plan has (each joins two
 /// rings into one weld; paths/connected_insets.hpp).
 struct ModelMotion {
@@ -50,16 +44,7 @@ struct ModelMotion {
 };
 
 ModelMotion planModelMotion(const ModelCase& c, const Cell& cell) {
-  PlanJobOptions options;
-  options.layerJob.layers.layerThickness = c.layerThickness;
-  options.layerJob.voxelize.voxelSize = c.voxel;
-  options.layerJob.capHoles = c.capHoles;
-  if (!c.start.empty()) options.layerJob.start = loadStartSurface(parseStartSurfaceSpec(c.start));
-  options.planner.beadSpacing = c.beadSpacing;
-  options.planner.pointSpacing = c.pointSpacing;
-  options.modelName = c.model;
-  options.startSpec = c.start.empty() ? "plane:bottom" : c.start;
-  const PlanJobResult job = runPlanJob(readMesh(modelPath(c.model)), options);
+  const PlanJobResult job = planModelCase(c);
   return {planMotion(job.planned.plan, cell), job.planned.stats.insetLinks};
 }
 
@@ -169,12 +154,7 @@ void expectAxisSpeedsFromCsv(const MotionPlan& motion, const Cell& cell) {
 
 TEST(ModelExports, CurvedExampleStatesOneConfigurationPerWeldAndKeepsAxisSpeeds) {
   const Cell cell = defaultCell();
-  ModelCase c;
-  c.model = "custom_base_geom_to_slice.obj";
-  c.start = "mesh:" + modelPath("custom_base_surface.obj").string();
-  c.capHoles = true;
-  c.pointSpacing = 5.0;
-  const ModelMotion planned = planModelMotion(c, cell);
+  const ModelMotion planned = planModelMotion(curvedExampleCase(), cell);
   const MotionPlan& motion = planned.motion;
   // Over 100 rings and pieces, some rings joined into one weld (open welds over several rings).
   ASSERT_GT(motion.paths.size() + planned.insetLinks, 100u);
@@ -187,13 +167,7 @@ TEST(ModelExports, CurvedExampleStatesOneConfigurationPerWeldAndKeepsAxisSpeeds)
 
 TEST(ModelExports, CylinderStatesOneConfigurationPerWeldAndKeepsAxisSpeeds) {
   const Cell cell = defaultCell();
-  ModelCase c;
-  c.model = "simple_cylinder_closed_mid_res.stl";
-  c.layerThickness = 3.0;
-  c.voxel = 4.0;
-  c.beadSpacing = 10.0;
-  c.pointSpacing = 10.0;
-  const ModelMotion planned = planModelMotion(c, cell);
+  const ModelMotion planned = planModelMotion(cylinderCase(), cell);
   const MotionPlan& motion = planned.motion;
   // Over 100 rings and pieces, some rings joined into one weld (open welds over several rings).
   ASSERT_GT(motion.paths.size() + planned.insetLinks, 100u);

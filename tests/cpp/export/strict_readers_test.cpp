@@ -21,6 +21,7 @@
 #include "curvedslicer/pipeline/plan_job.hpp"
 #include "curvedslicer/plan/plan_io.hpp"
 #include "export_test_support.hpp"
+#include "model_plans.hpp"
 #include "program_readers.hpp"
 
 namespace curvedslicer {
@@ -87,7 +88,9 @@ void expectStrictRoundTrip(const MotionPlan& motion, const Cell& cell,
     const bool isProgram = v.format != ExportFormat::Csv && v.format != ExportFormat::Json;
     for (const ExportFile& f : r.files) {
       // controller programs only: the neutral files are data for analysis, one file per plan
-      if (isProgram) EXPECT_LT(f.text.size(), maxFileBytes) << f.name;
+      if (isProgram) {
+        EXPECT_LT(f.text.size(), maxFileBytes) << f.name;
+      }
       if (v.format == ExportFormat::Jbi) {
         EXPECT_LE(parseJbi(f.text).instructions.size(),
                   static_cast<std::size_t>(cell.exportOptions.maxLinesPerJob))
@@ -351,22 +354,11 @@ TEST(StrictReaders, CatchBrokenFiles) {
   EXPECT_TRUE(readerObjects([&] { readNeutralProgram(csv, placed); }, "weld row"));
 }
 
-/// The acceptance models, planned as model_exports_test.cpp plans them (coarser than the issue's
-/// measurement), in every format of this file: strict readers, round trip, files under 4 MB.
+/// The acceptance models of model_plans.hpp (coarser than the measurement),
+/// in every format of this file: strict readers, round trip, files under 4 MB.
 /// `insetLinks`: how many connected-inset links the plan has (each joins two rings into one weld).
-MotionPlan planAcceptanceModel(const std::string& model, const std::string& start, bool capHoles,
-                               double layer, double voxel, double bead, double point,
-                               const Cell& cell, std::size_t& insetLinks) {
-  PlanJobOptions options;
-  options.layerJob.layers.layerThickness = layer;
-  options.layerJob.voxelize.voxelSize = voxel;
-  options.layerJob.capHoles = capHoles;
-  if (!start.empty()) options.layerJob.start = loadStartSurface(parseStartSurfaceSpec(start));
-  options.planner.beadSpacing = bead;
-  options.planner.pointSpacing = point;
-  options.modelName = model;
-  options.startSpec = start.empty() ? "plane:bottom" : start;
-  const PlanJobResult job = runPlanJob(readMesh(modelPath(model)), options);
+MotionPlan planAcceptanceModel(const ModelCase& c, const Cell& cell, std::size_t& insetLinks) {
+  const PlanJobResult job = planModelCase(c);
   insetLinks = job.planned.stats.insetLinks;
   return planMotion(job.planned.plan, cell);
 }
@@ -374,13 +366,10 @@ MotionPlan planAcceptanceModel(const std::string& model, const std::string& star
 TEST(StrictReaders, CurvedExampleAndCylinderPassInEveryFormat) {
   const Cell cell = defaultCell();
   std::size_t links = 0;
-  const MotionPlan curved = planAcceptanceModel(
-      "custom_base_geom_to_slice.obj", "mesh:" + modelPath("custom_base_surface.obj").string(),
-      true, 1.5, 2.0, 3.7, 5.0, cell, links);
+  const MotionPlan curved = planAcceptanceModel(curvedExampleCase(), cell, links);
   ASSERT_GT(curved.paths.size() + links, 100u);  // welds plus the rings joined into them
   expectStrictRoundTrip(curved, cell);
-  const MotionPlan cylinder = planAcceptanceModel("simple_cylinder_closed_mid_res.stl", "", false,
-                                                  3.0, 4.0, 10.0, 10.0, cell, links);
+  const MotionPlan cylinder = planAcceptanceModel(cylinderCase(), cell, links);
   ASSERT_GT(cylinder.paths.size() + links, 100u);
   expectStrictRoundTrip(cylinder, cell);
 }

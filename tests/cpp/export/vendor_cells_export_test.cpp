@@ -24,6 +24,7 @@
 #include "curvedslicer/pipeline/plan_job.hpp"
 #include "curvedslicer/plan/plan_io.hpp"
 #include "export_test_support.hpp"
+#include "model_plans.hpp"
 #include "program_readers.hpp"
 #include "program_readers_krl_rapid.hpp"
 
@@ -49,20 +50,6 @@ const VendorCase kVendorCells[] = {
 
 Cell vendorCell(const char* file) {
   return readCell(std::filesystem::path(CURVEDSLICER_SOURCE_DIR) / "resources" / "cells" / file);
-}
-
-Plan planModel(const std::string& model, const std::string& start, bool capHoles, double layer,
-               double voxel, double bead, double point) {
-  PlanJobOptions options;
-  options.layerJob.layers.layerThickness = layer;
-  options.layerJob.voxelize.voxelSize = voxel;
-  options.layerJob.capHoles = capHoles;
-  if (!start.empty()) options.layerJob.start = loadStartSurface(parseStartSurfaceSpec(start));
-  options.planner.beadSpacing = bead;
-  options.planner.pointSpacing = point;
-  options.modelName = model;
-  options.startSpec = start.empty() ? "plane:bottom" : start;
-  return runPlanJob(readMesh(modelPath(model)), options).planned.plan;
 }
 
 /// What one export looked like (for the measurement).
@@ -185,16 +172,13 @@ void expectEveryVendorExports(const Plan& plan, std::ostream* report = nullptr) 
 }
 
 TEST(VendorCellsExport, CurvedExampleWithEveryVendorCell) {
-  const Plan plan =
-      planModel("custom_base_geom_to_slice.obj",
-                "mesh:" + modelPath("custom_base_surface.obj").string(), true, 1.5, 2.0, 3.7, 5.0);
+  const Plan plan = planModelCase(curvedExampleCase()).planned.plan;
   ASSERT_GT(plan.layers.size(), 10u);
   expectEveryVendorExports(plan);
 }
 
 TEST(VendorCellsExport, CylinderWithEveryVendorCell) {
-  const Plan plan =
-      planModel("simple_cylinder_closed_mid_res.stl", "", false, 3.0, 4.0, 10.0, 10.0);
+  const Plan plan = planModelCase(cylinderCase()).planned.plan;
   ASSERT_GT(plan.layers.size(), 10u);
   expectEveryVendorExports(plan);
 }
