@@ -144,7 +144,7 @@ void bindLayerJobOptions(py::module_& m) {
       .choice(
           "method", member(&O::geodesic, &GeodesicOptions::method), parseGeodesicMethod,
           [](GeodesicMethod g) { return toString(g); },
-          "geodesic field: 'anyangle' (accurate) | 'paper' (paper §2.2.3)")
+          "geodesic field: 'anyangle' (accurate; also 'exact') | 'paper' (paper §2.2.3)")
       .value("seed_band", member(&O::geodesic, &GeodesicOptions::seedBand),
              "mm; voxels this close to the start surface are exact seeds; <= 0: sqrt(3)·L")
       .value("paper_search_radius", member(&O::geodesic, &GeodesicOptions::paperSearchRadius),

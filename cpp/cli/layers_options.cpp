@@ -46,13 +46,14 @@ namespace {
 /// --method, --grid, --format: the enum choices, the default read from the options structs.
 void addLayersMethodOptions(CLI::App& layers, LayersArguments& args) {
   layers
-      .add_option(
-          "--method", args.method,
-          "Geodesic distance method: " +
-              describeChoices({{"anyangle", "any-angle\npropagation with line-of-sight tests"},
-                               {"paper", "the paper's\nneighbourhood search, section 2.2"}},
-                              toString(LayerJobOptions{}.geodesic.method)) +
-              ".")
+      .add_option("--method", args.method,
+                  "Geodesic distance method: " +
+                      describeChoices(
+                          {{"anyangle",
+                            "any-angle\npropagation with exact line-of-sight\ntests; also 'exact'"},
+                           {"paper", "the paper's\nneighbourhood search, section 2.2"}},
+                          toString(LayerJobOptions{}.geodesic.method)) +
+                      ".")
       ->type_name("NAME");
   layers
       .add_option("--grid", args.grid,

@@ -155,7 +155,7 @@ void addPlanOptions(CLI::App& plan, PlanArguments& args) {
 void addLayerJobDetails(CLI::App& plan, LayersArguments& l) {
   const LayerJobOptions defaults;
   plan.add_option("--method", l.method,
-                  "Volume geodesic method: anyangle or paper (default " +
+                  "Volume geodesic method: anyangle (also 'exact') or paper (default " +
                       formatDefault(toString(defaults.geodesic.method)) + ").")
       ->type_name("NAME");
   plan.add_option("--grid", l.grid,

@@ -25,10 +25,11 @@ std::string_view toString(GeodesicMethod method) {
 GeodesicMethod parseGeodesicMethod(std::string_view name) {
   std::string s(name);
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (s == "anyangle" || s == "any-angle" || s == "default") return GeodesicMethod::AnyAngle;
+  if (s == "anyangle" || s == "any-angle" || s == "exact" || s == "default")
+    return GeodesicMethod::AnyAngle;
   if (s == "paper") return GeodesicMethod::Paper;
   throw InvalidInput("unknown geodesic method: '" + std::string(name) +
-                     "'; choose 'anyangle' (accurate default) or 'paper'");
+                     "'; choose 'anyangle' (accurate default, also 'exact') or 'paper'");
 }
 
 namespace detail {

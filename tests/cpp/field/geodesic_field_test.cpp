@@ -126,6 +126,8 @@ TEST(GeodesicField, BadPlaneNormalAndEmptySurfaces) {
   EXPECT_THROW(parseGeodesicMethod("dijkstra"), InvalidInput);
   EXPECT_EQ(parseGeodesicMethod("Paper"), GeodesicMethod::Paper);
   EXPECT_EQ(parseGeodesicMethod("anyangle"), GeodesicMethod::AnyAngle);
+  EXPECT_EQ(parseGeodesicMethod("exact"), GeodesicMethod::AnyAngle);
+  EXPECT_EQ(parseGeodesicMethod("Exact"), GeodesicMethod::AnyAngle);
 }
 
 TEST(GeodesicField, StartSurfaceKindNamesRoundTrip) {

@@ -36,7 +36,9 @@ enum class GeodesicMethod {
 };
 
 std::string_view toString(GeodesicMethod method);
-/// Parses "anyangle"/"any-angle"/"default" or "paper"; @throws InvalidInput listing the choices.
+/// Parses "anyangle"/"any-angle"/"exact"/"default" or "paper" (any case); "exact" names the
+/// any-angle method with exact line of sight, the reference for any approximate field.
+/// @throws InvalidInput listing the choices.
 GeodesicMethod parseGeodesicMethod(std::string_view name);
 
 struct GeodesicOptions {
