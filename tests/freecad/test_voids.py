@@ -61,6 +61,7 @@ class TestVoids(cs_testing.DocumentTestCase):
         self.assertFalse(api.voids_shown(job))
         api.show_voids(job)
         self.assertTrue(api.voids_shown(job))
+        self.assertNotIn("Touched", job.State)  # nothing for a recompute to redo
         markers = self.assert_markers_match_plan(job)
         self.assertTrue(all(m.Visibility for m in markers))
         api.show_voids(job, False)

@@ -179,7 +179,15 @@ def sync_voids(job):
 
 
 def show_voids(job, visible):
-    """Shows (drawing them first if missing or older than the plan) or hides the markers."""
+    """Shows (drawing them first if missing or older than the plan) or hides the markers. The
+    Job is left untouched (adding its group would otherwise mark it for a recompute)."""
+    touched = "Touched" in job.State
+    _show_voids(job, visible)
+    if not touched:
+        job.purgeTouched()
+
+
+def _show_voids(job, visible):
     group = voids_group(job)
     if visible and (group is None or group.VoidsDigest != plan_text_digest(job)):
         draw_voids(job)
