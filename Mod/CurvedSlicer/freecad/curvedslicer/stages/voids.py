@@ -3,8 +3,9 @@ and can colour the uncovered regions").
 
 The plan's coverage (paths/coverage.hpp) lists per layer its largest voids: area, centre and size.
 Each plan layer with voids gets one Part feature in the Job's "Voids" group holding one disc per
-void: centred on the void's centre, in the layer's tangent plane there (the normal of the plan
-point nearest to the centre, on that layer if it has points), lifted VOID_LIFT along that normal
+void: centred on the void's centre, in the layer's tangent plane there (the layer surface's
+area-weighted normal within the disc's radius, at least 1 mm; without a layer surface, the normal
+of the nearest plan point), lifted VOID_LIFT along that normal
 so that it is not hidden in the layer surface, with the void's area (radius sqrt(area / pi), at
 least VOID_MIN_RADIUS so a speck stays visible). The discs mark where the holes are and how big;
 they are not the holes' outlines.
@@ -80,11 +81,38 @@ def _normals_by_layer(plan_json):
             for layer, parts in gathered.items()}
 
 
-def marker_normal(centre, layer, by_layer):
-    """Unit normal at `centre`: of the nearest plan point on `layer`, else on any layer, else
-    +z (a plan without points)."""
+def _surface_normals(job):
+    """{plan layer (0-based): (facet centroids (m,3), area-weighted facet normals (m,3))} of the
+    Job's layer surfaces."""
     import numpy as np
 
+    from .layers import layer_objects
+
+    result = {}
+    for feature in layer_objects(job):
+        points, triangles = feature.Mesh.Topology
+        if not triangles:
+            continue
+        vertices = np.array([(p.x, p.y, p.z) for p in points])
+        corners = vertices[np.array(triangles)]
+        normals = 0.5 * np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+        result[feature.LayerIndex - 1] = (corners.mean(axis=1), normals)
+    return result
+
+
+def marker_normal(centre, radius, layer, surfaces, by_layer):
+    """Unit normal at `centre`: the area-weighted normal of the layer surface's facets within
+    max(radius, 1 mm) of it (the nearest facet's if none), else (no surface) the nearest plan
+    point's on `layer` or any layer, else +z."""
+    import numpy as np
+
+    if layer in surfaces:
+        centroids, normals = surfaces[layer]
+        distance = np.linalg.norm(centroids - np.asarray(centre), axis=1)
+        near = distance <= max(radius, 1.0)
+        total = normals[near].sum(axis=0) if near.any() else normals[int(np.argmin(distance))]
+        if np.linalg.norm(total) > 0:
+            return tuple(float(c) for c in total / np.linalg.norm(total))
     candidates = [by_layer[layer]] if layer in by_layer else list(by_layer.values())
     best, best_d = (0.0, 0.0, 1.0), math.inf
     for points, normals in candidates:
@@ -120,6 +148,7 @@ def draw_voids(job, prune=True):
     existing = [o for o in group_members(group) if "LayerIndex" in o.PropertiesList]
     summary = native.plan_summary(job.PlanJson) if job.PlanJson else {"per_layer": []}
     by_layer = _normals_by_layer(job.PlanJson) if job.PlanJson else {}
+    surfaces = _surface_normals(job)
     layers = [layer for layer in summary["per_layer"]
               if layer["coverage"] is not None and layer["coverage"]["voids"]]
     for i, layer in enumerate(layers):
@@ -133,8 +162,11 @@ def draw_voids(job, prune=True):
                 feature.addProperty(ptype, name, pgroup, tooltip)
                 feature.setEditorMode(name, 1)
         voids = layer["coverage"]["voids"]
-        discs = [_disc(v["centre_mm"], marker_normal(v["centre_mm"], layer["index"], by_layer),
-                       marker_radius(v["area_mm2"])) for v in voids]
+        discs = []
+        for v in voids:
+            radius = marker_radius(v["area_mm2"])
+            normal = marker_normal(v["centre_mm"], radius, layer["index"], surfaces, by_layer)
+            discs.append(_disc(v["centre_mm"], normal, radius))
         feature.Shape = Part.makeCompound(discs)
         feature.LayerIndex = int(layer["index"]) + 1
         feature.VoidCount = len(voids)
