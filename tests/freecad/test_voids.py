@@ -59,9 +59,11 @@ class TestVoids(cs_testing.DocumentTestCase):
         api.run(job, progress=False)
         self.assertEqual(api.void_markers(job), [])
         self.assertFalse(api.voids_shown(job))
+        self.assertNotIn("Touched", job.State)
         api.show_voids(job)
         self.assertTrue(api.voids_shown(job))
         self.assertNotIn("Touched", job.State)  # nothing for a recompute to redo
+        self.assertNotIn("Touched", job.PathsGroup.State)
         markers = self.assert_markers_match_plan(job)
         self.assertTrue(all(m.Visibility for m in markers))
         api.show_voids(job, False)

@@ -301,8 +301,8 @@ def cell_shown(job):
 
 def show_voids(job, visible=True):
     """Shows (or hides) the uncovered regions of the stored plan: per plan layer a red disc for
-    each of the largest voids its coverage lists (centre, area) in the Job's "uncovered regions"
-    group, drawn on first use and redrawn with the paths. Shown, a layer's discs follow its paths
+    each of the largest voids its coverage lists (centre, area) in an "uncovered regions" group
+    inside the Job's Paths group, drawn on first use and redrawn with the paths. Shown, a layer's discs follow its paths
     (show_layer isolates them too). A plan without measured coverage has none."""
     void_stage.show_voids(job, bool(visible))
 

@@ -2,13 +2,13 @@
 and can colour the uncovered regions").
 
 The plan's coverage (paths/coverage.hpp) lists per layer its largest voids: area, centre and size.
-Each plan layer with voids gets one Part feature in the Job's "Voids" group holding one disc per
-void: centred on the void's centre, in the layer's tangent plane there (the layer surface's
-area-weighted normal within the disc's radius, at least 1 mm; without a layer surface, the normal
-of the nearest plan point), lifted VOID_LIFT along that normal
-so that it is not hidden in the layer surface, with the void's area (radius sqrt(area / pi), at
-least VOID_MIN_RADIUS so a speck stays visible). The discs mark where the holes are and how big;
-they are not the holes' outlines.
+Each plan layer with voids gets one Part feature in the "Voids" group (inside the Job's Paths
+group) holding one disc per void: centred on the void's centre, in the layer's tangent plane there
+(the layer surface's area-weighted normal within the disc's radius, at least 1 mm; without a layer
+surface, the normal of the nearest plan point), lifted VOID_LIFT along that normal so that it is
+not hidden in the layer surface, with the void's area (radius sqrt(area / pi), at least
+VOID_MIN_RADIUS so a speck stays visible). The discs mark where the holes are and how big; they
+are not the holes' outlines.
 
 The markers are made on demand (show_voids) and redrawn with the paths while the group exists.
 Shown, a layer's markers follow its path feature: isolating one layer (views.show_layer) shows
@@ -23,7 +23,7 @@ import FreeCAD
 
 from ..core import native
 from .features import group_members, prune_unused_features, retire_features
-from .paths import path_objects
+from .paths import ensure_paths_group, path_objects
 
 VOID_LIFT = 0.1  # mm along the layer normal
 VOID_MIN_RADIUS = 0.5  # mm
@@ -39,7 +39,7 @@ VOID_PROPERTIES = [
 
 def voids_group(job):
     """The Job's "Voids" group, or None before the markers were first shown."""
-    for obj in group_members(job):
+    for obj in group_members(job.PathsGroup):
         if "VoidsShown" in obj.PropertiesList:
             return obj
     return None
@@ -55,7 +55,9 @@ def _ensure_group(job):
                           "Digest of the plan text the markers were drawn for")
         group.setEditorMode("VoidsDigest", 2)
         group.Label = "%s uncovered regions" % job.Label
-        job.addObject(group)
+        paths = ensure_paths_group(job)
+        paths.addObject(group)
+        paths.purgeTouched()
     return group
 
 
@@ -211,15 +213,8 @@ def sync_voids(job):
 
 
 def show_voids(job, visible):
-    """Shows (drawing them first if missing or older than the plan) or hides the markers. The
-    Job is left untouched (adding its group would otherwise mark it for a recompute)."""
-    touched = "Touched" in job.State
-    _show_voids(job, visible)
-    if not touched:
-        job.purgeTouched()
-
-
-def _show_voids(job, visible):
+    """Shows (drawing them first if missing or older than the plan) or hides the markers. Only
+    the markers' group changes: the Job is not marked for a recompute."""
     group = voids_group(job)
     if visible and (group is None or group.VoidsDigest != plan_text_digest(job)):
         draw_voids(job)
