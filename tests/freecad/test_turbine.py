@@ -3,6 +3,7 @@ dimensions; the main job (the base as a thin wall, the blades as curved layers g
 base's outer surface) gives the paper's 54 ± 2 base paths and 20 ± 1 blade layers, exports one
 program, and the document saves and reopens with its layers and paths."""
 
+import json
 import math
 import os
 import sys
@@ -67,6 +68,7 @@ class TestTurbine(cs_testing.DocumentTestCase):
             self.assertAlmostEqual(layer.ThicknessMean, 1.5, delta=0.15)
         self.assertGreaterEqual(blades.PathCount, blades.PlanLayerCount)
         self.assertGreaterEqual(blades.PlanLayerCount, blades.LayerCount - 1)
+        self.check_void_markers_on_curved_layers(blades)
         spacing = api.path_spacing(base)
         self.assertLess(abs(sorted(spacing)[len(spacing) // 2] - 1.65), 0.05)
         program = cs_testing.tmp_path("TURBINE.JBI")
@@ -86,6 +88,49 @@ class TestTurbine(cs_testing.DocumentTestCase):
         self.assertEqual(out.get("base"), base.PathCount, out)
         self.assertTrue(all(out["meshes"]))
         self.assertEqual(out["paths"], blades.PlanLayerCount + base.PlanLayerCount)
+
+    def check_void_markers_on_curved_layers(self, blades):
+        """The uncovered-region discs on the curved blade layers: one per void the plan lists,
+        VOID_LIFT from its centre, at least 90 % of them in the tangent plane of their layer (the
+        normal within 25° of the nearest facet's, either side)."""
+        import numpy as np
+
+        from freecad.curvedslicer.stages import voids
+
+        api.show_voids(blades)
+        markers = api.void_markers(blades)
+        report = {layer["layer"]: layer["coverage"]["voids"]
+                  for layer in json.loads(blades.CoverageReport)["layers"]}
+        self.assertEqual(sorted(m.LayerIndex for m in markers),
+                         sorted(k for k, v in report.items() if v))
+        surfaces = {layer.LayerIndex: layer for layer in api.layers(blades)}
+        checked = aligned = 0
+        for marker in markers:
+            faces = marker.Shape.Faces
+            self.assertEqual(len(faces), len(report[marker.LayerIndex]))
+            surface = surfaces.get(marker.LayerIndex)
+            if surface is None:
+                continue
+            points, triangles = surface.Mesh.Topology
+            corners = np.array([[tuple(p) for p in points]])[0][np.array(triangles)]
+            centroids = corners.mean(axis=1)
+            normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+            normals /= np.maximum(np.linalg.norm(normals, axis=1), 1e-300)[:, None]
+            for face, void in zip(faces, report[marker.LayerIndex]):
+                centre = np.array(void["centre_mm"])
+                self.assertAlmostEqual((face.CenterOfMass - FreeCAD.Vector(*centre)).Length,
+                                       voids.VOID_LIFT, delta=1e-6)
+                nearest = normals[int(np.argmin(np.linalg.norm(centroids - centre, axis=1)))]
+                normal = face.normalAt(0, 0)
+                aligned += abs(float(np.dot(tuple(normal), nearest))) > math.cos(math.radians(25))
+                checked += 1
+        # A disc's normal is the surface's averaged over its radius: where a void lies on a fold
+        # (the slivers where the outer layers graze the blades' tops) the nearest facet differs.
+        print("void discs within 25 degrees of the nearest facet's normal: %d of %d"
+              % (aligned, checked))
+        self.assertGreater(checked, 0)
+        self.assertGreaterEqual(aligned, 0.9 * checked)
+        api.show_voids(blades, False)
 
 
 cs_testing.main(__name__)

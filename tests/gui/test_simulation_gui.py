@@ -147,10 +147,18 @@ def check_layer_inspector(job):
         process_events()
         save_view("layer_%d" % index)
     grab(dialog, "layer_dialog")
+    check_void_markers(job, dialog)
     dialog.all_layers.setChecked(True)
     process_events()
     check(all(o.ViewObject.Visibility for o in api.layers(job) + api.path_features(job)),
           "All layers shows every layer again")
+    dialog.voids.setChecked(True)
+    process_events()
+    markers = api.void_markers(job)
+    check(all(m.ViewObject.Visibility for m in markers), "with all layers shown, every layer's "
+          "uncovered regions are shown (%d marker features)" % len(markers))
+    dialog.voids.setChecked(False)
+    process_events()
     dialog.close()
     lines = coverage_lines({"measured": True, "area_mm2": 600.0, "void_share": 0.0125,
                             "overlap_share": 0.25, "arc_starts": 3, "voids": [{}, {}]})
@@ -159,6 +167,29 @@ def check_layer_inspector(job):
           % lines)
     check(coverage_lines({"measured": False, "void_share": 0.0}) == [],
           "an unmeasured layer has no coverage lines")
+
+
+def check_void_markers(job, dialog):
+    """The Inspect dialog's "Uncovered regions": the shown layer's void discs in red, as many as
+    the plan lists for it; unchecked, none."""
+    from freecad.curvedslicer import api
+    from freecad.curvedslicer.viewproviders.view_job import VOID_COLOR
+
+    index = dialog.spin.value()
+    listed = len((api.layer_info(job, index)["coverage"] or {}).get("voids", []))
+    dialog.voids.setChecked(True)
+    process_events()
+    shown = [m for m in api.void_markers(job) if m.ViewObject.Visibility]
+    check(sum(len(m.Shape.Faces) for m in shown) == listed and
+          all(m.LayerIndex == index for m in shown),
+          "layer %d: its %d voids shown as discs (%d)" % (index, listed,
+                                                         sum(len(m.Shape.Faces) for m in shown)))
+    check(all(max(abs(a - b) for a, b in zip(m.ViewObject.ShapeColor[:3], VOID_COLOR)) < 0.01
+              for m in shown), "the discs are red")
+    dialog.voids.setChecked(False)
+    process_events()
+    check(not any(m.ViewObject.Visibility for m in api.void_markers(job)),
+          "unchecked, no uncovered region is shown")
 
 
 def torch_tip_and_axis(job):
@@ -296,7 +327,7 @@ def run():
     from freecad.curvedslicer.commands import job_commands
 
     for name in ("CurvedSlicer_InspectLayers", "CurvedSlicer_ToggleCell",
-                 "CurvedSlicer_Simulate"):
+                 "CurvedSlicer_ToggleVoids", "CurvedSlicer_Simulate"):
         check(name in FreeCADGui.listCommands(), "command %s exists" % name)
         pixmap = job_commands.COMMANDS[name]().GetResources()["Pixmap"]
         check(os.path.isfile(pixmap) and render_svg(pixmap, "icon_%s" % name),

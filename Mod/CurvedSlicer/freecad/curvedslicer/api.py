@@ -20,6 +20,7 @@ from .objects import job as job_module
 from .stages import layers as layer_stage
 from .stages import paths as path_stage
 from .stages import poses, simulation, views
+from .stages import voids as void_stage
 
 __all__ = ["make_job", "run", "recompute", "estimate", "layers", "set_layer_range", "export",
            "export_formats", "plan", "plan_json", "path_features", "path_spacing", "motion",
@@ -296,6 +297,25 @@ def show_cell(job, visible=True):
 def cell_shown(job):
     """True if the cell at the pose is shown."""
     return views.cell_shown(job)
+
+
+def show_voids(job, visible=True):
+    """Shows (or hides) the uncovered regions of the stored plan: per plan layer a red disc for
+    each of the largest voids its coverage lists (centre, area) in an "uncovered regions" group
+    inside the Job's Paths group, drawn on first use and redrawn with the paths. Shown, a layer's discs follow its paths
+    (show_layer isolates them too). A plan without measured coverage has none."""
+    void_stage.show_voids(job, bool(visible))
+
+
+def voids_shown(job):
+    """True if the uncovered regions are shown."""
+    return void_stage.voids_shown(job)
+
+
+def void_markers(job):
+    """The marker features of the uncovered regions (one per plan layer with voids, LayerIndex
+    1-based, VoidCentres as the plan lists them); [] before show_voids."""
+    return void_stage.void_objects(job)
 
 
 def pose_info(job, index=None):

@@ -219,6 +219,38 @@ class ToggleCell:
         fit_view()
 
 
+class ToggleVoids:
+    """Shows or hides the uncovered regions (the plan's largest voids per layer) as red discs on
+    the layers whose paths are shown."""
+
+    def GetResources(self):
+        return {"Pixmap": icon_path("Layers"), "MenuText": "Show uncovered regions",
+                "ToolTip": "Show or hide a red disc on each of the largest voids of every shown "
+                           "layer (area and centre from the plan's coverage)"}
+
+    def IsActive(self):
+        job = selected_job()
+        return job is not None and bool(job.PlanJson)
+
+    def Activated(self):
+        from .. import api
+
+        job = selected_job()
+        toggle_voids(job, not api.voids_shown(job))
+
+
+def toggle_voids(job, visible):
+    """Shows or hides the Job's uncovered regions (recorded in macros) and colours them."""
+    from ..viewproviders.view_job import style_voids
+
+    try:
+        do_api("show_voids(%s, %r)" % (_ref(job), bool(visible)))
+    except CurvedSlicerError as error:
+        show_error("the uncovered regions cannot be shown", error)
+        return
+    style_voids(job)
+
+
 class Simulate:
     """The pose simulation player: play/pause, speed, scrub; joints and flags of the point."""
 
@@ -530,6 +562,7 @@ COMMANDS = {
     "CurvedSlicer_AnimatePoses": AnimatePoses,
     "CurvedSlicer_InspectLayers": InspectLayers,
     "CurvedSlicer_ToggleCell": ToggleCell,
+    "CurvedSlicer_ToggleVoids": ToggleVoids,
     "CurvedSlicer_Simulate": Simulate,
     "CurvedSlicer_Preferences": Preferences,
 }

@@ -9,7 +9,7 @@ call ``update_job``; it is App side: no GUI imports (docs/WORKBENCH.md).
 import FreeCAD
 
 from ..core import Cancelled, CurvedSlicerError
-from . import layers, paths, poses
+from . import layers, paths, poses, voids
 
 
 def _scaled(progress, begin, end):
@@ -69,3 +69,4 @@ def prune_unused(job):
     """Removes the result features a recompute emptied (call outside a recompute)."""
     layers.prune_unused_layers(job)
     paths.prune_unused_paths(job)
+    voids.prune_unused_voids(job)

@@ -379,6 +379,9 @@ def draw_paths(job, prune=True):
     moves.Label = "%s travel (arc off)" % job.Label
     moves.purgeTouched()
     group.purgeTouched()
+    from .voids import refresh_voids  # here: voids.py draws on the path features
+
+    refresh_voids(job, prune=prune)
 
 
 def prune_unused_paths(job):

@@ -13,6 +13,7 @@ import re
 from .layers import layer_objects
 from .paths import path_objects, travel_object
 from .poses import pose_objects
+from .voids import sync_voids
 
 _plan_cache = {}  # (document name, job name) -> (PlanJson digest, parsed layers)
 
@@ -54,6 +55,7 @@ def show_layer_range(job, first, last):
         _set(feature, first <= feature.LayerIndex <= last)
     everything = all(first <= f.LayerIndex <= last for f in features)
     _set(travel_object(job), everything)
+    sync_voids(job)  # a shown layer's uncovered regions with it
 
 
 def show_layer(job, index):

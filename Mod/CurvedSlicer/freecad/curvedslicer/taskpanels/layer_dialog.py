@@ -1,12 +1,13 @@
 """The layer inspector (issue 17 item 5): a spin box and a slider pick one plan layer; the view
 shows only that layer's surface and its paths (api.show_layer, recorded in macros), and the
 dialog shows the layer's number, height, paths, coverage (when the plan measured it) and
-warnings. "All layers" shows every layer again."""
+warnings. "All layers" shows every layer again; "Uncovered regions" marks the largest voids of
+the layers shown (api.show_voids)."""
 
 import FreeCADGui
 from PySide import QtCore, QtGui
 
-from ..commands.job_commands import _ref, do_api, show_error
+from ..commands.job_commands import _ref, do_api, show_error, toggle_voids
 from ..core import CurvedSlicerError
 
 
@@ -56,6 +57,14 @@ class LayerDialog(QtGui.QDialog):
         layout.addLayout(row)
         self.all_layers = QtGui.QCheckBox("All layers")
         layout.addWidget(self.all_layers)
+        from .. import api
+
+        self.voids = QtGui.QCheckBox("Uncovered regions")
+        self.voids.setObjectName("LayerVoids")
+        self.voids.setToolTip("A red disc on each of the layer's largest voids (centre and area "
+                              "from the plan's coverage)")
+        self.voids.setChecked(api.voids_shown(job))
+        layout.addWidget(self.voids)
         self.title = QtGui.QLabel()
         self.title.setObjectName("LayerTitle")
         layout.addWidget(self.title)
@@ -71,8 +80,14 @@ class LayerDialog(QtGui.QDialog):
         self.slider.valueChanged.connect(self.spin.setValue)
         self.spin.valueChanged.connect(self.apply)
         self.all_layers.toggled.connect(self.apply)
+        self.voids.toggled.connect(self.show_voids)
         self.info = None
         self.apply()
+
+    def show_voids(self, checked):
+        """Shows or hides the uncovered regions (of the layers shown)."""
+        toggle_voids(self.job, bool(checked))
+        FreeCADGui.updateGui()
 
     def apply(self, *args):
         """Shows the chosen layer (or all) and its numbers."""

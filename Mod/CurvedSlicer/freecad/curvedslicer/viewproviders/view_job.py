@@ -91,6 +91,27 @@ def style_paths(job):
         set_view(travel.ViewObject, "LineWidth", 1.0)
         set_view(travel.ViewObject, "DrawStyle", "Dashed")
     style_cell(poses.pose_objects(job))
+    style_voids(job)
+
+
+#: Colour of the uncovered-region markers (stages/voids.py).
+VOID_COLOR = (0.9, 0.05, 0.05)
+
+
+def style_voids(job):
+    """The uncovered-region discs in red, lit on both sides (no-op headless)."""
+    if not FreeCAD.GuiUp:
+        return
+    from ..stages import voids
+
+    for feature in voids.void_objects(job):
+        vobj = feature.ViewObject
+        if vobj is None:
+            continue
+        set_view(vobj, "ShapeColor", VOID_COLOR)
+        set_view(vobj, "LineColor", VOID_COLOR)
+        set_view(vobj, "Lighting", "Two side")
+        set_view(vobj, "Visibility", bool(feature.Visibility))
 
 
 #: Shape colours of the cell's parts: the positioner in greys, the robot in a robot's orange,
@@ -252,7 +273,10 @@ def _sync_visibility(job):
     from ..stages import paths as path_stage
     from ..stages import poses
 
+    from ..stages import voids
+
     objects = list(path_stage.path_objects(job)) + list(poses.pose_objects(job).values())
+    objects += voids.void_objects(job)
     travel = path_stage.travel_object(job)
     if travel is not None:
         objects.append(travel)
