@@ -665,8 +665,8 @@ class LayerDrafter {
   const PathStages stages_;
   const bool fromBoundary_;
   NarrowStripOptions narrowStrips_;
-  LayerDraft draft_;                // what draft() hands on
-  std::optional<LayerTail> tail_;   // its fit only (into draft_.stats, timed by draft_.timer)
+  LayerDraft draft_;               // what draft() hands on
+  std::optional<LayerTail> tail_;  // its fit only (into draft_.stats, timed by draft_.timer)
 };
 
 LayerDraft LayerDrafter::draft(std::size_t li, const LayerSurface& surface,
@@ -1224,8 +1224,7 @@ void planLayersInTurn(const std::vector<LayerSurface>& layers, const PlannerOpti
 /// a draft's error where the layer-by-layer run would have thrown it. The plan is the same as
 /// planLayersInTurn's: a draft depends on its layer alone, and completion runs in layer order.
 void planLayersInBatches(const std::vector<LayerSurface>& layers, const PlannerOptions& options,
-                         int threads, LayerPlanner& planner, const Progress& progress,
-                         Plan& plan) {
+                         int threads, LayerPlanner& planner, const Progress& progress, Plan& plan) {
   const std::size_t batch = 4 * static_cast<std::size_t>(threads);
   for (std::size_t begin = 0; begin < layers.size(); begin += batch) {
     const std::size_t end = std::min(layers.size(), begin + batch);

@@ -100,9 +100,8 @@ struct ThinRegionPlanner::Impl {
       : mesh(m), distance(d), options(o), s(o.beadSpacing) {
     minWidth = o.minFeatureWidth < 0.0 ? 0.5 * s : o.minFeatureWidth;
     labelRegions();
-    singleRegion = regions.size() == 1 &&
-                   std::find(triangleRegion.begin(), triangleRegion.end(), -1) ==
-                       triangleRegion.end();
+    singleRegion = regions.size() == 1 && std::find(triangleRegion.begin(), triangleRegion.end(),
+                                                    -1) == triangleRegion.end();
   }
 
   /// The closest-point tree of the mesh, built on the first call.

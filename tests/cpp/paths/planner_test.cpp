@@ -403,9 +403,10 @@ std::vector<LayerSurface> makeMixedStack() {
   for (int k = 0; k < 11; ++k) {
     const double z = 1.5 * (k + 1);
     const double w = 20.0 + 3.0 * (k % 4), d = 12.0 + 2.0 * (k % 3);
-    TriMesh mesh = k == 4   ? makeFlatPatch(0, 30, 0, 3, z, 60, 6)     // centre bead
-                   : k == 7 ? makeFlatPatch(0, 30, 0, 1.2, z, 60, 4)  // no room for a bead
-                            : makeFlatPatch(0, w, 0, d, z, static_cast<int>(w), static_cast<int>(d));
+    TriMesh mesh = k == 4 ? makeFlatPatch(0, 30, 0, 3, z, 60, 6)  // centre bead
+                   : k == 7
+                       ? makeFlatPatch(0, 30, 0, 1.2, z, 60, 4)  // no room for a bead
+                       : makeFlatPatch(0, w, 0, d, z, static_cast<int>(w), static_cast<int>(d));
     layers.push_back(makeLayer(k, z, std::move(mesh)));
   }
   return layers;
