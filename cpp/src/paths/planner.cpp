@@ -585,6 +585,8 @@ struct LayerDraft {
   std::string firstReason;      ///< the layer's first "no paths" reason (empty: none)
   double widest = 0.0;          ///< mm, largest finite GDTC of the layer
   PlanStats stats;              ///< its fit deviation and dropped pieces
+  /// Its stage seconds; once the draft has left its drafter only StageTimer::add may read it
+  /// (its statistics reference is the drafter's).
   std::optional<StageTimer> timer;
 };
 
