@@ -6,10 +6,13 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <exception>
 #include <map>
 #include <optional>
 #include <sstream>
 #include <string>
+
+#include <omp.h>
 
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/geom/triangle_bvh.hpp"
@@ -129,6 +132,10 @@ class StageTimer {
       ~Add() { t->seconds_[s] += std::chrono::duration<double>(Clock::now() - b).count(); }
     } add{this, stage, begin};
     return f();
+  }
+  /// Adds another timer's seconds (a layer timed on another thread).
+  void add(const StageTimer& other) {
+    for (int s = 0; s < kStageCount; ++s) seconds_[s] += other.seconds_[s];
   }
   void finish() {
     stats_.stageTimes.clear();
@@ -408,6 +415,10 @@ void validatePlannerOptions(const PlannerOptions& o) {
   }
   checkCoverageOptions(o);
   validateThinRegionOptions(o);
+  if (o.threads < 0) {
+    throw InvalidInput("planner threads must not be negative: " + std::to_string(o.threads) +
+                       "; pass 0 (OpenMP's default) or a number of threads");
+  }
 }
 
 void validateThinWallOptions(const ThinWallOptions& o) {
@@ -562,50 +573,59 @@ std::vector<Polyline> takeShortRings(std::vector<std::vector<Polyline>>& levelLi
 
 // ---- volume layers ----
 
-/// planLayers, layer by layer: the options turned into stage options once, and what one layer
-/// passes to the next (the support under it, the torch, the seams).
-class LayerPlanner {
+/// What the stages of one layer that need nothing from the layer before (surface index, initial
+/// curves, surface geodesic, iso-lines, fit, thin regions) leave for the stages that do (order,
+/// connected insets, deposition; then coverage), which LayerPlanner runs layer by layer.
+struct LayerDraft {
+  PlanLayer layer;                    ///< index, height and the notes so far
+  std::optional<SurfaceQuery> query;  ///< set unless the layer surface is empty
+  bool onField = false;               ///< the GDTC was found: order, insets, deposition follow
+  std::vector<RawBead> beads;
+  std::vector<int> beadLevels;  ///< per bead its level (connected insets; −1 = none)
+  std::string firstReason;      ///< the layer's first "no paths" reason (empty: none)
+  double widest = 0.0;          ///< mm, largest finite GDTC of the layer
+  PlanStats stats;              ///< its fit deviation and dropped pieces
+  /// Its stage seconds; once the draft has left its drafter only StageTimer::add may read it
+  /// (its statistics reference is the drafter's).
+  std::optional<StageTimer> timer;
+};
+
+/// The first stages of one layer (LayerDraft), on any thread: one drafter per layer, reading
+/// only the options and the layer surface.
+class LayerDrafter {
  public:
-  LayerPlanner(const TriMesh& startSurface, const PlannerOptions& options, PlanResult& result)
+  explicit LayerDrafter(const PlannerOptions& options)
       : options_(options),
         s_(options.beadSpacing),
         stages_(options),
-        fromBoundary_(options.initialCurve.kind == InitialCurveKind::Boundary),
-        result_(result),
-        timer_(result.stats),
-        tail_(stages_, result.stats, timer_, "layer") {
+        fromBoundary_(options.initialCurve.kind == InitialCurveKind::Boundary) {
     narrowStrips_.margin = 2.0 * options.fitTolerance;
     narrowStrips_.minLength = stages_.minLength;
-    stages_.record(options, result.plan.parameters);
-    result.plan.parameters.initialCurve = options.initialCurve.describe();
-    result.plan.parameters.narrowStrips = narrowStripModeName(options.narrowStrips);
-    result.plan.parameters.minFeatureWidth =
-        options.minFeatureWidth < 0.0 ? 0.5 * s_ : options.minFeatureWidth;
-    result.plan.parameters.beadWidthRange =
-        std::array<double, 2>{options.widthMin, options.widthMax};
-    result.plan.parameters.connectInsets = options.connectInsets;
-    if (!startSurface.empty()) support_.emplace(startSurface);
+    draft_.timer.emplace(draft_.stats);
+    tail_.emplace(stages_, draft_.stats, *draft_.timer, "layer");
   }
+  LayerDrafter(const LayerDrafter&) = delete;
+  LayerDrafter& operator=(const LayerDrafter&) = delete;
 
-  PlanLayer planLayer(std::size_t li, const LayerSurface& surface, const Progress& progress);
-  void finish();
+  /// Drafts layer `li`; `progress` is only called on this thread (pass none on a worker).
+  LayerDraft draft(std::size_t li, const LayerSurface& surface, const Progress& progress) &&;
 
  private:
   void warn(PlanLayer& layer, const std::string& text) {
     layer.warnings.push_back(text);
-    if (firstReason_.empty()) {
-      firstReason_ = "layer " + std::to_string(layer.index) + ": " + text;
+    if (draft_.firstReason.empty()) {
+      draft_.firstReason = "layer " + std::to_string(layer.index) + ": " + text;
     }
   }
+  StageTimer& timer() { return *draft_.timer; }
   std::vector<Polyline> findInitialCurves(const TriMesh& mesh,
                                           std::vector<std::int32_t>& boundaryVertices);
   std::optional<SurfaceGeodesicResult> computeLayerGeodesic(
       const TriMesh& mesh, const std::vector<Polyline>& curves,
       const std::vector<std::int32_t>& boundaryVertices, const Progress& progress,
       PlanLayer& layer);
-  void planOnField(const SurfaceGeodesicResult& gdtc, const std::vector<Polyline>& curves,
-                   const SurfaceQuery& query, bool firstLayer, const Progress& progress,
-                   PlanLayer& layer);
+  void fitOnField(const SurfaceGeodesicResult& gdtc, const std::vector<Polyline>& curves,
+                  const SurfaceQuery& query, const Progress& progress, PlanLayer& layer);
   std::vector<std::vector<Polyline>> extractLevelLines(const SurfaceGeodesicResult& gdtc,
                                                        const std::vector<Polyline>& curves,
                                                        const std::vector<double>& values);
@@ -613,8 +633,6 @@ class LayerPlanner {
                              std::vector<std::vector<Polyline>>& levelLines, PlanLayer& layer);
   void noteMissingBeads(const std::vector<double>& values, double maxDistance,
                         const std::vector<RawBead>& beads, std::size_t dropped, PlanLayer& layer);
-  void connectInsetsOf(const SurfaceQuery& query, const std::vector<int>& beadLevels,
-                       PlanLayer& layer);
   // thin regions (issue 15 item 2)
   void addThinRegionBeads(const SurfaceGeodesicResult& gdtc,
                           const std::vector<Polyline>& shortRings,
@@ -649,20 +667,16 @@ class LayerPlanner {
   const PathStages stages_;
   const bool fromBoundary_;
   NarrowStripOptions narrowStrips_;
-  PlanResult& result_;
-  StageTimer timer_;
-  LayerTail tail_;
-  std::optional<TriangleBvh> support_;  // material under the current layer
-  double widest_ = 0.0;  // largest GDTC over all layers (for the "spacing too wide" message)
-  std::string firstReason_;
+  LayerDraft draft_;               // what draft() hands on
+  std::optional<LayerTail> tail_;  // its fit only (into draft_.stats, timed by draft_.timer)
 };
 
-PlanLayer LayerPlanner::planLayer(std::size_t li, const LayerSurface& surface,
-                                  const Progress& progress) {
-  PlanLayer layer;
+LayerDraft LayerDrafter::draft(std::size_t li, const LayerSurface& surface,
+                               const Progress& progress) && {
+  PlanLayer& layer = draft_.layer;
   layer.index = static_cast<int>(li);
   layer.height = surface.level;
-  std::optional<SurfaceQuery> query;
+  std::optional<SurfaceQuery>& query = draft_.query;
   std::vector<Polyline> curves;
   std::vector<std::int32_t> boundaryVertices;  // Boundary: the GDTC sources
   std::optional<SurfaceGeodesicResult> field;
@@ -671,7 +685,7 @@ PlanLayer LayerPlanner::planLayer(std::size_t li, const LayerSurface& surface,
   } else {
     // ---- surface index: closest points and normals on the layer (fit projection, deposition)
     progress.report(0.0, kStages[kIndex]);
-    timer_.run(kIndex, [&] {
+    timer().run(kIndex, [&] {
       query.emplace(surface.mesh);
       return 0;
     });
@@ -688,22 +702,86 @@ PlanLayer LayerPlanner::planLayer(std::size_t li, const LayerSurface& surface,
   if (!curves.empty()) {
     field = computeLayerGeodesic(surface.mesh, curves, boundaryVertices, progress, layer);
   }
-  if (field) planOnField(*field, curves, *query, li == 0, progress, layer);
-  if (options_.measureCoverage && !surface.mesh.empty()) {
+  if (field) fitOnField(*field, curves, *query, progress, layer);
+  return std::move(draft_);
+}
+
+/// planLayers in layer order: what one layer passes to the next (the support under it, the
+/// torch, the seams) and the plan-wide statistics and notes, from the layers' drafts.
+class LayerPlanner {
+ public:
+  LayerPlanner(const TriMesh& startSurface, const PlannerOptions& options, PlanResult& result)
+      : options_(options),
+        s_(options.beadSpacing),
+        stages_(options),
+        fromBoundary_(options.initialCurve.kind == InitialCurveKind::Boundary),
+        result_(result),
+        timer_(result.stats),
+        tail_(stages_, result.stats, timer_, "layer") {
+    stages_.record(options, result.plan.parameters);
+    result.plan.parameters.initialCurve = options.initialCurve.describe();
+    result.plan.parameters.narrowStrips = narrowStripModeName(options.narrowStrips);
+    result.plan.parameters.minFeatureWidth =
+        options.minFeatureWidth < 0.0 ? 0.5 * s_ : options.minFeatureWidth;
+    result.plan.parameters.beadWidthRange =
+        std::array<double, 2>{options.widthMin, options.widthMax};
+    result.plan.parameters.connectInsets = options.connectInsets;
+    if (!startSurface.empty()) support_.emplace(startSurface);
+  }
+
+  /// The next layer from its draft: order, connected insets, deposition, coverage.
+  PlanLayer completeLayer(LayerDraft draft, const Progress& progress);
+  void finish();
+
+ private:
+  void connectInsetsOf(const SurfaceQuery& query, const std::vector<int>& beadLevels,
+                       PlanLayer& layer);
+
+  const PlannerOptions& options_;
+  const double s_;
+  const PathStages stages_;
+  const bool fromBoundary_;
+  PlanResult& result_;
+  StageTimer timer_;
+  LayerTail tail_;
+  std::optional<TriangleBvh> support_;  // material under the current layer
+  double widest_ = 0.0;  // largest GDTC over all layers (for the "spacing too wide" message)
+  std::string firstReason_;
+};
+
+PlanLayer LayerPlanner::completeLayer(LayerDraft draft, const Progress& progress) {
+  PlanLayer& layer = draft.layer;
+  timer_.add(*draft.timer);
+  result_.stats.maxFitDeviation =
+      std::max(result_.stats.maxFitDeviation, draft.stats.maxFitDeviation);
+  result_.stats.droppedFragments += draft.stats.droppedFragments;
+  widest_ = std::max(widest_, draft.widest);
+  if (firstReason_.empty()) firstReason_ = draft.firstReason;
+  if (draft.onField) {
+    progress.report(0.9, kStages[kOrder]);
+    tail_.order(draft.beads, layer);
+    if (options_.connectInsets) connectInsetsOf(*draft.query, draft.beadLevels, layer);
+    progress.report(0.95, kStages[kDeposition]);
+    DepositionSupport dep;
+    dep.surface = support_ ? &*support_ : nullptr;
+    dep.earlierBeads = layer.index == 0;
+    tail_.deposit(dep, options_.deposition, layer);
+  }
+  if (options_.measureCoverage && draft.query) {
     progress.report(0.98, kStages[kCoverage]);
-    layer.coverage =
-        timer_.run(kCoverage, [&] { return computeLayerCoverage(surface.mesh, layer.paths, s_); });
+    layer.coverage = timer_.run(
+        kCoverage, [&] { return computeLayerCoverage(*draft.query->mesh, layer.paths, s_); });
   }
   // The material under the next layer is this layer's surface (if it has one).
-  if (query) support_.emplace(std::move(query->bvh));
-  return layer;
+  if (draft.query) support_.emplace(std::move(draft.query->bvh));
+  return std::move(layer);
 }
 
 // ---- initial curves ----
 
-std::vector<Polyline> LayerPlanner::findInitialCurves(const TriMesh& mesh,
+std::vector<Polyline> LayerDrafter::findInitialCurves(const TriMesh& mesh,
                                                       std::vector<std::int32_t>& boundaryVertices) {
-  return timer_.run(kCurves, [&] {
+  return timer().run(kCurves, [&] {
     switch (options_.initialCurve.kind) {
       case InitialCurveKind::Plane:
         return computePlaneSection(mesh, options_.initialCurve.planePoint,
@@ -723,11 +801,11 @@ std::vector<Polyline> LayerPlanner::findInitialCurves(const TriMesh& mesh,
 
 /// Boundary loops consist of mesh vertices and edges: those vertices are the sources as they are
 /// (nothing to insert). Sections are inserted into the mesh. A failure is the layer's warning.
-std::optional<SurfaceGeodesicResult> LayerPlanner::computeLayerGeodesic(
+std::optional<SurfaceGeodesicResult> LayerDrafter::computeLayerGeodesic(
     const TriMesh& mesh, const std::vector<Polyline>& curves,
     const std::vector<std::int32_t>& boundaryVertices, const Progress& progress, PlanLayer& layer) {
   try {
-    return timer_.run(kGeodesic, [&] {
+    return timer().run(kGeodesic, [&] {
       return fromBoundary_
                  ? computeSurfaceGeodesicFromVertices(mesh, boundaryVertices, {}, options_.geodesic,
                                                       progress.sub(0.0, 0.7))
@@ -740,19 +818,20 @@ std::optional<SurfaceGeodesicResult> LayerPlanner::computeLayerGeodesic(
   return std::nullopt;
 }
 
-/// Iso-lines, fit, order and deposition on a layer whose GDTC is known.
-void LayerPlanner::planOnField(const SurfaceGeodesicResult& gdtc,
-                               const std::vector<Polyline>& curves, const SurfaceQuery& query,
-                               bool firstLayer, const Progress& progress, PlanLayer& layer) {
+/// Iso-lines, fit and thin regions on a layer whose GDTC is known: the draft's beads.
+void LayerDrafter::fitOnField(const SurfaceGeodesicResult& gdtc,
+                              const std::vector<Polyline>& curves, const SurfaceQuery& query,
+                              const Progress& progress, PlanLayer& layer) {
   const double maxDistance = largestFiniteDistance(gdtc);
-  widest_ = std::max(widest_, maxDistance);
+  draft_.widest = maxDistance;
+  draft_.onField = true;
   if (gdtc.unreachedVertices > 0) {
     layer.warnings.push_back(std::to_string(gdtc.unreachedVertices) +
                              " vertices of the layer are not reached from the initial curve "
                              "(a separate piece of the layer); they get no paths");
   }
   progress.report(0.7, kStages[kIso]);
-  std::vector<RawBead> beads;
+  std::vector<RawBead>& beads = draft_.beads;
   std::size_t dropped = 0;
   LevelFit fit;  // per bead its level (connected insets); the short rings (thin regions)
   const std::vector<double> values =
@@ -766,21 +845,14 @@ void LayerPlanner::planOnField(const SurfaceGeodesicResult& gdtc,
     addThinRegionBeads(gdtc, fit.shortRings, fit.fitWouldDrop, query, beads, dropped, layer);
   }
   beadLevels.resize(beads.size(), -1);  // thin-region beads belong to no level: never joined
-  tail_.countDropped(dropped);
+  draft_.beadLevels = std::move(beadLevels);
+  tail_->countDropped(dropped);
   noteMissingBeads(values, maxDistance, beads, dropped, layer);
-  progress.report(0.9, kStages[kOrder]);
-  tail_.order(beads, layer);
-  if (options_.connectInsets) connectInsetsOf(query, beadLevels, layer);
-  progress.report(0.95, kStages[kDeposition]);
-  DepositionSupport dep;
-  dep.surface = support_ ? &*support_ : nullptr;
-  dep.earlierBeads = firstLayer;
-  tail_.deposit(dep, options_.deposition, layer);
 }
 
 /// The iso-lines at (k + ½)·s (or k·s) over the whole layer, narrow strips resolved, fitted into
 /// `beads`; returns the iso-values.
-std::vector<double> LayerPlanner::fitFixedWidthLevels(const SurfaceGeodesicResult& gdtc,
+std::vector<double> LayerDrafter::fitFixedWidthLevels(const SurfaceGeodesicResult& gdtc,
                                                       const std::vector<Polyline>& curves,
                                                       const SurfaceQuery& query, double maxDistance,
                                                       const Progress& progress, PlanLayer& layer,
@@ -798,7 +870,7 @@ std::vector<double> LayerPlanner::fitFixedWidthLevels(const SurfaceGeodesicResul
   if (fromBoundary_) fit.fitWouldDrop = takeShortRings(levelLines, stages_.minLength);
   const auto normalOf = [&](const ClosestPoint& c) { return query.normalAt(c); };
   for (std::size_t k = 0; k < levelLines.size(); ++k) {
-    tail_.fit(levelLines[k], query.bvh, normalOf, beads, dropped);
+    tail_->fit(levelLines[k], query.bvh, normalOf, beads, dropped);
     fit.beadLevels.resize(beads.size(), static_cast<int>(k));
     progress.check();
   }
@@ -809,10 +881,10 @@ std::vector<double> LayerPlanner::fitFixedWidthLevels(const SurfaceGeodesicResul
 
 /// All levels in one pass over the layer; k = 0 (value 0) is the initial curve itself, the first
 /// bead.
-std::vector<std::vector<Polyline>> LayerPlanner::extractLevelLines(
+std::vector<std::vector<Polyline>> LayerDrafter::extractLevelLines(
     const SurfaceGeodesicResult& gdtc, const std::vector<Polyline>& curves,
     const std::vector<double>& values) {
-  return timer_.run(kIso, [&] {
+  return timer().run(kIso, [&] {
     std::vector<double> positive;
     for (const double value : values) {
       if (value > 0.0) positive.push_back(value);
@@ -826,7 +898,7 @@ std::vector<std::vector<Polyline>> LayerPlanner::extractLevelLines(
 /// Where the fronts meet (paths/narrow_strips.hpp): paths of one level closer than 0.95·s
 /// become one centre bead; the margin keeps the fitted paths at 0.95·s. The inner edges
 /// outline the strips beyond the beads where the next level has no ring.
-void LayerPlanner::resolveNarrowStripsOf(const SurfaceGeodesicResult& gdtc,
+void LayerDrafter::resolveNarrowStripsOf(const SurfaceGeodesicResult& gdtc,
                                          const std::vector<double>& values,
                                          std::vector<std::vector<Polyline>>& levelLines,
                                          PlanLayer& layer) {
@@ -835,8 +907,8 @@ void LayerPlanner::resolveNarrowStripsOf(const SurfaceGeodesicResult& gdtc,
     edgeValues.push_back(value + 0.5 * s_ + narrowStrips_.innerEdgeOffset);
   }
   const std::vector<std::vector<Polyline>> innerEdges =
-      timer_.run(kIso, [&] { return extractIsoLines(gdtc.mesh, gdtc.distance, edgeValues); });
-  NarrowStripResult strips = timer_.run(
+      timer().run(kIso, [&] { return extractIsoLines(gdtc.mesh, gdtc.distance, edgeValues); });
+  NarrowStripResult strips = timer().run(
       kIso, [&] { return resolveNarrowStrips(levelLines, values, s_, narrowStrips_, innerEdges); });
   reportNarrowStrips(strips, layer.warnings);
   levelLines = std::move(strips.levels);
@@ -856,7 +928,7 @@ void LayerPlanner::connectInsetsOf(const SurfaceQuery& query, const std::vector<
   tail_.connectInsets(beadLevels, project, insets, layer);
 }
 
-void LayerPlanner::noteMissingBeads(const std::vector<double>& values, double maxDistance,
+void LayerDrafter::noteMissingBeads(const std::vector<double>& values, double maxDistance,
                                     const std::vector<RawBead>& beads, std::size_t dropped,
                                     PlanLayer& layer) {
   if (values.empty() && beads.empty()) {
@@ -868,7 +940,7 @@ void LayerPlanner::noteMissingBeads(const std::vector<double>& values, double ma
     warn(layer, "no room for a bead: every iso-line is shorter than " +
                     formatMm(stages_.minLength) + " mm; no paths");
   } else if (dropped > 0) {
-    layer.warnings.push_back(tail_.droppedNote(dropped));
+    layer.warnings.push_back(tail_->droppedNote(dropped));
   }
 }
 
@@ -929,7 +1001,7 @@ void reportThinRegions(const ThinRegionResult& thin, double s, double minWidth, 
 /// Beads for the parts of the layer no ring reaches (paths/thin_regions.hpp). `shortRings`: the
 /// short closed iso-lines before the narrow-strip rule; `fitWouldDrop`: those left after it,
 /// which the fit would drop — counted in `dropped` unless kept.
-void LayerPlanner::addThinRegionBeads(const SurfaceGeodesicResult& gdtc,
+void LayerDrafter::addThinRegionBeads(const SurfaceGeodesicResult& gdtc,
                                       const std::vector<Polyline>& shortRings,
                                       const std::vector<Polyline>& fitWouldDrop,
                                       const SurfaceQuery& query, std::vector<RawBead>& beads,
@@ -943,7 +1015,7 @@ void LayerPlanner::addThinRegionBeads(const SurfaceGeodesicResult& gdtc,
   std::vector<Polyline> ringBeads;
   for (const RawBead& b : beads) ringBeads.push_back(b.line);
   const ThinRegionResult thin =
-      timer_.run(kIso, [&] { return planner.plan(ringBeads, shortRings); });
+      timer().run(kIso, [&] { return planner.plan(ringBeads, shortRings); });
   std::size_t keptFitDrops = 0, lost = 0;
   for (const ThinBead& t : thin.beads) {
     if (t.kind == ThinBeadKind::KeptRing) {
@@ -962,7 +1034,7 @@ void LayerPlanner::addThinRegionBeads(const SurfaceGeodesicResult& gdtc,
 /// One thin-region bead: a spot is projected as it is (widths w, dwell w / spotWeldSpeed); a
 /// centre line or kept ring is fitted like the rings, whatever its length. `lost`: fits that
 /// left too few points.
-void LayerPlanner::addThinBead(const ThinBead& thin, const ThinRegionPlanner& planner,
+void LayerDrafter::addThinBead(const ThinBead& thin, const ThinRegionPlanner& planner,
                                const SurfaceQuery& query, std::vector<RawBead>& beads,
                                std::size_t& lost) {
   if (thin.kind == ThinBeadKind::Spot) {
@@ -980,8 +1052,8 @@ void LayerPlanner::addThinBead(const ThinBead& thin, const ThinRegionPlanner& pl
   }
   const std::size_t before = beads.size();
   const auto normalOf = [&](const ClosestPoint& c) { return query.normalAt(c); };
-  timer_.run(kFit, [&] {
-    fitBeads({thin.line}, 0.0, stages_.fit, query.bvh, normalOf, beads, result_.stats, lost);
+  timer().run(kFit, [&] {
+    fitBeads({thin.line}, 0.0, stages_.fit, query.bvh, normalOf, beads, draft_.stats, lost);
     return 0;
   });
   if (beads.size() == before) return;
@@ -1016,7 +1088,7 @@ void appendAll(std::vector<Polyline>& to, std::vector<Polyline> from) {
 /// Per connected region of the layer: a whole number of rings of one width within the allowed
 /// range (computeRegionRings), iso-lines of the region alone at its values, its narrow strips at
 /// its width, fitted into `beads` with that width. Returns every region's values (ascending).
-std::vector<double> LayerPlanner::fitAdaptiveRegions(const SurfaceGeodesicResult& gdtc,
+std::vector<double> LayerDrafter::fitAdaptiveRegions(const SurfaceGeodesicResult& gdtc,
                                                      const std::vector<Polyline>& curves,
                                                      const SurfaceQuery& query,
                                                      const Progress& progress, PlanLayer& layer,
@@ -1058,7 +1130,7 @@ std::vector<double> LayerPlanner::fitAdaptiveRegions(const SurfaceGeodesicResult
     if (fromBoundary_) appendAll(fit.fitWouldDrop, takeShortRings(levelLines, stages_.minLength));
     const std::size_t first = beads.size();
     for (std::size_t k = 0; k < levelLines.size(); ++k) {
-      tail_.fit(levelLines[k], query.bvh, normalOf, beads, dropped);
+      tail_->fit(levelLines[k], query.bvh, normalOf, beads, dropped);
       fit.beadLevels.resize(beads.size(), static_cast<int>(k));
       progress.check();
     }
@@ -1072,7 +1144,7 @@ std::vector<double> LayerPlanner::fitAdaptiveRegions(const SurfaceGeodesicResult
 }
 
 /// A layer note where a region's whole number of beads would need a width outside the range.
-void LayerPlanner::noteClampedWidth(const RegionRings& rings, double halfWidth, PlanLayer& layer) {
+void LayerDrafter::noteClampedWidth(const RegionRings& rings, double halfWidth, PlanLayer& layer) {
   if (!rings.widthClamped) return;
   layer.warnings.push_back("adaptive bead width: a region reaching " + formatMm(halfWidth) +
                            " mm from its initial curve needs beads " + formatMm(rings.wholeWidth) +
@@ -1084,10 +1156,10 @@ void LayerPlanner::noteClampedWidth(const RegionRings& rings, double halfWidth, 
 
 /// extractLevelLines for one region: `field` is the GDTC inside the region, +inf elsewhere;
 /// value 0 is the region's initial curves.
-std::vector<std::vector<Polyline>> LayerPlanner::extractRegionLevelLines(
+std::vector<std::vector<Polyline>> LayerDrafter::extractRegionLevelLines(
     const TriMesh& mesh, const std::vector<double>& field, const std::vector<Polyline>& curves,
     const std::vector<double>& values) {
-  return timer_.run(kIso, [&] {
+  return timer().run(kIso, [&] {
     std::vector<double> positive;
     for (const double value : values) {
       if (value > 0.0) positive.push_back(value);
@@ -1100,7 +1172,7 @@ std::vector<std::vector<Polyline>> LayerPlanner::extractRegionLevelLines(
 
 /// resolveNarrowStripsOf for one region at its bead width: paths of one level closer than
 /// 0.95·w' become one centre bead.
-void LayerPlanner::resolveRegionNarrowStrips(const TriMesh& mesh, const std::vector<double>& field,
+void LayerDrafter::resolveRegionNarrowStrips(const TriMesh& mesh, const std::vector<double>& field,
                                              const std::vector<double>& values, double width,
                                              std::vector<std::vector<Polyline>>& levelLines,
                                              PlanLayer& layer) {
@@ -1109,8 +1181,8 @@ void LayerPlanner::resolveRegionNarrowStrips(const TriMesh& mesh, const std::vec
     edgeValues.push_back(value + 0.5 * width + narrowStrips_.innerEdgeOffset);
   }
   const std::vector<std::vector<Polyline>> innerEdges =
-      timer_.run(kIso, [&] { return extractIsoLines(mesh, field, edgeValues); });
-  NarrowStripResult strips = timer_.run(kIso, [&] {
+      timer().run(kIso, [&] { return extractIsoLines(mesh, field, edgeValues); });
+  NarrowStripResult strips = timer().run(kIso, [&] {
     return resolveNarrowStrips(levelLines, values, width, narrowStrips_, innerEdges);
   });
   reportNarrowStrips(strips, layer.warnings);
@@ -1131,6 +1203,53 @@ void LayerPlanner::finish() {
   }
   throw InvalidInput("no layer got a path: " + firstReason_ +
                      "; change the initial curve or the bead spacing");
+}
+
+/// The progress of layer `li` of `count` within the whole plan.
+Progress layerProgressOf(const Progress& progress, std::size_t li, std::size_t count) {
+  return progress.sub(static_cast<double>(li) / count, static_cast<double>(li + 1) / count);
+}
+
+/// One layer after the other on the calling thread (progress within every stage).
+void planLayersInTurn(const std::vector<LayerSurface>& layers, const PlannerOptions& options,
+                      LayerPlanner& planner, const Progress& progress, Plan& plan) {
+  for (std::size_t li = 0; li < layers.size(); ++li) {
+    const Progress layerProgress = layerProgressOf(progress, li, layers.size());
+    LayerDraft draft = LayerDrafter(options).draft(li, layers[li], layerProgress);
+    plan.layers.push_back(planner.completeLayer(std::move(draft), layerProgress));
+    layerProgress.report(1.0, kStages[kDeposition]);
+  }
+}
+
+/// Batches of 4 layers per thread: the batch's drafts in parallel (no progress on the workers),
+/// then each layer completed in order on the calling thread, which reports progress and rethrows
+/// a draft's error where the layer-by-layer run would have thrown it. The plan is the same as
+/// planLayersInTurn's: a draft depends on its layer alone, and completion runs in layer order.
+void planLayersInBatches(const std::vector<LayerSurface>& layers, const PlannerOptions& options,
+                         int threads, LayerPlanner& planner, const Progress& progress, Plan& plan) {
+  const std::size_t batch = 4 * static_cast<std::size_t>(threads);
+  for (std::size_t begin = 0; begin < layers.size(); begin += batch) {
+    const std::size_t end = std::min(layers.size(), begin + batch);
+    std::vector<std::optional<LayerDraft>> drafts(end - begin);
+    std::vector<std::exception_ptr> errors(end - begin);
+    const auto count = static_cast<std::int64_t>(end - begin);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (std::int64_t k = 0; k < count; ++k) {
+      try {
+        const std::size_t li = begin + static_cast<std::size_t>(k);
+        drafts[k].emplace(LayerDrafter(options).draft(li, layers[li], Progress()));
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+    }
+    for (std::size_t k = 0; k < drafts.size(); ++k) {
+      if (errors[k]) std::rethrow_exception(errors[k]);
+      const Progress layerProgress = layerProgressOf(progress, begin + k, layers.size());
+      plan.layers.push_back(planner.completeLayer(std::move(*drafts[k]), layerProgress));
+      drafts[k].reset();
+      layerProgress.report(1.0, kStages[kDeposition]);
+    }
+  }
 }
 
 // ---- thin wall ----
@@ -1262,11 +1381,11 @@ PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& st
   }
   PlanResult result;
   LayerPlanner planner(startSurface, options, result);
-  for (std::size_t li = 0; li < layers.size(); ++li) {
-    const Progress layerProgress = progress.sub(static_cast<double>(li) / layers.size(),
-                                                static_cast<double>(li + 1) / layers.size());
-    result.plan.layers.push_back(planner.planLayer(li, layers[li], layerProgress));
-    layerProgress.report(1.0, kStages[kDeposition]);
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  if (threads <= 1 || layers.size() < 2) {
+    planLayersInTurn(layers, options, planner, progress, result.plan);
+  } else {
+    planLayersInBatches(layers, options, threads, planner, progress, result.plan);
   }
   planner.finish();
   return result;

@@ -3,9 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <string>
-#include <unordered_map>
+#include <vector>
 
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/geom/triangle_bvh.hpp"
@@ -19,20 +20,38 @@ std::vector<Polyline> extractBoundaryLoops(const TriMesh& mesh) {
   return findBoundary(mesh).loops;
 }
 
+namespace {
+
+/// The undirected edges (edgeKey) used by exactly one triangle, sorted.
+std::vector<std::uint64_t> findSingleUseEdges(const TriMesh& mesh) {
+  std::vector<std::uint64_t> keys;
+  keys.reserve(mesh.triangleCount() * 3);
+  for (const Vec3i& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) keys.push_back(edgeKey(t[k], t[(k + 1) % 3]));
+  }
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::uint64_t> once;
+  for (std::size_t i = 0; i < keys.size();) {
+    std::size_t j = i + 1;
+    while (j < keys.size() && keys[j] == keys[i]) ++j;
+    if (j - i == 1) once.push_back(keys[i]);
+    i = j;
+  }
+  return once;
+}
+
+}  // namespace
+
 SurfaceBoundary findBoundary(const TriMesh& mesh) {
   SurfaceBoundary boundary;
-  // Count every undirected edge; boundary edges are used once, directed as in their triangle.
-  std::unordered_map<std::uint64_t, int> uses;
-  uses.reserve(mesh.triangleCount() * 3);
-  for (const Vec3i& t : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) ++uses[edgeKey(t[k], t[(k + 1) % 3])];
-  }
+  // Boundary edges are used by one triangle, directed as in it.
+  const std::vector<std::uint64_t> once = findSingleUseEdges(mesh);
   // Directed boundary edges from -> to, kept in a deterministic order.
   std::multimap<std::int32_t, std::int32_t> next;
   for (const Vec3i& t : mesh.triangles) {
     for (int k = 0; k < 3; ++k) {
       const std::int32_t a = t[k], b = t[(k + 1) % 3];
-      if (uses[edgeKey(a, b)] != 1) continue;
+      if (!std::binary_search(once.begin(), once.end(), edgeKey(a, b))) continue;
       boundary.vertices.push_back(a);
       boundary.vertices.push_back(b);
       if (a != b) next.emplace(a, b);

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <functional>
 #include <numeric>
+#include <optional>
 #include <queue>
 #include <string>
 #include <tuple>
@@ -85,18 +86,35 @@ struct ThinRegionPlanner::Impl {
   ThinRegionOptions options;
   double s = 0.0;
   double minWidth = 0.0;
-  TriangleBvh bvh;
   std::vector<std::int32_t> triangleRegion;  // -1: a corner without GDTC
   std::vector<std::int32_t> vertexRegion;    // -1: no valid triangle
   std::vector<RegionInfo> regions;
+  /// One region holding every triangle (the usual layer): every point is in region 0.
+  bool singleRegion = false;
+  // Built on first use (most layers have no region without a ring bead, and then need neither):
+  std::optional<TriangleBvh> bvh;                       // closest points, regionAt / widthsAt
   std::vector<std::int32_t> adjacencyStart, adjacency;  // CSR over valid triangles' edges
+  bool topology = false;                                // adjacency and region rims built
 
   Impl(const TriMesh& m, const std::vector<double>& d, const ThinRegionOptions& o)
-      : mesh(m), distance(d), options(o), s(o.beadSpacing), bvh(m) {
+      : mesh(m), distance(d), options(o), s(o.beadSpacing) {
     minWidth = o.minFeatureWidth < 0.0 ? 0.5 * s : o.minFeatureWidth;
     labelRegions();
+    singleRegion = regions.size() == 1 && std::find(triangleRegion.begin(), triangleRegion.end(),
+                                                    -1) == triangleRegion.end();
+  }
+
+  /// The closest-point tree of the mesh, built on the first call.
+  const TriangleBvh& tree() {
+    if (!bvh) bvh.emplace(mesh);
+    return *bvh;
+  }
+  /// Builds the adjacency and the region rims on the first call (planRegion, widthsAt need them).
+  void buildTopology() {
+    if (topology) return;
     buildAdjacency();
     collectRims();
+    topology = true;
   }
 
   bool validTriangle(std::size_t t) const {
@@ -117,7 +135,7 @@ struct ThinRegionPlanner::Impl {
   EndFit findEndShift(std::int32_t region, const Polyline& line, double w) const;
   double clearance(std::int32_t region, const Vec3& p) const;
   Inscribed findInscribed(std::int32_t region) const;
-  std::int32_t regionAt(const Vec3& p, ClosestPoint& hint) const;
+  std::int32_t regionAt(const Vec3& p, ClosestPoint& hint);
   double distanceAt(const ClosestPoint& c) const;
   RidgeTree searchRidge(std::int32_t from, double m) const;
   Polyline findCentreLine(std::int32_t region) const;
@@ -241,8 +259,9 @@ Inscribed ThinRegionPlanner::Impl::findInscribed(std::int32_t region) const {
   return best;
 }
 
-std::int32_t ThinRegionPlanner::Impl::regionAt(const Vec3& p, ClosestPoint& hint) const {
-  hint = bvh.closestPoint(p, hint);
+std::int32_t ThinRegionPlanner::Impl::regionAt(const Vec3& p, ClosestPoint& hint) {
+  if (singleRegion) return 0;
+  hint = tree().closestPoint(p, hint);
   return hint.triangle < 0 ? -1 : triangleRegion[hint.triangle];
 }
 
@@ -523,6 +542,9 @@ ThinRegionResult ThinRegionPlanner::plan(const std::vector<Polyline>& beads,
     ringCovered[region] = 1;
   }
   for (std::size_t region = 0; region < impl_->regions.size(); ++region) {
+    if (!covered[region] && !ringCovered[region]) impl_->buildTopology();
+  }
+  for (std::size_t region = 0; region < impl_->regions.size(); ++region) {
     if (covered[region]) continue;
     if (ringCovered[region]) {
       const RegionInfo& r = impl_->regions[region];
@@ -550,7 +572,8 @@ std::vector<double> ThinRegionPlanner::widthsAt(const std::vector<Vec3>& points)
       widths.push_back(impl_->s);
       continue;
     }
-    hint = impl_->bvh.closestPoint(p, hint);
+    impl_->buildTopology();
+    hint = impl_->tree().closestPoint(p, hint);
     double half = impl_->distanceAt(hint);
     const std::int32_t region = hint.triangle < 0 ? -1 : impl_->triangleRegion[hint.triangle];
     if (region >= 0) half = std::max(half, std::min(impl_->clearance(region, hint.point), kInf));

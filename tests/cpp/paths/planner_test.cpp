@@ -396,5 +396,81 @@ TEST(Planner, IsDeterministicAndRoundTrips) {
   EXPECT_EQ(formatPlanJson(parsePlanJson(a)), a);
 }
 
+/// Eleven layers of different cost and outcome (more than one batch of layers on 2 threads):
+/// rectangles of several sizes, a strip with a centre bead, a layer without room for a bead.
+std::vector<LayerSurface> makeMixedStack() {
+  std::vector<LayerSurface> layers;
+  for (int k = 0; k < 11; ++k) {
+    const double z = 1.5 * (k + 1);
+    const double w = 20.0 + 3.0 * (k % 4), d = 12.0 + 2.0 * (k % 3);
+    TriMesh mesh = k == 4 ? makeFlatPatch(0, 30, 0, 3, z, 60, 6)  // centre bead
+                   : k == 7
+                       ? makeFlatPatch(0, 30, 0, 1.2, z, 60, 4)  // no room for a bead
+                       : makeFlatPatch(0, w, 0, d, z, static_cast<int>(w), static_cast<int>(d));
+    layers.push_back(makeLayer(k, z, std::move(mesh)));
+  }
+  return layers;
+}
+
+TEST(Planner, ParallelLayersGiveTheSequentialPlan) {
+  const std::vector<LayerSurface> layers = makeMixedStack();
+  const TriMesh plate = makeFlatPatch(-10, 40, -10, 30, 0.0, 2, 2);
+  PlannerOptions options;
+  options.threads = 1;
+  const PlanResult sequential = planLayers(layers, plate, options);
+  const std::string expected = formatPlanJson(sequential.plan);
+  ASSERT_EQ(sequential.plan.layers.size(), layers.size());
+  EXPECT_TRUE(sequential.plan.layers[7].paths.empty());
+  EXPECT_GT(sequential.stats.seamsTooClose + sequential.stats.insetLinks, 0u);
+  for (const int threads : {2, 3, 0}) {
+    options.threads = threads;
+    const PlanResult parallel = planLayers(layers, plate, options);
+    EXPECT_EQ(formatPlanJson(parallel.plan), expected) << threads << " threads";
+    const PlanStats& a = sequential.stats;
+    const PlanStats& b = parallel.stats;
+    EXPECT_EQ(b.droppedFragments, a.droppedFragments) << threads << " threads";
+    EXPECT_EQ(b.seamsTooClose, a.seamsTooClose) << threads << " threads";
+    EXPECT_EQ(b.insetLinks, a.insetLinks) << threads << " threads";
+    EXPECT_EQ(b.travel, a.travel) << threads << " threads";
+    EXPECT_EQ(b.arcLength, a.arcLength) << threads << " threads";
+    EXPECT_EQ(b.maxFitDeviation, a.maxFitDeviation) << threads << " threads";
+    EXPECT_EQ(b.layersWithoutPaths, a.layersWithoutPaths) << threads << " threads";
+    EXPECT_EQ(b.deposition.towardsSurface, a.deposition.towardsSurface) << threads << " threads";
+    EXPECT_EQ(b.deposition.minDistance, a.deposition.minDistance) << threads << " threads";
+    EXPECT_EQ(b.deposition.maxDistance, a.deposition.maxDistance) << threads << " threads";
+    ASSERT_EQ(b.stageTimes.size(), 8u);
+  }
+}
+
+TEST(Planner, ParallelLayersNameTheFirstLayerWithoutPaths) {
+  // Every layer misses the plane: the error names layer 0 whichever thread planned it first.
+  std::vector<LayerSurface> layers;
+  for (int k = 0; k < 9; ++k) {
+    layers.push_back(makeLayer(k, 1.5 * (k + 1), makeFlatPatch(0, 20, 0, 20, 1.5 * (k + 1), 8, 8)));
+  }
+  PlannerOptions options;
+  options.threads = 2;
+  options.initialCurve.kind = InitialCurveKind::Plane;
+  options.initialCurve.planePoint = Vec3(100, 0, 0);
+  expectMessage([&] { planLayers(layers, {}, options); },
+                "no layer got a path: layer 0: the initial plane misses this layer");
+}
+
+TEST(Planner, ParallelLayersCancelThroughProgress) {
+  const std::vector<LayerSurface> layers = makeMixedStack();
+  PlannerOptions options;
+  options.threads = 2;
+  int calls = 0;
+  const Progress cancelLater([&calls](double, std::string_view) { return ++calls < 3; });
+  EXPECT_THROW(planLayers(layers, {}, options, cancelLater), Cancelled);
+}
+
+TEST(Planner, RejectsNegativeThreads) {
+  PlannerOptions options;
+  options.threads = -1;
+  expectMessage([&] { validatePlannerOptions(options); },
+                "planner threads must not be negative: -1");
+}
+
 }  // namespace
 }  // namespace curvedslicer

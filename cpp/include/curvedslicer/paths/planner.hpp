@@ -123,6 +123,12 @@ struct PlannerOptions {
   /// takes to lay one bead width of bead, so it deposits about one bead's worth (a round deposit
   /// w across). Default: the default cell's weld speed (robot/cell.hpp ProcessDescription).
   double spotWeldSpeed = 8.0;
+  /// Layers planned at once (>= 0): their surface index, initial curves, surface geodesic,
+  /// iso-lines and fit run in parallel, then ordering, connected insets, deposition and coverage
+  /// run layer by layer in order (they carry the torch, the seams and the support from one layer
+  /// to the next). 0: OpenMP's default (OMP_NUM_THREADS, else the cores). The plan is the same
+  /// for any number.
+  int threads = 0;
 };
 
 /// Which boundary loop of a wall surface is the edge it grows from.
@@ -152,7 +158,8 @@ struct ThinWallOptions {
   DepositionOptions deposition;
 };
 
-/// Wall time of one planner stage, summed over layers.
+/// Time of one planner stage, summed over layers (with PlannerOptions::threads > 1, over the
+/// threads too: the stages before ordering then add up to more than the wall time).
 struct PlanStageTime {
   std::string name;  ///< "surface index" (closest-point tree and normals of the layer),
                      ///< "initial curves", "surface geodesic", "iso-lines", "fit", "order",

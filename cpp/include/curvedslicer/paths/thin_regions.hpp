@@ -83,6 +83,8 @@ struct ThinRegionResult {
 };
 
 /// The regions of one layer and their GDTC, queried for the beads of the regions the rings miss.
+/// Its closest-point tree and region rims are built on first use (layers whose regions all hold
+/// a ring bead need neither), so one planner must not be used by two threads at once.
 class ThinRegionPlanner {
  public:
   /// @param mesh      the layer surface the GDTC lives on (SurfaceGeodesicResult::mesh)
