@@ -541,20 +541,22 @@ ThinRegionResult ThinRegionPlanner::plan(const std::vector<Polyline>& beads,
 }
 
 std::vector<double> ThinRegionPlanner::widthsAt(const std::vector<Vec3>& points) const {
+  if (impl_->fixedWidth()) return std::vector<double>(points.size(), impl_->s);
+  std::vector<double> widths = localWidthsAt(points);
+  for (double& w : widths) w = beadWidthFor(w);
+  return widths;
+}
+
+std::vector<double> ThinRegionPlanner::localWidthsAt(const std::vector<Vec3>& points) const {
   std::vector<double> widths;
   widths.reserve(points.size());
-  const bool fixed = impl_->fixedWidth();
   ClosestPoint hint;
   for (const Vec3& p : points) {
-    if (fixed) {
-      widths.push_back(impl_->s);
-      continue;
-    }
     hint = impl_->bvh.closestPoint(p, hint);
     double half = impl_->distanceAt(hint);
     const std::int32_t region = hint.triangle < 0 ? -1 : impl_->triangleRegion[hint.triangle];
     if (region >= 0) half = std::max(half, std::min(impl_->clearance(region, hint.point), kInf));
-    widths.push_back(beadWidthFor(2.0 * half));
+    widths.push_back(2.0 * half);
   }
   return widths;
 }
