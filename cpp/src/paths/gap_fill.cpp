@@ -190,24 +190,24 @@ void validateGapFillOptions(const GapFillOptions& o) {
                        formatNumber(o.beadSpacing) + "; pass a value such as 3.7");
   }
   if (!std::isfinite(o.minGapWidth) || o.minGapWidth == 0.0) {
-    throw InvalidInput("minimum gap width must be a positive number of mm: " +
-                       formatNumber(o.minGapWidth) +
-                       "; pass a value such as 1.85, or a negative one for half the bead spacing");
+    throw InvalidInput(
+        "minimum gap width must be a positive number of mm: " + formatNumber(o.minGapWidth) +
+        "; pass a value such as 1.85, or a negative one for half the bead spacing");
   }
   if (!std::isfinite(o.minGapArea) || o.minGapArea == 0.0) {
-    throw InvalidInput("minimum gap area must be a positive number of mm²: " +
-                       formatNumber(o.minGapArea) +
-                       "; pass a value such as 14, or a negative one for s²");
+    throw InvalidInput(
+        "minimum gap area must be a positive number of mm²: " + formatNumber(o.minGapArea) +
+        "; pass a value such as 14, or a negative one for s²");
   }
   if (!std::isfinite(o.minRunLength) || o.minRunLength == 0.0) {
-    throw InvalidInput("minimum gap bead length must be a positive number of mm: " +
-                       formatNumber(o.minRunLength) +
-                       "; pass a value such as 1.85, or a negative one for half the bead spacing");
+    throw InvalidInput(
+        "minimum gap bead length must be a positive number of mm: " + formatNumber(o.minRunLength) +
+        "; pass a value such as 1.85, or a negative one for half the bead spacing");
   }
   if (!std::isfinite(o.reach) || o.reach == 0.0) {
-    throw InvalidInput("gap clearance reach must be a positive number of mm: " +
-                       formatNumber(o.reach) +
-                       "; pass a value such as 3.7, or a negative one for the bead spacing");
+    throw InvalidInput(
+        "gap clearance reach must be a positive number of mm: " + formatNumber(o.reach) +
+        "; pass a value such as 3.7, or a negative one for the bead spacing");
   }
 }
 
@@ -225,19 +225,19 @@ std::vector<double> computeUncoveredClearance(const TriMesh& mesh,
   const SegmentGrid grid(segments, box, beadSpacing, reach);
   for (std::size_t v = 0; v < c.size(); ++v) {
     const Vec3& p = mesh.vertices[v];
-    for (const std::size_t i : grid.at(p)) c[v] = std::min(c[v], distanceBeyondBead(p, segments[i]));
+    for (const std::size_t i : grid.at(p))
+      c[v] = std::min(c[v], distanceBeyondBead(p, segments[i]));
   }
   return c;
 }
 
 GapFillPlanner::GapFillPlanner(const TriMesh& mesh, const std::vector<double>& distance,
-                               const std::vector<LayerBead>& beads,
-                               const GapFillOptions& options) {
+                               const std::vector<LayerBead>& beads, const GapFillOptions& options) {
   if (distance.size() != mesh.vertexCount()) {
-    throw InvalidInput("gap fill needs one GDTC value per vertex: " +
-                       std::to_string(distance.size()) + " values for " +
-                       std::to_string(mesh.vertexCount()) +
-                       " vertices; pass the field of the same mesh");
+    throw InvalidInput(
+        "gap fill needs one GDTC value per vertex: " + std::to_string(distance.size()) +
+        " values for " + std::to_string(mesh.vertexCount()) +
+        " vertices; pass the field of the same mesh");
   }
   validateGapFillOptions(options);
   planPatches(mesh, distance, beads, options);

@@ -958,8 +958,8 @@ void LayerPlanner::addThinRegionBeads(const SurfaceGeodesicResult& gdtc,
                                   [&](const Polyline& r) { return r.points == t.line.points; });
     }
     addThinBead(
-        t, [&](const std::vector<Vec3>& points) { return planner.widthsAt(points); }, query,
-        beads, lost);
+        t, [&](const std::vector<Vec3>& points) { return planner.widthsAt(points); }, query, beads,
+        lost);
   }
   dropped += fitWouldDrop.size() - keptFitDrops + lost;
   const double minWidth = options_.minFeatureWidth < 0.0 ? 0.5 * s_ : options_.minFeatureWidth;
@@ -1013,8 +1013,9 @@ void LayerPlanner::addGapFillBeads(const SurfaceGeodesicResult& gdtc, const Surf
   o.minGapWidth = options_.minFeatureWidth;
   o.widthMin = options_.widthMin;
   o.widthMax = options_.widthMax;
-  const std::unique_ptr<GapFillPlanner> gaps = timer_.run(
-      kIso, [&] { return std::make_unique<GapFillPlanner>(gdtc.mesh, gdtc.distance, layerBeads, o); });
+  const std::unique_ptr<GapFillPlanner> gaps = timer_.run(kIso, [&] {
+    return std::make_unique<GapFillPlanner>(gdtc.mesh, gdtc.distance, layerBeads, o);
+  });
   const GapFillResult& fill = gaps->result();
   std::size_t lost = 0;
   for (const ThinBead& t : fill.beads) {
@@ -1023,12 +1024,13 @@ void LayerPlanner::addGapFillBeads(const SurfaceGeodesicResult& gdtc, const Surf
         lost);
   }
   dropped += lost;
-  if (fill.filled > 0 || fill.uncoveredArea > 0.0) {
-    layer.warnings.push_back(
-        "gap fill: " + std::to_string(fill.filled) + " bead(s) in uncovered strips between beads (" +
-        formatMm(fill.filledArea) + " mm²); " + std::to_string(fill.gaps.size() - fill.filled) +
-        " patch(es) too narrow or too small stay uncovered (" +
-        formatMm(fill.uncoveredArea - fill.filledArea) + " mm²)");
+  if (fill.filled > 0) {
+    layer.warnings.push_back("gap fill: " + std::to_string(fill.filled) +
+                             " bead(s) in uncovered strips between beads (" +
+                             formatMm(fill.filledArea) + " mm²); " +
+                             std::to_string(fill.gaps.size() - fill.filled) +
+                             " patch(es) too narrow or too small stay uncovered (" +
+                             formatMm(fill.uncoveredArea - fill.filledArea) + " mm²)");
   }
 }
 

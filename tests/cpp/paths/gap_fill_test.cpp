@@ -51,9 +51,9 @@ Polyline makeRing(double a, double b, double inset) {
 
 /// The largest patch of a result.
 const ThinRegion& largestGap(const GapFillResult& r) {
-  return *std::max_element(r.gaps.begin(), r.gaps.end(), [](const ThinRegion& a, const ThinRegion& b) {
-    return a.area < b.area;
-  });
+  return *std::max_element(
+      r.gaps.begin(), r.gaps.end(),
+      [](const ThinRegion& a, const ThinRegion& b) { return a.area < b.area; });
 }
 
 // A 40 × 10 rectangle with its ring at s/2: covered to s from the edge, so the strip
@@ -130,7 +130,8 @@ TEST(GapFill, StripNarrowerThanTheMinimumStays) {
   {
     const GapFillPlanner planner(mesh, distance, {{&ring, {}}}, options);
     const std::vector<ThinRegion>& gaps = planner.result().gaps;
-    EXPECT_TRUE(std::all_of(gaps.begin(), gaps.end(), [](const ThinRegion& g) { return g.leftOut; }));
+    EXPECT_TRUE(
+        std::all_of(gaps.begin(), gaps.end(), [](const ThinRegion& g) { return g.leftOut; }));
     EXPECT_TRUE(std::any_of(gaps.begin(), gaps.end(), [](const ThinRegion& g) {
       return std::abs(g.width - 1.49) < 0.05 && std::abs(g.extent - 31.49) < 0.05;
     }));

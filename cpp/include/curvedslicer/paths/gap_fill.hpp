@@ -36,14 +36,14 @@
 namespace curvedslicer {
 
 struct GapFillOptions {
-  double beadSpacing = 3.7;   ///< s, mm (> 0)
-  double minGapWidth = -1.0;  ///< mm; narrower patches stay empty; < 0 means 0.5·s
-  double minGapArea = -1.0;   ///< mm²; smaller patches stay empty; < 0 means s²
-  double widthMin = 1.0;      ///< fraction of s, smallest bead width (adaptive width)
-  double widthMax = 1.0;      ///< fraction of s, largest bead width; min = max = 1: fixed s
-  double minRunLength = -1.0; ///< mm; shorter stretches of a centre line stay; < 0 means 0.5·s
-  double reach = -1.0;        ///< mm, largest clearance looked for (step 1); < 0 means s
-  bool allowSpots = true;     ///< a short patch gets a spot (dwell); false: it stays empty
+  double beadSpacing = 3.7;    ///< s, mm (> 0)
+  double minGapWidth = -1.0;   ///< mm; narrower patches stay empty; < 0 means 0.5·s
+  double minGapArea = -1.0;    ///< mm²; smaller patches stay empty; < 0 means s²
+  double widthMin = 1.0;       ///< fraction of s, smallest bead width (adaptive width)
+  double widthMax = 1.0;       ///< fraction of s, largest bead width; min = max = 1: fixed s
+  double minRunLength = -1.0;  ///< mm; shorter stretches of a centre line stay; < 0 means 0.5·s
+  double reach = -1.0;         ///< mm, largest clearance looked for (step 1); < 0 means s
+  bool allowSpots = true;      ///< a short patch gets a spot (dwell); false: it stays empty
 };
 
 /// A bead already on the layer: its centre line and width.
