@@ -7,7 +7,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <exception>
+#include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -19,6 +21,7 @@
 #include "curvedslicer/paths/adaptive_width.hpp"
 #include "curvedslicer/paths/connected_insets.hpp"
 #include "curvedslicer/paths/coverage.hpp"
+#include "curvedslicer/paths/gap_fill.hpp"
 #include "curvedslicer/paths/iso_lines.hpp"
 #include "curvedslicer/paths/narrow_strips.hpp"
 #include "curvedslicer/paths/path_fit.hpp"
@@ -638,8 +641,11 @@ class LayerDrafter {
                           const std::vector<Polyline>& shortRings,
                           const std::vector<Polyline>& fitWouldDrop, const SurfaceQuery& query,
                           std::vector<RawBead>& beads, std::size_t& dropped, PlanLayer& layer);
-  void addThinBead(const ThinBead& thin, const ThinRegionPlanner& planner,
+  void addThinBead(const ThinBead& thin,
+                   const std::function<std::vector<double>(const std::vector<Vec3>&)>& widthsAt,
                    const SurfaceQuery& query, std::vector<RawBead>& beads, std::size_t& lost);
+  void addGapFillBeads(const SurfaceGeodesicResult& gdtc, const SurfaceQuery& query,
+                       std::vector<RawBead>& beads, std::size_t& dropped, PlanLayer& layer);
   std::vector<double> fitFixedWidthLevels(const SurfaceGeodesicResult& gdtc,
                                           const std::vector<Polyline>& curves,
                                           const SurfaceQuery& query, double maxDistance,
@@ -843,6 +849,7 @@ void LayerDrafter::fitOnField(const SurfaceGeodesicResult& gdtc,
   beadLevels.resize(beads.size(), -1);
   if (fromBoundary_) {
     addThinRegionBeads(gdtc, fit.shortRings, fit.fitWouldDrop, query, beads, dropped, layer);
+    if (options_.fillGaps) addGapFillBeads(gdtc, query, beads, dropped, layer);
   }
   beadLevels.resize(beads.size(), -1);  // thin-region beads belong to no level: never joined
   draft_.beadLevels = std::move(beadLevels);
@@ -1022,7 +1029,9 @@ void LayerDrafter::addThinRegionBeads(const SurfaceGeodesicResult& gdtc,
       keptFitDrops += std::any_of(fitWouldDrop.begin(), fitWouldDrop.end(),
                                   [&](const Polyline& r) { return r.points == t.line.points; });
     }
-    addThinBead(t, planner, query, beads, lost);
+    addThinBead(
+        t, [&](const std::vector<Vec3>& points) { return planner.widthsAt(points); }, query, beads,
+        lost);
   }
   dropped += fitWouldDrop.size() - keptFitDrops + lost;
   const double minWidth = options_.minFeatureWidth < 0.0 ? 0.5 * s_ : options_.minFeatureWidth;
@@ -1034,9 +1043,10 @@ void LayerDrafter::addThinRegionBeads(const SurfaceGeodesicResult& gdtc,
 /// One thin-region bead: a spot is projected as it is (widths w, dwell w / spotWeldSpeed); a
 /// centre line or kept ring is fitted like the rings, whatever its length. `lost`: fits that
 /// left too few points.
-void LayerDrafter::addThinBead(const ThinBead& thin, const ThinRegionPlanner& planner,
-                               const SurfaceQuery& query, std::vector<RawBead>& beads,
-                               std::size_t& lost) {
+void LayerDrafter::addThinBead(
+    const ThinBead& thin,
+    const std::function<std::vector<double>(const std::vector<Vec3>&)>& widthsAt,
+    const SurfaceQuery& query, std::vector<RawBead>& beads, std::size_t& lost) {
   if (thin.kind == ThinBeadKind::Spot) {
     RawBead bead;
     ClosestPoint hint;
@@ -1060,7 +1070,40 @@ void LayerDrafter::addThinBead(const ThinBead& thin, const ThinRegionPlanner& pl
   RawBead& bead = beads.back();
   bead.widths = thin.kind == ThinBeadKind::KeptRing
                     ? std::vector<double>(bead.line.points.size(), s_)
-                    : planner.widthsAt(bead.line.points);
+                    : widthsAt(bead.line.points);
+}
+
+/// Beads for the uncovered strips the beads so far leave (paths/gap_fill.hpp), with a note of
+/// what was filled and what stays.
+void LayerDrafter::addGapFillBeads(const SurfaceGeodesicResult& gdtc, const SurfaceQuery& query,
+                                   std::vector<RawBead>& beads, std::size_t& dropped,
+                                   PlanLayer& layer) {
+  std::vector<LayerBead> layerBeads;
+  for (const RawBead& b : beads) layerBeads.push_back({&b.line, b.widths});
+  GapFillOptions o;
+  o.beadSpacing = s_;
+  o.minGapWidth = options_.minFeatureWidth;
+  o.widthMin = options_.widthMin;
+  o.widthMax = options_.widthMax;
+  const std::unique_ptr<GapFillPlanner> gaps = timer().run(kIso, [&] {
+    return std::make_unique<GapFillPlanner>(gdtc.mesh, gdtc.distance, layerBeads, o);
+  });
+  const GapFillResult& fill = gaps->result();
+  std::size_t lost = 0;
+  for (const ThinBead& t : fill.beads) {
+    addThinBead(
+        t, [&](const std::vector<Vec3>& points) { return gaps->widthsAt(points); }, query, beads,
+        lost);
+  }
+  dropped += lost;
+  if (fill.filled > 0) {
+    layer.warnings.push_back("gap fill: " + std::to_string(fill.filled) +
+                             " bead(s) in uncovered strips between beads (" +
+                             formatMm(fill.filledArea) + " mm²); " +
+                             std::to_string(fill.gaps.size() - fill.filled) +
+                             " patch(es) too narrow or too small stay uncovered (" +
+                             formatMm(fill.uncoveredArea - fill.filledArea) + " mm²)");
+  }
 }
 
 // ---- adaptive bead width (issue 15; paths/adaptive_width.hpp) ----

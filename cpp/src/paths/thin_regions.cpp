@@ -139,6 +139,9 @@ struct ThinRegionPlanner::Impl {
   double distanceAt(const ClosestPoint& c) const;
   RidgeTree searchRidge(std::int32_t from, double m) const;
   Polyline findCentreLine(std::int32_t region) const;
+  bool findRimSpan(std::int32_t region, const Vec3& p, const Vec3& across, const Vec3& normal,
+                   double& plus, double& minus) const;
+  void centreBetweenRims(std::int32_t region, Polyline& line) const;
   void planRegion(std::int32_t region, ThinRegionResult& result) const;
 };
 
@@ -428,6 +431,48 @@ Polyline ThinRegionPlanner::Impl::findCentreLine(std::int32_t region) const {
   return path;
 }
 
+/// Distances from `p` to the region's rim along +across and −across (unit, tangent to the
+/// surface, `normal` the surface normal at p): where the rim edges cross the plane through p
+/// normal to the line (spanned by across and normal), the nearest on each side. False when a side
+/// has no crossing within `reach` (2·widthMax·s).
+bool ThinRegionPlanner::Impl::findRimSpan(std::int32_t region, const Vec3& p, const Vec3& across,
+                                          const Vec3& normal, double& plus, double& minus) const {
+  const Vec3 along = across.cross(normal);
+  const double reach = 2.0 * options.widthMax * s;
+  plus = minus = kInf;
+  for (const auto& [a, b] : regions[region].rim) {
+    const double ta = (a - p).dot(along), tb = (b - p).dot(along);
+    if ((ta > 0.0) == (tb > 0.0) || ta == tb) continue;
+    const Vec3 x = a + (ta / (ta - tb)) * (b - a);
+    if (std::abs((x - p).dot(normal)) > reach) continue;
+    const double u = (x - p).dot(across);
+    if (u >= 0.0) plus = std::min(plus, u);
+    if (u <= 0.0) minus = std::min(minus, -u);
+  }
+  return plus <= reach && minus <= reach;
+}
+
+/// Adaptive width: every interior point of the centre line moves across the line to the middle
+/// of the region's span there (the ridge path of a region a few edges wide runs off the medial
+/// axis by up to half an edge; a bead 2·d wide there would leave a sliver on the far side).
+void ThinRegionPlanner::Impl::centreBetweenRims(std::int32_t region, Polyline& line) const {
+  const std::vector<Vec3> points = line.points;
+  ClosestPoint hint;
+  for (std::size_t i = 1; i + 1 < points.size(); ++i) {
+    hint = bvh->closestPoint(points[i], hint);  // built by plan() before adaptive regions
+    if (hint.triangle < 0) continue;
+    const Vec3 normal = mesh.areaNormal(hint.triangle).normalized();
+    Vec3 tangent = points[i + 1] - points[i - 1];
+    tangent -= tangent.dot(normal) * normal;
+    if (!(tangent.norm() > 1e-9)) continue;
+    const Vec3 across = normal.cross(tangent.normalized());
+    double plus = 0.0, minus = 0.0;
+    if (findRimSpan(region, points[i], across, normal, plus, minus)) {
+      line.points[i] = points[i] + 0.5 * (plus - minus) * across;
+    }
+  }
+}
+
 void ThinRegionPlanner::Impl::planRegion(std::int32_t region, ThinRegionResult& result) const {
   const RegionInfo& r = regions[region];
   ThinRegion info;
@@ -456,6 +501,7 @@ void ThinRegionPlanner::Impl::planRegion(std::int32_t region, ThinRegionResult& 
   if (centre.points.size() >= 2 && length + front.shift + back.shift >= 0.25 * w) {
     bead.kind = ThinBeadKind::CentreLine;
     bead.line = adjustEnds(centre, front, back);
+    if (!fixedWidth()) centreBetweenRims(region, bead.line);
   } else {
     bead.kind = ThinBeadKind::Spot;
     const Vec3 middle = inscribed.centre;
@@ -542,7 +588,9 @@ ThinRegionResult ThinRegionPlanner::plan(const std::vector<Polyline>& beads,
     ringCovered[region] = 1;
   }
   for (std::size_t region = 0; region < impl_->regions.size(); ++region) {
-    if (!covered[region] && !ringCovered[region]) impl_->buildTopology();
+    if (covered[region] || ringCovered[region]) continue;
+    impl_->buildTopology();
+    if (!impl_->fixedWidth()) impl_->tree();  // centreBetweenRims needs closest points
   }
   for (std::size_t region = 0; region < impl_->regions.size(); ++region) {
     if (covered[region]) continue;
@@ -563,21 +611,23 @@ ThinRegionResult ThinRegionPlanner::plan(const std::vector<Polyline>& beads,
 }
 
 std::vector<double> ThinRegionPlanner::widthsAt(const std::vector<Vec3>& points) const {
+  if (impl_->fixedWidth()) return std::vector<double>(points.size(), impl_->s);
+  std::vector<double> widths = localWidthsAt(points);
+  for (double& w : widths) w = beadWidthFor(w);
+  return widths;
+}
+
+std::vector<double> ThinRegionPlanner::localWidthsAt(const std::vector<Vec3>& points) const {
   std::vector<double> widths;
   widths.reserve(points.size());
-  const bool fixed = impl_->fixedWidth();
   ClosestPoint hint;
   for (const Vec3& p : points) {
-    if (fixed) {
-      widths.push_back(impl_->s);
-      continue;
-    }
     impl_->buildTopology();
     hint = impl_->tree().closestPoint(p, hint);
     double half = impl_->distanceAt(hint);
     const std::int32_t region = hint.triangle < 0 ? -1 : impl_->triangleRegion[hint.triangle];
     if (region >= 0) half = std::max(half, std::min(impl_->clearance(region, hint.point), kInf));
-    widths.push_back(beadWidthFor(2.0 * half));
+    widths.push_back(2.0 * half);
   }
   return widths;
 }

@@ -336,9 +336,13 @@ TEST(ContourPaths, AnyRectangleKeepsTheSpacingWithTheDefaultPlanner) {
   // GDTC ridge falls anywhere between two rings): the planner's output paths (fitted, resampled,
   // ordered) are never closer than 0.95·s — between paths, or within one path beyond π·s/2 along
   // it —, and the outermost ring sits s/2 from the edge. With `overlap` the innermost ring's
-  // sides come closer on most widths (the case the default rule exists for).
+  // sides come closer on most widths (the case the default rule exists for). Gap fill is off
+  // here: it puts a bead into the strip left between the innermost rings (0.5·s to s wide),
+  // deliberately closer than 0.95·s to them (void traded for overlap, paths/gap_fill.hpp); with
+  // it on (the default) the void share of every rectangle does not grow and the overlap stays
+  // under 10 %.
   const double s = 3.7;
-  int overlapping = 0;
+  int overlapping = 0, filled = 0;
   double closestCentre = kInf;
   for (double width = 12.0; width <= 41.0; width += 1.3) {
     LayerSurface layer;
@@ -348,8 +352,18 @@ TEST(ContourPaths, AnyRectangleKeepsTheSpacingWithTheDefaultPlanner) {
     for (const NarrowStripMode mode : {NarrowStripMode::CentreBead, NarrowStripMode::Overlap}) {
       PlannerOptions options;
       options.narrowStrips = mode;
+      options.fillGaps = false;
       const PlanResult result = planLayers({layer}, TriMesh{}, options);
       ASSERT_EQ(result.plan.layers.size(), 1u);
+      if (mode == NarrowStripMode::CentreBead) {
+        options.fillGaps = true;
+        const PlanResult fill = planLayers({layer}, TriMesh{}, options);
+        const LayerCoverage& on = fill.plan.layers.at(0).coverage;
+        const LayerCoverage& off = result.plan.layers[0].coverage;
+        EXPECT_LE(on.voidShare, off.voidShare) << "width " << width;
+        EXPECT_LE(on.overlapShare, 0.10) << "width " << width;
+        filled += fill.plan.layers[0].paths.size() > result.plan.layers[0].paths.size();
+      }
       // Connected insets: the ring parts of a joined path are measured as the rings they are;
       // a link keeps s/2 from every bead but the two it joins.
       const testing::SplitBeads split = testing::splitLayerBeads(result.plan.layers[0].paths);
@@ -382,8 +396,10 @@ TEST(ContourPaths, AnyRectangleKeepsTheSpacingWithTheDefaultPlanner) {
     }
   }
   std::cout << "rectangles 60 x 12..41 mm: overlap mode closer than 0.95·s on " << overlapping
-            << " of 23 widths; centre-bead mode closest " << closestCentre << " mm\n";
+            << " of 23 widths; centre-bead mode closest " << closestCentre << " mm; gap fill on "
+            << filled << " widths\n";
   EXPECT_GE(overlapping, 8);  // the sweep does cover the case the rule is for
+  EXPECT_GT(filled, 0);       // and the strips gap fill is for
 }
 
 TEST(Planner, KindNamesRoundTrip) {

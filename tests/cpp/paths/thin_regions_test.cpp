@@ -205,6 +205,29 @@ TEST(ThinRegions, AdaptiveWidthFollowsTheStripWithinTheRange) {
   }
 }
 
+TEST(ThinRegions, AdaptiveCentreBeadIsCentredOnACoarseMesh) {
+  // A 3.2 mm strip meshed 4 cells across (0.8 mm): the GDTC ridge path runs on a mesh line, at
+  // y = 1.6 only by luck of the vertex rows; with 3 cells (rows at 1.067 and 2.133) it runs
+  // 0.53 mm off the middle. With adaptive width the bead is moved to the middle of the strip's
+  // span: every interior point within 0.05 mm of y = 1.6, width 3.2, and (almost) no void.
+  PlannerOptions options;
+  options.widthMin = 0.7;
+  options.widthMax = 1.3;
+  const PlanResult result =
+      planLayers(oneLayer(makeRectangle(0, 30, 0, 3.2, 1.5, 40, 3)), TriMesh{}, options);
+  ASSERT_EQ(result.plan.layers[0].paths.size(), 1u);
+  const PlanPath& path = result.plan.layers[0].paths[0];
+  for (std::size_t i = 1; i + 1 < path.points.size(); ++i) {
+    const PathPoint& p = path.points[i];
+    if (p.position.x() < 3.0 || p.position.x() > 27.0) continue;  // away from the round ends
+    EXPECT_NEAR(p.position.y(), 1.6, 0.05) << "x " << p.position.x();
+    EXPECT_NEAR(p.width, 3.2, 0.1) << "x " << p.position.x();
+  }
+  // What stays uncovered: the strip's four corners outside the round ends, 4·(w/2)²·(1 − π/4).
+  const LayerCoverage& c = result.plan.layers[0].coverage;
+  EXPECT_LT(c.voidShare * c.area, 4.0 * 1.6 * 1.6 * (1.0 - kPi / 4.0) + 0.5);
+}
+
 TEST(ThinRegions, MinimumFeatureWidthDecidesWhatIsLeftOut) {
   // The 2 mm strip is left out when the minimum is 2.5 mm, and reported with its size and place.
   PlannerOptions options;

@@ -4,7 +4,11 @@
 // of layer area farther than s/2 from every path's centre line, on a barycentric sample grid of
 // every layer triangle), and every link stays inside the layer region: its points lie on the layer
 // surface (within the fit tolerance) and keep s/2 from every bead of the layer but the two it
-// joins. Layers are computed once and planned with the option off and on.
+// joins. Layers are computed once and planned with the option off and on. The same plan carries
+// the bunny's void acceptance: its total void share by the plan's own coverage numbers
+// (paths/coverage.hpp, area-weighted over the layers; gap fill on, the default) is at most 1.5 %.
+// Too slow under sanitizers (981 s of the 1200 s timeout under ASan): skipped there; gap fill is
+// covered by tests/cpp/paths/gap_fill_test.cpp, connected insets by connected_insets_test.cpp.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -18,6 +22,7 @@
 #include "common/test_paths.hpp"
 #include "curvedslicer/geom/triangle_bvh.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
+#include "curvedslicer/paths/coverage.hpp"
 #include "curvedslicer/paths/planner.hpp"
 #include "curvedslicer/pipeline/layer_pipeline.hpp"
 #include "paths/joined_paths.hpp"
@@ -116,7 +121,8 @@ void addLayerCoverage(const TriMesh& mesh, const std::vector<PlanPath>& paths, d
 }
 
 TEST(ConnectedInsetsBunny, FewerArcStartsSameCoverageLinksInside) {
-  CURVEDSLICER_SKIP_IF_SANITIZED("ConnectedInsets.PlannerJoinsTheSameBeadsAndStaggersSeams");
+  CURVEDSLICER_SKIP_IF_SANITIZED(
+      "ConnectedInsets.PlannerJoinsTheSameBeadsAndStaggersSeams and GapFill.*");
   const TriMesh model = readMesh(testing::modelPath("bunny_closed_low_res.stl"));
   LayerJobOptions job;
   job.layers.layerThickness = 1.5;
@@ -169,6 +175,11 @@ TEST(ConnectedInsetsBunny, FewerArcStartsSameCoverageLinksInside) {
   EXPECT_LE(coverAfter.voidShare(), coverBefore.voidShare());
   EXPECT_LE(farthestFromSurface, options.fitTolerance);
   EXPECT_GE(nearestOtherBead, 0.5 * s);
+  const PlanCoverageSummary own = summarizeCoverage(joined.plan);
+  std::printf("bunny plan's own coverage: void %.4f %%, overlap %.4f %%, arc starts %zu\n",
+              100.0 * own.voidShare, 100.0 * own.overlapShare, own.arcStarts);
+  EXPECT_EQ(own.measuredLayers, surfaces.size());
+  EXPECT_LE(own.voidShare, 0.015);
 }
 
 }  // namespace

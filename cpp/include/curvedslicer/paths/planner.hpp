@@ -116,6 +116,9 @@ struct PlannerOptions {
   /// Issue 15: consecutive rings of one region joined by a short step-over inside the layer into
   /// one arc-on path (fewer arc starts).
   bool connectInsets = true;
+  /// Issue 15: the uncovered strips the beads leave (between rings of one level, in corners) get
+  /// a bead on their centre line when at least minFeatureWidth wide (paths/gap_fill.hpp).
+  bool fillGaps = true;
   /// Issue 15: measure every layer's coverage (paths/coverage.hpp) into PlanLayer::coverage.
   bool measureCoverage = true;
   /// Issue 15, thin regions (paths/thin_regions.hpp): mm/s, the weld speed a spot's dwell is

@@ -104,6 +104,10 @@ class ThinRegionPlanner {
   /// Bead width at each of `points` (on the mesh): s when fixed, else 2·d clamped (file comment).
   std::vector<double> widthsAt(const std::vector<Vec3>& points) const;
 
+  /// The region's local width 2·d at each of `points` (file comment, "Bead widths"), unclamped,
+  /// mm; 0 off the regions.
+  std::vector<double> localWidthsAt(const std::vector<Vec3>& points) const;
+
   /// The bead width for a region of width W: s when fixed, else W clamped.
   double beadWidthFor(double regionWidth) const;
 
