@@ -324,7 +324,7 @@ void extractInBatches(std::vector<float>& values, const VoxelGrid& grid, const T
   const std::size_t budget =
       options.batchCrossings > 0
           ? options.batchCrossings
-          : std::max(kMinBatchCrossings, static_cast<std::size_t>(geometry.cellCount() / 64));
+          : std::max(kMinBatchCrossings, geometry.cellCount() / kCellsPerBatchCrossing);
   const std::vector<std::pair<int, int>> batches = planBatches(plan.crossingCubes, budget);
   std::uint64_t totalCrossings = 0;
   for (std::uint64_t c : plan.crossingCubes) totalCrossings += c;

@@ -2,6 +2,8 @@
 // stderr ("curvedslicer: error: …") and leaves nothing in the output folder.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -11,6 +13,9 @@
 #include "cli_test_support.hpp"
 #include "common/shapes.hpp"
 #include "common/test_paths.hpp"
+#include "curvedslicer/mesh/mesh_io.hpp"
+#include "curvedslicer/mesh/mesh_repair.hpp"
+#include "curvedslicer/voxel/voxelize.hpp"
 
 namespace curvedslicer {
 namespace {
@@ -202,6 +207,54 @@ TEST(CliErrors, GridBeyondTheMemoryBudget) {
                 {"cells at voxel size 0.01 mm", "memory budget", "use a voxel size of at least"});
   expectFailure(ws, ws.layers(ws.box, {"--memory-budget=-5"}), kInvalidInput,
                 {"memory budget must be 0 (automatic) or a positive number of MB: '-5'"});
+}
+
+/// The voxel size in "use a voxel size of at least X mm" (0 when the message has none).
+double suggestedVoxelSize(const std::string& message) {
+  const std::string marker = "use a voxel size of at least ";
+  const auto at = message.find(marker);
+  return at == std::string::npos ? 0.0 : std::stod(message.substr(at + marker.size()));
+}
+
+// The scale benchmark's part (tests/bench/large_part_bench.cpp: a 600 x 400 x 300 mm open-top box
+// with 8 mm walls) at a voxel size far beyond a 24 GiB budget: `layers` and `plan` refuse it
+// before allocating anything (the process stays small although the grid has ~4.6e9 cells), and
+// the voxel size they name passes the same budget check while the next smaller one does not —
+// checked with estimateGrid, which allocates nothing, so the 1.6e9-cell grid is never built.
+TEST(CliErrors, LargePartBeyondTheMemoryBudget) {
+  Workspace ws;
+  const fs::path part = ws.dir / "large_box.stl";
+  writeMesh(part, testing::makeOpenBox(Vec3(600, 400, 300), 8.0));
+  const std::string budgetMb = "24576";  // 24 GiB
+  for (const std::string command : {"layers", "plan"}) {
+    Args args{command,   part.string(),  "--layer-thickness", "1.5",
+              "--voxel", "0.25",         "--memory-budget",   budgetMb,
+              "-o",      ws.out.string()};
+    if (command == "plan") args.insert(args.end(), {"--bead-spacing", "3.7"});
+    expectFailure(ws, args, kResourceLimit,
+                  {"cells at voxel size 0.25 mm", "over the memory budget of 25.8 GB",
+                   "use a voxel size of at least 0.36 mm"});
+  }
+  rusage children{};
+  ASSERT_EQ(::getrusage(RUSAGE_CHILDREN, &children), 0);
+  EXPECT_LT(children.ru_maxrss, 256 * 1024) << "KiB: the refused grid was allocated";
+
+  // The suggestion fits the budget as the command line checks it (the cleaned model, PCA grid);
+  // 0.35 mm, the next smaller two-digit size, does not.
+  const CliRun run = runCli({"layers", part.string(), "--layer-thickness", "1.5", "--voxel", "0.25",
+                             "--memory-budget", budgetMb, "-o", ws.out.string()});
+  const double suggested = suggestedVoxelSize(run.err);
+  ASSERT_GT(suggested, 0.25) << run.err;
+  const TriMesh model = cleanMesh(readMesh(part)).mesh;
+  VoxelizeOptions options;
+  options.memoryBudgetBytes = 24.0 * 1024 * 1024 * 1024;
+  options.voxelSize = suggested;
+  const GridEstimate fitting = estimateGrid(model, options);
+  EXPECT_TRUE(fitting.fits) << fitting.message;
+  EXPECT_LE(fitting.cells * options.bytesPerCell, options.memoryBudgetBytes);
+  EXPECT_GT(fitting.cells, 1.5e9);  // the budget is used, not a far coarser grid
+  options.voxelSize = suggested - 0.01;
+  EXPECT_FALSE(estimateGrid(model, options).fits);
 }
 
 TEST(CliErrors, UnknownMethodGridAndFormat) {

@@ -465,6 +465,32 @@ TriMesh makeHalfAnnulus(double ri, double ro, double height, int segments) {
   return extrudePolygon(polygon, cap, edgeIds, height);
 }
 
+TriMesh makeOpenBox(const Vec3& size, double wall) {
+  requireThat(wall > 0 && size.x() > 2 * wall && size.y() > 2 * wall && size.z() > wall,
+              "makeOpenBox: need 0 < wall, size.x and size.y > 2·wall, size.z > wall");
+  MeshBuilder b;
+  const double X = size.x(), Y = size.y(), Z = size.z(), w = wall;
+  // Corners counter-clockwise seen from above: outer at z = 0 and z = Z, cavity at z = w and Z.
+  const std::array<Eigen::Vector2d, 4> outer = {{{0, 0}, {X, 0}, {X, Y}, {0, Y}}};
+  const std::array<Eigen::Vector2d, 4> inner = {{{w, w}, {X - w, w}, {X - w, Y - w}, {w, Y - w}}};
+  std::array<int, 4> o0{}, oZ{}, iw{}, iZ{};
+  for (int k = 0; k < 4; ++k) {
+    o0[k] = b.addVertex({outer[k].x(), outer[k].y(), 0.0});
+    oZ[k] = b.addVertex({outer[k].x(), outer[k].y(), Z});
+    iw[k] = b.addVertex({inner[k].x(), inner[k].y(), w});
+    iZ[k] = b.addVertex({inner[k].x(), inner[k].y(), Z});
+  }
+  b.quad(o0[0], o0[3], o0[2], o0[1]);  // outer bottom, facing −z
+  b.quad(iw[0], iw[1], iw[2], iw[3]);  // cavity floor, facing +z (into the cavity)
+  for (int k = 0; k < 4; ++k) {
+    const int n = (k + 1) % 4;
+    b.quad(o0[k], o0[n], oZ[n], oZ[k]);  // outer side, facing out
+    b.quad(iw[n], iw[k], iZ[k], iZ[n]);  // cavity side, facing the cavity
+    b.quad(oZ[k], oZ[n], iZ[n], iZ[k]);  // rim at z = Z, facing +z
+  }
+  return b.take();
+}
+
 TriMesh deleteTriangles(const TriMesh& mesh, double fraction) {
   TriMesh out;
   out.vertices = mesh.vertices;

@@ -62,6 +62,12 @@ TriMesh makeHalfAnnulus(double ri, double ro, double height, int segments);
 /// face x = a of the lower arm.
 TriMesh makeUChannel(double a, double b, double w, double height);
 
+/// Open-top box (a thin-walled shell): the outer box [0, size.x]×[0, size.y]×[0, size.z] minus the
+/// cavity [wall, size.x − wall]×[wall, size.y − wall]×[wall, size.z] (floor and four side walls of
+/// thickness `wall`, open at z = size.z), 28 triangles, closed and outward-oriented; the cavity's
+/// eight edges are reflex edges of the solid.
+TriMesh makeOpenBox(const Vec3& size, double wall);
+
 /// Removes every k-th triangle so that about `fraction` of them are gone (deterministic).
 TriMesh deleteTriangles(const TriMesh& mesh, double fraction);
 

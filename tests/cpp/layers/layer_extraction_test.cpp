@@ -619,6 +619,33 @@ TEST(LayerStreaming, UnclippedLayersMatchToo) {
   expectSameLayers(expected, sink, streamed);
 }
 
+// The automatic batch size (LayerOptions::batchCrossings, kCellsPerBatchCrossing) counts crossed
+// cubes; a layer parallel to a grid face — the large thin-walled part's layers, which broke the
+// old cells / 64 batches' memory — gives 8 triangles per crossed cube (a quad from each of the
+// two Kuhn tetrahedra cut 2|2, a triangle from each of the other four), not the bunny's 4–5.
+TEST(LayerStreaming, FlatLayersGiveEightTrianglesPerCrossedCube) {
+  const double L = 0.5;
+  // Cell centres at z = −0.75 + 0.5k; d = z + 0.35 puts the levels 2, 4, 6, 8 between them.
+  const HandCase c = makeCase(
+      Vec3::Zero(), Vec3::Constant(8.0), L, [](const Vec3&) { return true; },
+      [](const Vec3& p) { return p.z() + 0.35; });
+  LayerOptions options;
+  options.layerThickness = 2.0;
+  options.clipToSolid = false;
+  options.thicknessSamples = -1;
+  options.batchCrossings = 1;  // one level per batch: largestBatchCrossings is a level's count
+  DistanceField field = c.field;
+  RecordingSink sink;
+  const LayersResult result =
+      streamLayers(std::move(field), c.grid, TriMesh{}, TriMesh{}, sink, options);
+  ASSERT_EQ(sink.surfaces.size(), 4u);
+  EXPECT_EQ(result.batches, 4u);
+  EXPECT_EQ(result.largestBatchCrossings, 19u * 19u);  // the dual grid's cubes in one z slab
+  for (const LayerSurface& layer : sink.surfaces) {
+    EXPECT_EQ(layer.mesh.triangles.size(), 8u * result.largestBatchCrossings) << layer.index;
+  }
+}
+
 TEST(LayerStreaming, SinkErrorsAndCancellationStopTheExtraction) {
   const HandCase c = makeShellCase(0.5);
   const TriMesh model = testing::makeSphericalShell(kCentre, kR1, kR2, 3);

@@ -66,16 +66,21 @@ struct LayerOptions {
   /// closest-point query per sample (~3 µs on flat, ~25 µs on curved layers).
   int thicknessSamples = 4096;
   /// Layers are built in batches of consecutive levels that together cross at most this many
-  /// cubes of the dual grid (a level crossing more is a batch of its own; a crossed cube gives
-  /// about 4–5 triangles; a batch holds its unclipped and clipped surfaces at once; with the
-  /// automatic size the bunny's layer stage stays below the field stage's peak memory,
-  /// tests/bench/README.md §3). 0: automatic, max(kMinBatchCrossings, cells / 64). Results do not
-  /// depend on it.
+  /// cubes of the dual grid (a level crossing more is a batch of its own). A crossed cube gives
+  /// up to 12 triangles (about 4–5 on the bunny's curved layers, 8 on layers parallel to a grid
+  /// face), and a batch holds its unclipped and clipped surfaces, vertex keys and merge maps at
+  /// once, about 140 bytes per triangle. 0: automatic, max(kMinBatchCrossings, cells /
+  /// kCellsPerBatchCrossing), which keeps a batch at or below ~6–7 bytes per grid cell, so the
+  /// layer stage (6 bytes per cell of volume arrays plus one batch) stays below the nominal
+  /// VoxelizeOptions::bytesPerCell the memory budget is checked with (tests/bench/README.md,
+  /// "Large thin-walled part"). Results do not depend on it.
   std::size_t batchCrossings = 0;
 };
 
 /// Smallest automatic batch, in crossed cubes.
 inline constexpr std::size_t kMinBatchCrossings = std::size_t{1} << 18;
+/// Grid cells per crossed cube of an automatic batch (see LayerOptions::batchCrossings).
+inline constexpr std::size_t kCellsPerBatchCrossing = 256;
 
 struct ThicknessStats {
   std::size_t samples = 0;  ///< vertices measured (0 if there is no previous surface)
