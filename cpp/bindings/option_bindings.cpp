@@ -257,6 +257,9 @@ void bindPlannerOptions(py::module_& m) {
              "(width_min = width_max = 1: fixed width)")
       .value("connect_insets", member(&O::connectInsets),
              "join consecutive rings of one region into one arc-on path (fewer arc starts)")
+      .value("fill_gaps", member(&O::fillGaps),
+             "give uncovered strips between beads (at least min_feature_width wide) a "
+             "centre-line bead")
       .value("measure_coverage", member(&O::measureCoverage),
              "measure every layer's bead coverage (void and overlap shares) into the plan");
   bindPathOrderFields(c);

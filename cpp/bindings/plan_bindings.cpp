@@ -294,6 +294,7 @@ py::dict planSummaryPy(const std::string& planJson) {
     params["bead_width_range"] = py::make_tuple((*p.beadWidthRange)[0], (*p.beadWidthRange)[1]);
   }
   if (p.connectInsets) params["connect_insets"] = *p.connectInsets;
+  if (p.fillGaps) params["fill_gaps"] = *p.fillGaps;
   d["parameters"] = params;
   return d;
 }

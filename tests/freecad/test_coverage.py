@@ -38,16 +38,20 @@ class TestCoverage(cs_testing.DocumentTestCase):
         self.assertEqual(job.BeadWidthMin, core.width_min)
         self.assertEqual(job.BeadWidthMax, core.width_max)
         self.assertEqual(job.ConnectInsets, core.connect_insets)
+        self.assertEqual(job.FillGaps, core.fill_gaps)
+        self.assertTrue(job.FillGaps)
         self.assertEqual(job.MeasureCoverage, core.measure_coverage)
         self.assertEqual(defaults.MIN_FEATURE_WIDTH, 0.5 * core.bead_spacing)
 
     def test_plan_records_options_and_coverage(self):
-        job = self.job(min_feature_width=1.5, bead_width_range=(0.8, 1.2), connect_insets=False)
+        job = self.job(min_feature_width=1.5, bead_width_range=(0.8, 1.2), connect_insets=False,
+                       fill_gaps=False)
         api.run(job, progress=False)
         summary = native.plan_summary(job.PlanJson)
         self.assertEqual(summary["parameters"]["min_feature_width_mm"], 1.5)
         self.assertEqual(tuple(summary["parameters"]["bead_width_range"]), (0.8, 1.2))
         self.assertFalse(summary["parameters"]["connect_insets"])
+        self.assertFalse(summary["parameters"]["fill_gaps"])
         totals = summary["coverage"]
         self.assertEqual(totals["measured_layers"], summary["layers"])
         self.assertAlmostEqual(job.VoidShare, 100.0 * totals["void_share"], places=9)
@@ -103,14 +107,26 @@ class TestCoverage(cs_testing.DocumentTestCase):
         job = self.job()
         for name in NEW_PROPERTIES:
             job.removeProperty(name)
+        job.removeProperty("FillGaps")
         job.SchemaVersion = 5
         job.Proxy.onDocumentRestored(job)
         self.assertFalse(job.ConnectInsets)  # as it planned before the option existed
+        self.assertFalse(job.FillGaps)  # likewise
         self.assertEqual(_mm(job.MinFeatureWidth), 2.0)  # half its bead spacing
         self.assertEqual((job.BeadWidthMin, job.BeadWidthMax), (1.0, 1.0))
         self.assertTrue(job.MeasureCoverage)
         self.assertEqual(job.SchemaVersion, job_module.SCHEMA_VERSION)
-        self.assertEqual(job_module.SCHEMA_VERSION, 6)
+        self.assertEqual(job_module.SCHEMA_VERSION, 7)
+
+    def test_schema_6_job_keeps_its_plan_without_gap_fill(self):
+        job = self.job()
+        job.removeProperty("FillGaps")
+        job.SchemaVersion = 6
+        job.Proxy.onDocumentRestored(job)
+        self.assertFalse(job.FillGaps)  # planned before gap fill existed
+        self.assertEqual(job.SchemaVersion, 7)
+        api.run(job, progress=False)
+        self.assertFalse(native.plan_summary(job.PlanJson)["parameters"]["fill_gaps"])
 
 
 cs_testing.main(__name__)

@@ -732,6 +732,7 @@ class LayerPlanner {
     result.plan.parameters.beadWidthRange =
         std::array<double, 2>{options.widthMin, options.widthMax};
     result.plan.parameters.connectInsets = options.connectInsets;
+    result.plan.parameters.fillGaps = options.fillGaps;
     if (!startSurface.empty()) support_.emplace(startSurface);
   }
 

@@ -86,6 +86,7 @@ Json plannerInputs(const PlanParameters& p) {
     inputs["bead_width_range"] = Json::array({(*p.beadWidthRange)[0], (*p.beadWidthRange)[1]});
   }
   if (p.connectInsets) inputs["connect_insets"] = *p.connectInsets;
+  if (p.fillGaps) inputs["fill_gaps"] = *p.fillGaps;
   return inputs;
 }
 

@@ -408,6 +408,9 @@ void readCoverageParameters(const Reader& r, const Json& pj, PlanParameters& p) 
   if (pj.contains("connect_insets")) {
     p.connectInsets = r.boolean(pj["connect_insets"], "/parameters/connect_insets");
   }
+  if (pj.contains("fill_gaps")) {
+    p.fillGaps = r.boolean(pj["fill_gaps"], "/parameters/fill_gaps");
+  }
 }
 
 PlanParameters readParameters(const Reader& r, const Json& pj, int version) {
@@ -419,7 +422,7 @@ PlanParameters readParameters(const Reader& r, const Json& pj, int version) {
   } else {
     r.expectKeys(pj, "/parameters", required,
                  {"narrow_strips", "corner_angle_deg", "min_feature_width_mm", "bead_width_range",
-                  "connect_insets"});
+                  "connect_insets", "fill_gaps"});
   }
   PlanParameters p;
   p.layerThickness = r.nonNegative(pj["layer_thickness_mm"], "/parameters/layer_thickness_mm");
@@ -557,6 +560,11 @@ void appendParameters(std::string& out, const PlanParameters& p) {
     out += ",\n";
     appendKey(out, "    ", "connect_insets");
     out += *p.connectInsets ? "true" : "false";
+  }
+  if (p.fillGaps) {
+    out += ",\n";
+    appendKey(out, "    ", "fill_gaps");
+    out += *p.fillGaps ? "true" : "false";
   }
   out += "\n  },\n";
 }

@@ -172,7 +172,7 @@ TEST(PlanCliCases, CoverageOptionsAreRecordedAndSummarised) {
       "plan", model.string(), "--layer-thickness", "20", "--voxel", "5", "--bead-spacing", "12"};
   Args args = base;
   for (const char* a : {"--min-feature-width", "4", "--bead-width-range", "0.8,1.25",
-                        "--no-connect-insets", "-o"}) {
+                        "--no-connect-insets", "--no-gap-fill", "-o"}) {
     args.push_back(a);
   }
   args.push_back(out.string());
@@ -184,6 +184,7 @@ TEST(PlanCliCases, CoverageOptionsAreRecordedAndSummarised) {
   EXPECT_EQ(plan.parameters.minFeatureWidth, 4.0);
   EXPECT_EQ(plan.parameters.beadWidthRange, (std::array<double, 2>{0.8, 1.25}));
   EXPECT_EQ(plan.parameters.connectInsets, false);
+  EXPECT_EQ(plan.parameters.fillGaps, false);
   for (const PlanLayer& layer : plan.layers) {
     EXPECT_TRUE(layer.coverage.measured) << layer.index;
     EXPECT_EQ(layer.coverage.arcStarts, layer.paths.size());
@@ -200,6 +201,7 @@ TEST(PlanCliCases, CoverageOptionsAreRecordedAndSummarised) {
   EXPECT_EQ(unmeasured.parameters.minFeatureWidth, 6.0);  // the default, s/2
   EXPECT_EQ(unmeasured.parameters.beadWidthRange, (std::array<double, 2>{1.0, 1.0}));
   EXPECT_EQ(unmeasured.parameters.connectInsets, true);
+  EXPECT_EQ(unmeasured.parameters.fillGaps, true);
   for (const PlanLayer& layer : unmeasured.layers) EXPECT_FALSE(layer.coverage.measured);
 }
 

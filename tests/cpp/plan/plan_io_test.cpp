@@ -23,10 +23,11 @@ Plan makeSamplePlan() {
   plan.model = "resources/models/bunny \"closed\".stl";
   plan.start = "plane:bottom";
   plan.parameters = {1.5,        0.5,           3.7,  2.0, 0.05, "anyangle", "accurate",
-                     "boundary", "centre_bead", 22.5, {},  {},   {}};
+                     "boundary", "centre_bead", 22.5, {},  {},   {},         {}};
   plan.parameters.minFeatureWidth = 1.85;
   plan.parameters.beadWidthRange = std::array<double, 2>{0.7, 1.3};
   plan.parameters.connectInsets = true;
+  plan.parameters.fillGaps = false;
   for (int l = 0; l < 2; ++l) {
     PlanLayer layer;
     layer.index = l;
@@ -126,6 +127,7 @@ TEST(PlanIo, JsonRoundTripIsByteIdentical) {
   EXPECT_EQ(read.parameters.minFeatureWidth, 1.85);
   EXPECT_EQ(read.parameters.beadWidthRange, (std::array<double, 2>{0.7, 1.3}));
   EXPECT_EQ(read.parameters.connectInsets, true);
+  EXPECT_EQ(read.parameters.fillGaps, false);
 }
 
 /// A version-1 plan as `curvedslicer plan` wrote it before version 2 (no widths, no coverage).
@@ -181,6 +183,7 @@ TEST(PlanIo, Version1PlanIsMigrated) {
   EXPECT_FALSE(plan.parameters.minFeatureWidth.has_value());
   EXPECT_FALSE(plan.parameters.beadWidthRange.has_value());
   EXPECT_FALSE(plan.parameters.connectInsets.has_value());
+  EXPECT_FALSE(plan.parameters.fillGaps.has_value());
   const std::string v2 = formatPlanJson(plan);
   EXPECT_NE(v2.find("\"version\": 2,"), std::string::npos);
   EXPECT_NE(v2.find("[0, 0, 1.5, 0, 0, 1, 0, 0, -1, 3.7]"), std::string::npos) << v2;
@@ -219,6 +222,8 @@ TEST(PlanIo, Version2RejectsBadCoverageWidthAndDwell) {
                   "/parameters/min_feature_width_mm is 0: expected a width > 0 mm");
   expectReadError(editedJson([](auto& d) { d["parameters"]["connect_insets"] = 1; }),
                   "/parameters/connect_insets must be true or false");
+  expectReadError(editedJson([](auto& d) { d["parameters"]["fill_gaps"] = "yes"; }),
+                  "/parameters/fill_gaps must be true or false");
   // The writer refuses what the reader would refuse.
   Plan bad = makeSamplePlan();
   bad.layers[0].coverage.overlapShare = std::nan("");

@@ -105,7 +105,8 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
              narrow_strips="CentreBead", corner_angle=defaults.CORNER_ANGLE,
              min_feature_width=None, bead_width_range=(defaults.BEAD_WIDTH_MIN,
                                                        defaults.BEAD_WIDTH_MAX),
-             connect_insets=defaults.CONNECT_INSETS, measure_coverage=defaults.MEASURE_COVERAGE):
+             connect_insets=defaults.CONNECT_INSETS, measure_coverage=defaults.MEASURE_COVERAGE,
+             fill_gaps=defaults.FILL_GAPS):
     """Creates a Job for `solid` in `doc` (no computation; call run() or doc.recompute()).
 
     start: see _set_start. voxel_size None = the preference (default 1 mm). method "AnyAngle" |
@@ -118,7 +119,8 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
     within 0.2 mm are kept as exact corners by the spline fit (180: none).
     Bead coverage (issue 15): min_feature_width (mm, None = half of bead_spacing),
     bead_width_range (min, max) fractions of bead_spacing ((1, 1) = fixed width), connect_insets
-    (join consecutive rings into one arc-on path), measure_coverage (void and overlap shares per
+    (join consecutive rings into one arc-on path), fill_gaps (a centre-line bead in every
+    uncovered strip between beads at least min_feature_width wide), measure_coverage (void and overlap shares per
     layer); their ranges are checked when the paths are planned (InvalidInput naming the Job
     property).
     tool_along_travel: torch x along the travel (True) or fixed while the positioner turns.
@@ -172,6 +174,7 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
     obj.BeadWidthMin, obj.BeadWidthMax = (float(bead_width_range[0]),
                                           float(bead_width_range[1]))
     obj.ConnectInsets = bool(connect_insets)
+    obj.FillGaps = bool(fill_gaps)
     obj.MeasureCoverage = bool(measure_coverage)
     obj.InitialPath = initial_path
     if initial_plane is not None:

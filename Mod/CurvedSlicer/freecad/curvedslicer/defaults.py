@@ -25,6 +25,7 @@ MIN_FEATURE_WIDTH = (_PLANNER.min_feature_width if _PLANNER.min_feature_width > 
 BEAD_WIDTH_MIN = _PLANNER.width_min  # fraction of the bead spacing
 BEAD_WIDTH_MAX = _PLANNER.width_max  # fraction of the bead spacing
 CONNECT_INSETS = _PLANNER.connect_insets
+FILL_GAPS = _PLANNER.fill_gaps
 MEASURE_COVERAGE = _PLANNER.measure_coverage
 
 # Motion (robot/motion.hpp MotionOptions; the Job's Robot properties, stages/poses.py)

@@ -100,6 +100,8 @@ struct PlanParameters {
   std::optional<std::array<double, 2>> beadWidthRange;
   /// Issue 15: whether consecutive rings of one region were joined into one arc-on path
   std::optional<bool> connectInsets;
+  /// Issue 15: whether uncovered strips between beads got centre-line fill beads (paths/gap_fill)
+  std::optional<bool> fillGaps;
 };
 
 struct Plan {

@@ -120,6 +120,9 @@ PROPERTIES = [
     ("App::PropertyBool", "ConnectInsets", "Paths",
      "Join consecutive rings of one region with a short step-over into one arc-on path (fewer "
      "arc starts)", defaults.CONNECT_INSETS),
+    ("App::PropertyBool", "FillGaps", "Paths",
+     "Give uncovered strips between beads (at least MinFeatureWidth wide) a bead on their centre "
+     "line", defaults.FILL_GAPS),
     ("App::PropertyBool", "MeasureCoverage", "Paths",
      "Measure every layer's bead coverage (void and overlap shares, VoidShare / OverlapShare of "
      "the path layers)", defaults.MEASURE_COVERAGE),
@@ -279,6 +282,9 @@ class JobProxy:
         if "ConnectInsets" in added:
             # Planned before the option existed: every ring its own arc-on path.
             obj.ConnectInsets = False
+        if "FillGaps" in added:
+            # Planned before the option existed: strips between beads stayed empty.
+            obj.FillGaps = False
         if "MinFeatureWidth" in added:
             # The core's default for the Job's own bead spacing.
             obj.MinFeatureWidth = 0.5 * paths.mm(obj.BeadSpacing)

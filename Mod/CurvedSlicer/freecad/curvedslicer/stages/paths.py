@@ -95,6 +95,7 @@ def _coverage_options(job):
                            % (low, high))
     options = {"min_feature_width": width, "width_min": low, "width_max": high,
                "connect_insets": bool(job.ConnectInsets),
+               "fill_gaps": bool(job.FillGaps),
                "measure_coverage": bool(job.MeasureCoverage)}
     part = []
     if abs(width - 0.5 * _mm(job.BeadSpacing)) > 1e-12:
@@ -103,6 +104,8 @@ def _coverage_options(job):
         part.append(("width_range", low, high))
     if job.ConnectInsets:  # a Job migrated from before the option (False) keeps its digest
         part.append("connect_insets")
+    if job.FillGaps:  # likewise for a Job from before gap fill
+        part.append("fill_gaps")
     if not job.MeasureCoverage:
         part.append("no_coverage")
     return options, part

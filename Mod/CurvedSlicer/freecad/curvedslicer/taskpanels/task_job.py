@@ -253,6 +253,11 @@ class TaskPanelJob:
                                        "step-over into one arc-on path")
         self.connect_insets.setChecked(job.ConnectInsets)
         c.addRow(self.connect_insets)
+        self.fill_gaps = QtGui.QCheckBox("Fill gaps between beads")
+        self.fill_gaps.setToolTip("A bead on the centre line of every uncovered strip between "
+                                  "beads at least the minimum feature width wide")
+        self.fill_gaps.setChecked(job.FillGaps)
+        c.addRow(self.fill_gaps)
         self.measure_coverage = QtGui.QCheckBox("Measure coverage")
         self.measure_coverage.setToolTip("Void and overlap share of every layer (the path "
                                          "layers' VoidShare / OverlapShare)")
@@ -467,6 +472,7 @@ class TaskPanelJob:
             "BeadWidthMin": self.bead_width_min.value(),
             "BeadWidthMax": self.bead_width_max.value(),
             "ConnectInsets": self.connect_insets.isChecked(),
+            "FillGaps": self.fill_gaps.isChecked(),
             "MeasureCoverage": self.measure_coverage.isChecked(),
             "PathDisplay": self.path_display.currentText(),
             "CellFile": self.cell_file.text(),
