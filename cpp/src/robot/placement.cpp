@@ -37,14 +37,14 @@ struct Extreme {
   int layer = -1, path = -1, point = -1;
   Vec3 position = Vec3::Zero();  ///< part frame
   std::size_t beyond = 0;        ///< points with value > the bound given to add
-  void add(double v, double bound, int l, int p, int k, const Vec3& position) {
+  void add(double v, double bound, int l, int p, int k, const Vec3& where) {
     if (v > bound) ++beyond;
     if (v <= value) return;
     value = v;
     layer = l;
     path = p;
     point = k;
-    this->position = position;
+    position = where;
   }
   bool found() const { return layer >= 0; }
   std::string name() const {

@@ -74,7 +74,9 @@ TEST(CliRobustness, ExportOntoAFifoOrACharacterDeviceExitsThreeAndKeepsTheNode) 
     struct stat st {};
     ASSERT_EQ(::lstat(node.c_str(), &st), 0);
     EXPECT_TRUE(node == fifo ? S_ISFIFO(st.st_mode) : S_ISCHR(st.st_mode));
-    if (node != fifo) EXPECT_EQ(st.st_rdev, ::makedev(1, 3));
+    if (node != fifo) {
+      EXPECT_EQ(st.st_rdev, ::makedev(1, 3));
+    }
   }
   EXPECT_EQ(testing::listFolder(dir).size(), 3u + (nodes.size() - 1));  // no temporary left
 }

@@ -465,6 +465,23 @@ TriMesh makeHalfAnnulus(double ri, double ro, double height, int segments) {
   return extrudePolygon(polygon, cap, edgeIds, height);
 }
 
+TriMesh makeFlatGrid(double x0, double x1, double y0, double y1, double z, int n, int m) {
+  TriMesh mesh;
+  for (int j = 0; j <= m; ++j) {
+    for (int i = 0; i <= n; ++i) {
+      mesh.vertices.emplace_back(x0 + (x1 - x0) * i / n, y0 + (y1 - y0) * j / m, z);
+    }
+  }
+  const auto id = [n](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j < m; ++j) {
+    for (int i = 0; i < n; ++i) {
+      mesh.triangles.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      mesh.triangles.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  }
+  return mesh;
+}
+
 TriMesh makeOpenBox(const Vec3& size, double wall) {
   requireThat(wall > 0 && size.x() > 2 * wall && size.y() > 2 * wall && size.z() > wall,
               "makeOpenBox: need 0 < wall, size.x and size.y > 2·wall, size.z > wall");

@@ -68,6 +68,10 @@ TriMesh makeUChannel(double a, double b, double w, double height);
 /// eight edges are reflex edges of the solid.
 TriMesh makeOpenBox(const Vec3& size, double wall);
 
+/// Flat rectangle [x0, x1] × [y0, y1] at height z, n × m cells of two triangles each, normals +z
+/// (an open surface, e.g. a flat layer).
+TriMesh makeFlatGrid(double x0, double x1, double y0, double y1, double z, int n, int m);
+
 /// Removes every k-th triangle so that about `fraction` of them are gone (deterministic).
 TriMesh deleteTriangles(const TriMesh& mesh, double fraction);
 

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/shapes.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/paths/gap_fill.hpp"
 
@@ -21,22 +22,10 @@ constexpr double kS = 3.7;
 
 /// Flat rectangle [0, a] × [0, b] at z = 0, cells of `h` mm, and its distance to the boundary.
 TriMesh makeRectangle(double a, double b, double h, std::vector<double>& distance) {
-  TriMesh mesh;
   const int n = static_cast<int>(std::lround(a / h)), m = static_cast<int>(std::lround(b / h));
-  for (int j = 0; j <= m; ++j) {
-    for (int i = 0; i <= n; ++i) {
-      const double x = a * i / n, y = b * j / m;
-      mesh.vertices.emplace_back(x, y, 0.0);
-      distance.push_back(std::min({x, a - x, y, b - y}));
-    }
-  }
-  const auto id = [n](int i, int j) { return j * (n + 1) + i; };
-  for (int j = 0; j < m; ++j) {
-    for (int i = 0; i < n; ++i) {
-      mesh.triangles.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
-      mesh.triangles.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
-    }
-  }
+  TriMesh mesh = testing::makeFlatGrid(0.0, a, 0.0, b, 0.0, n, m);
+  for (const Vec3& v : mesh.vertices)
+    distance.push_back(std::min({v.x(), a - v.x(), v.y(), b - v.y()}));
   return mesh;
 }
 

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/shapes.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/paths/coverage.hpp"
 #include "curvedslicer/paths/planner.hpp"
@@ -25,20 +26,7 @@ constexpr double kS = 3.7;
 
 /// Flat rectangle [x0, x1] × [y0, y1] at height z, n × m cells.
 TriMesh makeRectangle(double x0, double x1, double y0, double y1, double z, int n, int m) {
-  TriMesh mesh;
-  for (int j = 0; j <= m; ++j) {
-    for (int i = 0; i <= n; ++i) {
-      mesh.vertices.emplace_back(x0 + (x1 - x0) * i / n, y0 + (y1 - y0) * j / m, z);
-    }
-  }
-  const auto id = [n](int i, int j) { return j * (n + 1) + i; };
-  for (int j = 0; j < m; ++j) {
-    for (int i = 0; i < n; ++i) {
-      mesh.triangles.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
-      mesh.triangles.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
-    }
-  }
-  return mesh;
+  return testing::makeFlatGrid(x0, x1, y0, y1, z, n, m);
 }
 
 /// Flat disc of radius r around `centre` (normal +z): a centre vertex and `rings` rings of

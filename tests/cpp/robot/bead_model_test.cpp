@@ -201,7 +201,9 @@ TEST(BeadModel, MotionTakesWireFeedAndSpeedFromTheModel) {
     if (!m.arcOn) continue;
     ++welds;
     EXPECT_DOUBLE_EQ(m.wireFeed, cell.process.wireFeed);
-    if (!(m.flags & kMotionSpeedReduced)) EXPECT_DOUBLE_EQ(m.speed, cell.process.weldSpeed);
+    if (!(m.flags & kMotionSpeedReduced)) {
+      EXPECT_DOUBLE_EQ(m.speed, cell.process.weldSpeed);
+    }
   }
   EXPECT_GT(welds, 100u);
   // Width 4.2 mm: the model's WFS and TS for 4.2 × 1.5 mm.
@@ -212,7 +214,9 @@ TEST(BeadModel, MotionTakesWireFeedAndSpeedFromTheModel) {
     if (m.kind != MoveKind::Path || !m.arcOn) continue;
     EXPECT_DOUBLE_EQ(m.beadWidth, 4.2);
     EXPECT_DOUBLE_EQ(m.wireFeed, want.wireFeed);
-    if (!(m.flags & kMotionSpeedReduced)) EXPECT_DOUBLE_EQ(m.speed, want.travelSpeed);
+    if (!(m.flags & kMotionSpeedReduced)) {
+      EXPECT_DOUBLE_EQ(m.speed, want.travelSpeed);
+    }
   }
   for (const std::string& w : adaptive.warnings) {
     EXPECT_EQ(w.find("bead model cannot"), std::string::npos) << w;

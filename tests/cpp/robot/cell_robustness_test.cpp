@@ -100,8 +100,12 @@ TEST(CellRobustness, CommandLineExitsWithTwoNamingTheFile) {
   Plan plan;
   plan.model = "model.stl";
   plan.start = "plane:bottom";
-  plan.parameters = {1.5, 0.5, 3.7, 2.0, 0.05, "anyangle", "accurate", "boundary", "", {}};
-  plan.layers.push_back(PlanLayer{0, 1.5, "", {}, {}});
+  plan.parameters = PlanParameters{1.5,        0.5, 3.7, 2.0, 0.05, "anyangle", "accurate",
+                                   "boundary", "",  {},  {},  {},   {},         {}};
+  PlanLayer layer;
+  layer.index = 0;
+  layer.height = 1.5;
+  plan.layers.push_back(layer);
   writePlanJson(dir / "plan.json", plan);
   const fs::path deep = dir / "deep_cell.json";
   {
