@@ -10,16 +10,13 @@
 #include <utility>
 
 #include "curvedslicer/core/error.hpp"
+#include "paths_internal.hpp"
 
 namespace curvedslicer {
 
 namespace {
 
-std::string formatNumber(double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.4g", value);
-  return buffer;
-}
+using paths_detail::formatNumber;
 
 /// One bead segment with the bead's width at both ends, mm.
 struct WideSegment {

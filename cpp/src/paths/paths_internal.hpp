@@ -2,13 +2,22 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "curvedslicer/mesh/tri_mesh.hpp"
 #include "curvedslicer/paths/polyline.hpp"
 
 namespace curvedslicer::paths_detail {
+
+/// A number in a message: four significant digits (%.4g).
+inline std::string formatNumber(double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.4g", value);
+  return buffer;
+}
 
 /// Key of the undirected edge (a, b).
 inline std::uint64_t edgeKey(std::int32_t a, std::int32_t b) {

@@ -15,16 +15,13 @@
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/geom/triangle_bvh.hpp"
 #include "curvedslicer/paths/path_fit.hpp"
+#include "paths_internal.hpp"
 
 namespace curvedslicer {
 
 namespace {
 
-std::string formatNumber(double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.4g", value);
-  return buffer;
-}
+using paths_detail::formatNumber;
 
 /// Union-find over vertex indices (path halving, union by index so labels are deterministic).
 struct DisjointSets {
