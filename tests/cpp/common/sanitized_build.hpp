@@ -14,3 +14,16 @@
 #else
 #define CURVEDSLICER_SKIP_IF_SANITIZED(coveredBy) static_cast<void>(0)
 #endif
+
+namespace curvedslicer::testing {
+
+/// True in the sanitizer build: a suite's shared set-up can then skip its whole-model work.
+constexpr bool sanitizedBuild() {
+#ifdef CURVEDSLICER_SANITIZED_BUILD
+  return true;
+#else
+  return false;
+#endif
+}
+
+}  // namespace curvedslicer::testing

@@ -120,14 +120,29 @@ void addLayerCoverage(const TriMesh& mesh, const std::vector<PlanPath>& paths, d
   }
 }
 
-TEST(ConnectedInsetsBunny, FewerArcStartsSameCoverageLinksInside) {
+/// The bunny's layers at the issue's settings (h 1.5, L 1), computed once for the suite.
+class ConnectedInsetsBunny : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    if (testing::sanitizedBuild()) return;
+    const TriMesh model = readMesh(testing::modelPath("bunny_closed_low_res.stl"));
+    LayerJobOptions job;
+    job.layers.layerThickness = 1.5;
+    job.voxelize.voxelSize = 1.0;
+    layers_ = new LayerJobResult(runLayerJob(model, job));
+  }
+  static void TearDownTestSuite() {
+    delete layers_;
+    layers_ = nullptr;
+  }
+  static const LayerJobResult* layers_;
+};
+const LayerJobResult* ConnectedInsetsBunny::layers_ = nullptr;
+
+TEST_F(ConnectedInsetsBunny, FewerArcStartsSameCoverageLinksInside) {
   CURVEDSLICER_SKIP_IF_SANITIZED(
       "ConnectedInsets.PlannerJoinsTheSameBeadsAndStaggersSeams and GapFill.*");
-  const TriMesh model = readMesh(testing::modelPath("bunny_closed_low_res.stl"));
-  LayerJobOptions job;
-  job.layers.layerThickness = 1.5;
-  job.voxelize.voxelSize = 1.0;
-  const LayerJobResult layers = runLayerJob(model, job);
+  const LayerJobResult& layers = *layers_;
   const std::vector<LayerSurface>& surfaces = layers.layers.surfaces;
   PlannerOptions options;
   options.beadSpacing = 3.7;
@@ -179,6 +194,22 @@ TEST(ConnectedInsetsBunny, FewerArcStartsSameCoverageLinksInside) {
   std::printf("bunny plan's own coverage: void %.4f %%, overlap %.4f %%, arc starts %zu\n",
               100.0 * own.voidShare, 100.0 * own.overlapShare, own.arcStarts);
   EXPECT_EQ(own.measuredLayers, surfaces.size());
+  EXPECT_LE(own.voidShare, 0.015);
+}
+
+// The bunny's void acceptance with adaptive bead width on (issue 15: 0.7·s to 1.3·s), by the
+// plan's own coverage numbers, which measure each bead with its own per-point width.
+TEST_F(ConnectedInsetsBunny, AdaptiveWidthAtMostOneAndAHalfPercentVoid) {
+  CURVEDSLICER_SKIP_IF_SANITIZED("AdaptiveWidth.* and GapFill.*");
+  PlannerOptions options;
+  options.beadSpacing = 3.7;
+  options.widthMin = 0.7;
+  options.widthMax = 1.3;
+  const PlanResult plan = planLayers(layers_->layers.surfaces, layers_->source, options);
+  const PlanCoverageSummary own = summarizeCoverage(plan.plan);
+  std::printf("bunny adaptive 0.7-1.3: void %.4f %%, overlap %.4f %%, arc starts %zu\n",
+              100.0 * own.voidShare, 100.0 * own.overlapShare, own.arcStarts);
+  EXPECT_EQ(own.measuredLayers, layers_->layers.surfaces.size());
   EXPECT_LE(own.voidShare, 0.015);
 }
 
