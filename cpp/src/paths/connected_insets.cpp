@@ -8,16 +8,13 @@
 #include <string>
 
 #include "curvedslicer/core/error.hpp"
+#include "paths_internal.hpp"
 
 namespace curvedslicer {
 
 namespace {
 
-std::string formatMm(double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.4g", value);
-  return buffer;
-}
+using paths_detail::formatNumber;
 
 /// The options with their defaults resolved, and what every step reads.
 struct JoinContext {
@@ -33,7 +30,7 @@ void resolveOptions(const ConnectedInsetOptions& o, JoinContext& c) {
   const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
   if (!positive(o.beadSpacing) || !positive(o.pointSpacing)) {
     throw InvalidInput("connected insets need a positive bead spacing and point spacing: " +
-                       formatMm(o.beadSpacing) + " and " + formatMm(o.pointSpacing) +
+                       formatNumber(o.beadSpacing) + " and " + formatNumber(o.pointSpacing) +
                        " mm; pass values such as 3.7 and 2");
   }
   const double s = o.beadSpacing;

@@ -10,16 +10,13 @@
 #include <unordered_map>
 
 #include "curvedslicer/core/error.hpp"
+#include "paths_internal.hpp"
 
 namespace curvedslicer {
 
 namespace {
 
-std::string formatNumber(double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
-  return buffer;
-}
+using paths_detail::formatNumber;
 
 /// One segment of a bead's centre line with its arc-length positions and widths at both ends.
 struct BeadSegment {

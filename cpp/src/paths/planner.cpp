@@ -28,10 +28,13 @@
 #include "curvedslicer/paths/polyline.hpp"
 #include "curvedslicer/paths/surface_curves.hpp"
 #include "curvedslicer/paths/thin_regions.hpp"
+#include "paths_internal.hpp"
 
 namespace curvedslicer {
 
 namespace {
+
+using paths_detail::formatNumber;
 
 using Clock = std::chrono::steady_clock;
 
@@ -39,14 +42,8 @@ const char* const kStages[] = {"surface index", "initial curves", "surface geode
                                "fit",           "order",          "deposition",       "coverage"};
 enum Stage { kIndex, kCurves, kGeodesic, kIso, kFit, kOrder, kDeposition, kCoverage, kStageCount };
 
-std::string formatMm(double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.4g", value);
-  return buffer;
-}
-
 std::string formatVec(const Vec3& v) {
-  return formatMm(v.x()) + "," + formatMm(v.y()) + "," + formatMm(v.z());
+  return formatNumber(v.x()) + "," + formatNumber(v.y()) + "," + formatNumber(v.z());
 }
 
 std::string describeKind(InitialCurveKind kind) {
@@ -55,7 +52,7 @@ std::string describeKind(InitialCurveKind kind) {
 
 void checkCornerAngle(double degrees) {
   if (!std::isfinite(degrees) || degrees <= 0.0 || degrees > 180.0) {
-    throw InvalidInput("corner angle must be in (0, 180] degrees: " + formatMm(degrees) +
+    throw InvalidInput("corner angle must be in (0, 180] degrees: " + formatNumber(degrees) +
                        "; pass a value such as 30, or 180 to keep no corners");
   }
 }
@@ -67,7 +64,7 @@ void checkCoverageOptions(const PlannerOptions& o) {
     throw InvalidInput(
         "minimum feature width (--min-feature-width, MinFeatureWidth) must be a "
         "positive number of mm: " +
-        formatMm(o.minFeatureWidth) + "; pass e.g. " + formatMm(0.5 * o.beadSpacing) +
+        formatNumber(o.minFeatureWidth) + "; pass e.g. " + formatNumber(0.5 * o.beadSpacing) +
         " (half the bead spacing, the default)");
   }
   if (!std::isfinite(o.widthMin) || !std::isfinite(o.widthMax) || o.widthMin <= 0.0 ||
@@ -75,24 +72,24 @@ void checkCoverageOptions(const PlannerOptions& o) {
     throw InvalidInput(
         "bead width range (--bead-width-range, BeadWidthMin/BeadWidthMax) must be "
         "two fractions of the bead spacing with 0 < min <= max: " +
-        formatMm(o.widthMin) + "," + formatMm(o.widthMax) +
+        formatNumber(o.widthMin) + "," + formatNumber(o.widthMax) +
         "; pass e.g. 0.7,1.3, or off for a fixed width");
   }
   if (o.widthMin > 1.0 || o.widthMax < 1.0) {
     throw InvalidInput(
         "bead width range (--bead-width-range, BeadWidthMin/BeadWidthMax) excludes "
         "the bead spacing: " +
-        formatMm(o.widthMin) + "," + formatMm(o.widthMax) +
-        " × s = " + formatMm(o.widthMin * o.beadSpacing) + "–" +
-        formatMm(o.widthMax * o.beadSpacing) + " mm, s = " + formatMm(o.beadSpacing) +
+        formatNumber(o.widthMin) + "," + formatNumber(o.widthMax) +
+        " × s = " + formatNumber(o.widthMin * o.beadSpacing) + "–" +
+        formatNumber(o.widthMax * o.beadSpacing) + " mm, s = " + formatNumber(o.beadSpacing) +
         " mm; choose a range with min <= 1 <= max, e.g. 0.7,1.3, or off");
   }
 }
 
 void checkPositive(double value, const char* what, const char* example) {
   if (!std::isfinite(value) || value <= 0.0) {
-    throw InvalidInput(std::string(what) + " must be a positive number of mm: " + formatMm(value) +
-                       "; pass a value such as " + example);
+    throw InvalidInput(std::string(what) + " must be a positive number of mm: " +
+                       formatNumber(value) + "; pass a value such as " + example);
   }
 }
 
@@ -390,9 +387,9 @@ void reportNarrowStrips(const NarrowStripResult& strips, std::vector<std::string
 /// The options of the thin-region beads (issue 15 item 2).
 void validateThinRegionOptions(const PlannerOptions& o) {
   if (!std::isfinite(o.minFeatureWidth) || o.minFeatureWidth == 0.0) {
-    throw InvalidInput(
-        "minimum feature width must be a positive number of mm: " + formatMm(o.minFeatureWidth) +
-        "; pass a value such as 1.85, or a negative one for half the bead spacing");
+    throw InvalidInput("minimum feature width must be a positive number of mm: " +
+                       formatNumber(o.minFeatureWidth) +
+                       "; pass a value such as 1.85, or a negative one for half the bead spacing");
   }
   checkPositive(o.spotWeldSpeed, "spot weld speed (mm/s)", "8");
 }
@@ -468,8 +465,8 @@ class LayerTail {
   double minLength() const { return stages_.minLength; }
   /// The note for `dropped` (> 0) pieces shorter than the shortest deposited one.
   std::string droppedNote(std::size_t dropped) const {
-    return std::to_string(dropped) + " path piece(s) shorter than " + formatMm(stages_.minLength) +
-           " mm not deposited";
+    return std::to_string(dropped) + " path piece(s) shorter than " +
+           formatNumber(stages_.minLength) + " mm not deposited";
   }
 
   // ---- order ----
@@ -487,7 +484,7 @@ class LayerTail {
     if (ordered.seamsTooClose > 0) {
       layer.warnings.push_back(std::to_string(ordered.seamsTooClose) +
                                " ring(s) too short to keep the seam " +
-                               formatMm(stages_.ordering.seamSeparation) +
+                               formatNumber(stages_.ordering.seamSeparation) +
                                " mm from the previous " + seamNeighbour_ + "'s seams");
     }
   }
@@ -940,13 +937,14 @@ void LayerDrafter::noteMissingBeads(const std::vector<double>& values, double ma
                                     const std::vector<RawBead>& beads, std::size_t dropped,
                                     PlanLayer& layer) {
   if (values.empty() && beads.empty()) {
-    warn(layer, "no room for a bead: the layer reaches at most " + formatMm(maxDistance) +
-                    " mm from its initial curve, less than " +
-                    (fromBoundary_ ? "s/2 = " + formatMm(0.5 * s_) : "s = " + formatMm(s_)) +
-                    " mm; no paths");
+    warn(layer,
+         "no room for a bead: the layer reaches at most " + formatNumber(maxDistance) +
+             " mm from its initial curve, less than " +
+             (fromBoundary_ ? "s/2 = " + formatNumber(0.5 * s_) : "s = " + formatNumber(s_)) +
+             " mm; no paths");
   } else if (beads.empty()) {
     warn(layer, "no room for a bead: every iso-line is shorter than " +
-                    formatMm(stages_.minLength) + " mm; no paths");
+                    formatNumber(stages_.minLength) + " mm; no paths");
   } else if (dropped > 0) {
     layer.warnings.push_back(tail_->droppedNote(dropped));
   }
@@ -956,8 +954,8 @@ void LayerDrafter::noteMissingBeads(const std::vector<double>& values, double ma
 
 /// "at x,y,z mm, W mm wide, E mm long, A mm²" for a region's note.
 std::string describeRegion(const ThinRegion& r) {
-  return "at " + formatVec(r.centroid) + " mm, " + formatMm(r.width) + " mm wide, " +
-         formatMm(r.extent) + " mm long, " + formatMm(r.area) + " mm²";
+  return "at " + formatVec(r.centroid) + " mm, " + formatNumber(r.width) + " mm wide, " +
+         formatNumber(r.extent) + " mm long, " + formatNumber(r.area) + " mm²";
 }
 
 /// The thin-region notes of one layer: per outcome a summary with the shortfall and the longest
@@ -983,12 +981,12 @@ void reportThinRegions(const ThinRegionResult& thin, double s, double minWidth, 
   if (lines + spots + rings > 0) {
     std::string note = "parts of the layer no ring reaches: " + std::to_string(lines) +
                        " bead(s) on their centre line, " + std::to_string(spots) +
-                       " spot(s) on tiny islands (dwell up to " + formatMm(dwell) + " s), " +
+                       " spot(s) on tiny islands (dwell up to " + formatNumber(dwell) + " s), " +
                        std::to_string(rings) + " short ring(s) kept as their only cover";
     if (narrow > 0) {
       note += "; " + std::to_string(narrow) +
-              " of them narrower than one bead (s = " + formatMm(s) +
-              " mm), width shortfall up to " + formatMm(shortfall) + " mm";
+              " of them narrower than one bead (s = " + formatNumber(s) +
+              " mm), width shortfall up to " + formatNumber(shortfall) + " mm";
     }
     warnings.push_back(note);
   }
@@ -997,11 +995,11 @@ void reportThinRegions(const ThinRegionResult& thin, double s, double minWidth, 
   for (const ThinRegion& r : thin.regions) {
     if (!r.leftOut || listed++ >= kDetails) continue;
     warnings.push_back("region " + describeRegion(r) + " left out: narrower than the minimum " +
-                       "feature width " + formatMm(minWidth) + " mm");
+                       "feature width " + formatNumber(minWidth) + " mm");
   }
   if (leftOut > kDetails) {
     warnings.push_back("… and " + std::to_string(leftOut - kDetails) +
-                       " more region(s) left out, " + formatMm(leftOutArea) +
+                       " more region(s) left out, " + formatNumber(leftOutArea) +
                        " mm² in all on this layer");
   }
 }
@@ -1100,10 +1098,10 @@ void LayerDrafter::addGapFillBeads(const SurfaceGeodesicResult& gdtc, const Surf
   if (fill.filled > 0) {
     layer.warnings.push_back("gap fill: " + std::to_string(fill.filled) +
                              " bead(s) in uncovered strips between beads (" +
-                             formatMm(fill.filledArea) + " mm²); " +
+                             formatNumber(fill.filledArea) + " mm²); " +
                              std::to_string(fill.gaps.size() - fill.filled) +
                              " patch(es) too narrow or too small stay uncovered (" +
-                             formatMm(fill.uncoveredArea - fill.filledArea) + " mm²)");
+                             formatNumber(fill.uncoveredArea - fill.filledArea) + " mm²)");
   }
 }
 
@@ -1190,12 +1188,12 @@ std::vector<double> LayerDrafter::fitAdaptiveRegions(const SurfaceGeodesicResult
 /// A layer note where a region's whole number of beads would need a width outside the range.
 void LayerDrafter::noteClampedWidth(const RegionRings& rings, double halfWidth, PlanLayer& layer) {
   if (!rings.widthClamped) return;
-  layer.warnings.push_back("adaptive bead width: a region reaching " + formatMm(halfWidth) +
-                           " mm from its initial curve needs beads " + formatMm(rings.wholeWidth) +
-                           " mm wide for a whole number of rings, outside the range " +
-                           formatMm(options_.widthMin * s_) + "–" +
-                           formatMm(options_.widthMax * s_) + " mm; " + formatMm(rings.width) +
-                           " mm used");
+  layer.warnings.push_back(
+      "adaptive bead width: a region reaching " + formatNumber(halfWidth) +
+      " mm from its initial curve needs beads " + formatNumber(rings.wholeWidth) +
+      " mm wide for a whole number of rings, outside the range " +
+      formatNumber(options_.widthMin * s_) + "–" + formatNumber(options_.widthMax * s_) + " mm; " +
+      formatNumber(rings.width) + " mm used");
 }
 
 /// extractLevelLines for one region: `field` is the GDTC inside the region, +inf elsewhere;
@@ -1237,12 +1235,12 @@ void LayerPlanner::finish() {
   finishStats(result_, timer_);
   if (result_.plan.pathCount() > 0) return;
   if (widest_ > 0.0 && widest_ < (fromBoundary_ ? 0.5 * s_ : s_)) {
-    throw InvalidInput("bead spacing is wider than every layer: " + formatMm(s_) +
-                       " mm, the layers reach at most " + formatMm(widest_) +
+    throw InvalidInput("bead spacing is wider than every layer: " + formatNumber(s_) +
+                       " mm, the layers reach at most " + formatNumber(widest_) +
                        " mm from their initial curves; choose a bead spacing below " +
-                       formatMm(fromBoundary_ ? 2.0 * widest_ : widest_) + " mm" +
+                       formatNumber(fromBoundary_ ? 2.0 * widest_ : widest_) + " mm" +
                        (fromBoundary_ ? " (or a minimum feature width below " +
-                                            formatMm(2.0 * widest_) + " mm for centre beads)"
+                                            formatNumber(2.0 * widest_) + " mm for centre beads)"
                                       : std::string()));
   }
   throw InvalidInput("no layer got a path: " + firstReason_ +
@@ -1347,8 +1345,8 @@ std::vector<double> computeWallIsoValues(const SurfaceGeodesicResult& gdtc, doub
   values.erase(std::remove_if(values.begin(), values.end(), [](double v) { return v <= 0.0; }),
                values.end());
   if (values.empty()) {
-    throw InvalidInput("thin wall is lower than one bead: it reaches " + formatMm(maxDistance) +
-                       " mm from its edge, the bead spacing is " + formatMm(s) +
+    throw InvalidInput("thin wall is lower than one bead: it reaches " + formatNumber(maxDistance) +
+                       " mm from its edge, the bead spacing is " + formatNumber(s) +
                        " mm; choose a smaller bead spacing");
   }
   return values;
@@ -1400,9 +1398,9 @@ PlanLayer planWallBead(std::size_t k, double value, const std::vector<Polyline>&
   tail.fit(lines, bvh, growthDirection, beads, dropped);
   tail.countDropped(dropped);
   if (beads.empty()) {
-    layer.warnings.push_back("no room for a bead at " + formatMm(value) +
+    layer.warnings.push_back("no room for a bead at " + formatNumber(value) +
                              " mm from the edge: every curve is shorter than " +
-                             formatMm(tail.minLength()) + " mm; no paths");
+                             formatNumber(tail.minLength()) + " mm; no paths");
   } else if (dropped > 0) {
     layer.warnings.push_back(tail.droppedNote(dropped));
   }
@@ -1478,7 +1476,7 @@ PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options, 
   finishStats(result, timer);
   if (plan.pathCount() == 0) {
     throw InvalidInput("no bead of the thin wall is long enough: every curve is shorter than " +
-                       formatMm(stages.minLength) +
+                       formatNumber(stages.minLength) +
                        " mm; choose a smaller bead spacing or path length");
   }
   return result;
