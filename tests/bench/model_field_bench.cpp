@@ -7,11 +7,11 @@
 //
 //   model_field_bench [--voxel 0.5] [--compare paper] [--export DIR] [--json] MODEL...
 //
-// --export DIR writes DIR/<model stem>/ for the scikit-fmm peer (model_vs_skfmm.py), in the
-// layouts of field_bench --export (C order, shape = grid dims): inside.npy (uint8), phi_band.npy
-// (float64 mm, signed distance to the start surface in the seed band, NaN elsewhere; see
-// common/npy_export.hpp), exact.npy (float64 mm, the exact method's field, NaN outside or
-// unreached) and meta.json. --json prints one JSON object per model instead of the text line.
+// --export DIR writes DIR/<model stem>/ for the scikit-fmm peer (model_vs_skfmm.py), as
+// field_bench --export does (C order, shape = grid dims): inside.npy (uint8), source_distance.npy
+// (float64 mm, straight distance from the inside cell centres to the start surface up to 3·√3·L,
+// NaN elsewhere: the seeds are the cells within √3·L), exact.npy (float64 mm, the exact method's
+// field, NaN outside or unreached) and meta.json. --json prints one JSON object per model instead of the text line.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -96,8 +96,9 @@ void exportModel(const std::filesystem::path& dir, const VoxelGrid& grid, const 
   const std::size_t N = g.cellCount();
   ensureDirectory(dir);
   testing::writeNpy(dir / "inside.npy", "|u1", g.dims, grid.inside.data(), N);
-  const std::vector<double> phi = testing::signedBandDistances(grid, source);
-  testing::writeNpy(dir / "phi_band.npy", "<f8", g.dims, phi.data(), N * sizeof(double));
+  const std::vector<double> near =
+      testing::insideSourceDistances(grid, source, 3.0 * std::sqrt(3.0) * g.voxelSize);
+  testing::writeNpy(dir / "source_distance.npy", "<f8", g.dims, near.data(), N * sizeof(double));
   std::vector<double> field(N, std::numeric_limits<double>::quiet_NaN());
   for (std::size_t n = 0; n < N; ++n)
     if (grid.inside[n] && exact.reached(n)) field[n] = exact.at(n);

@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <sstream>
 #include <string>
-#include <vector>
 
 #include "curvedslicer/core/atomic_file.hpp"
 #include "curvedslicer/geom/triangle_bvh.hpp"
@@ -65,41 +64,33 @@ std::vector<double> signedBandDistances(const VoxelGrid& grid, const TriMesh& so
   }
   const TriangleBvh bvh(source);
   std::vector<double> out(N, std::nan(""));
-  // Outside band cells, with their closest triangle and side of its plane (+1 / -1).
-  struct Behind {
-    std::size_t cell, triangle;
-    double distance;
-    int side;
-  };
-  std::vector<Behind> outside;
-  // Per source triangle: inside band cells on its positive minus on its negative side.
-  std::vector<long> insideSide(source.triangles.size(), 0);
   for (std::size_t idx = 0; idx < N; ++idx) {
     if (!candidate[idx]) continue;
     const Vec3 p = g.centerInPart(idx);
     const ClosestPoint cp = bvh.closestPoint(p);
     if (cp.distance > band) continue;
-    const Vec3 v0 = source.corner(cp.triangle, 0);
-    const Vec3 n = (source.corner(cp.triangle, 1) - v0)
-                       .cross(source.corner(cp.triangle, 2) - v0)
-                       .normalized();
-    const double signedPlane = n.dot(p - v0);
-    const int side = signedPlane >= 0.0 ? 1 : -1;
     if (grid.inside[idx]) {
       out[idx] = cp.distance;
-      insideSide[static_cast<std::size_t>(cp.triangle)] += side;
       continue;
     }
-    if (std::abs(signedPlane) >= cp.distance * (1.0 - 1e-9) - 1e-12)
-      outside.push_back({idx, static_cast<std::size_t>(cp.triangle), cp.distance, side});
+    const auto t = static_cast<std::size_t>(cp.triangle);
+    const Vec3 v0 = source.corner(t, 0);
+    const Vec3 n = (source.corner(t, 1) - v0).cross(source.corner(t, 2) - v0).normalized();
+    const double planeDistance = std::abs(n.dot(p - v0));
+    if (planeDistance >= cp.distance * (1.0 - 1e-9) - 1e-12) out[idx] = -cp.distance;
   }
-  // A perpendicular foot is not enough where the start surface reaches beyond the solid (a build
-  // plate): outside cells on the solid's side of the triangle are beside the part, not behind it;
-  // they get +distance, so the zero level set is the start surface there too.
-  for (const Behind& b : outside) {
-    const long solidSide = insideSide[b.triangle];
-    const bool behind = solidSide == 0 || (solidSide > 0) != (b.side > 0);
-    out[b.cell] = behind ? -b.distance : b.distance;
+  return out;
+}
+
+std::vector<double> insideSourceDistances(const VoxelGrid& grid, const TriMesh& source,
+                                          double reach) {
+  const GridGeometry& g = grid.geometry;
+  const TriangleBvh bvh(source);
+  std::vector<double> out(g.cellCount(), std::nan(""));
+  for (std::size_t idx = 0; idx < out.size(); ++idx) {
+    if (!grid.inside[idx]) continue;
+    const ClosestPoint cp = bvh.closestPoint(g.centerInPart(idx));
+    if (cp.distance <= reach) out[idx] = cp.distance;
   }
   return out;
 }

@@ -22,13 +22,16 @@ void writeNpy(const std::filesystem::path& path, const char* descr, const Vec3i&
 ///  - inside cells whose centre lies within the band of the source triangles get +distance:
 ///    exactly the seed voxels and seed values of the C++ methods (placeSeeds, default band);
 ///  - outside cells within the band whose closest source point is the foot of the perpendicular
-///    on a source triangle (i.e. not beside its rim) get −distance if they lie behind it (on the
-///    other side than the inside band cells closest to that triangle): the negative side that
-///    skfmm needs to see a zero level set on the start surface. Where the start surface reaches
-///    beyond the solid (a build plate under a curved bottom), those on the solid's side get
-///    +distance, so that skfmm, which takes no seed values, still sees the start surface as its
-///    zero level set there (it marches through that outside layer, at most √3·L thick). The
-///    analytic cases' start surfaces lie on the solid's boundary and have no such cells.
+///    on a source triangle (i.e. cells behind the start surface, not beside its rim) get
+///    −distance, the negative side that skfmm needs to see a zero level set on the start surface.
+/// Meant for start surfaces on the solid's boundary (the analytic cases): where the start surface
+/// reaches beyond the solid (a build plate), cells beside the part get −distance too.
 std::vector<double> signedBandDistances(const VoxelGrid& grid, const TriMesh& source);
+
+/// Straight-line distance (mm) from the centres of the inside cells to the start surface where it
+/// is at most `reach` mm, NaN elsewhere (for scikit-fmm peers on a start surface that reaches
+/// beyond the solid, see model_vs_skfmm.py).
+std::vector<double> insideSourceDistances(const VoxelGrid& grid, const TriMesh& source,
+                                          double reach);
 
 }  // namespace curvedslicer::testing
