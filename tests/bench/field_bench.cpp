@@ -41,10 +41,10 @@
 #include <vector>
 
 #include "common/analytic_cases.hpp"
+#include "common/npy_export.hpp"
 #include "curvedslicer/core/atomic_file.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/field/geodesic_field.hpp"
-#include "curvedslicer/geom/triangle_bvh.hpp"
 
 namespace {
 
@@ -137,85 +137,6 @@ void registerBenchmarks(const std::vector<std::string>& cases, const std::vector
 // ---- export
 // -----------------------------------------------------------------------------------------
 
-/// Writes a C-order NumPy .npy file (format 1.0) of shape dims.
-void writeNpy(const std::filesystem::path& path, const char* descr, const Vec3i& dims,
-              const void* data, std::size_t bytes) {
-  std::ostringstream h;
-  h << "{'descr': '" << descr << "', 'fortran_order': False, 'shape': (" << dims.x() << ", "
-    << dims.y() << ", " << dims.z() << "), }";
-  std::string header = h.str();
-  // Magic (6) + version (2) + header length (2) + header, padded with spaces to a multiple of 64
-  // and ended by a newline.
-  const std::size_t total = ((10 + header.size() + 1 + 63) / 64) * 64;
-  header.append(total - 10 - header.size() - 1, ' ');
-  header.push_back('\n');
-  writeFileAtomically(
-      path,
-      [&](std::ostream& out) {
-        const char magic[] = "\x93NUMPY\x01\x00";
-        out.write(magic, 8);
-        const auto len = static_cast<std::uint16_t>(header.size());
-        const char lenBytes[2] = {static_cast<char>(len & 0xff), static_cast<char>(len >> 8)};
-        out.write(lenBytes, 2);
-        out << header;
-        out.write(static_cast<const char*>(data), static_cast<std::streamsize>(bytes));
-      },
-      /*binary=*/true);
-}
-
-/// Signed distance (mm) to the start surface in the seed band, NaN elsewhere:
-///  - inside cells whose centre lies within √3·L of the source triangles get +distance: exactly the
-///    seed voxels and seed values of the C++ methods (placeSeeds, default band);
-///  - outside cells within the band whose closest source point is the foot of the perpendicular on
-///    a source triangle (i.e. cells behind the start surface, not beside its rim) get −distance,
-///    the negative side that skfmm needs to see a zero level set on the start surface.
-std::vector<double> signedBandDistances(const AnalyticCase& c) {
-  const GridGeometry& g = c.grid.geometry;
-  const double L = g.voxelSize;
-  const double band = std::sqrt(3.0) * L;
-  const std::size_t N = g.cellCount();
-  // Candidates: cells in each triangle's band-grown box and within the band of its plane.
-  std::vector<std::uint8_t> candidate(N, 0);
-  for (std::size_t t = 0; t < c.source.triangles.size(); ++t) {
-    const Vec3 a = g.toCellCoordinates(c.source.corner(t, 0));
-    const Vec3 b = g.toCellCoordinates(c.source.corner(t, 1));
-    const Vec3 d = g.toCellCoordinates(c.source.corner(t, 2));
-    const Vec3 normal = (b - a).cross(d - a);
-    if (normal.squaredNorm() <= 0.0) continue;
-    const Vec3 n = normal.normalized();
-    const double bandCells = std::sqrt(3.0) * 1.001;
-    const Vec3 lo = a.cwiseMin(b).cwiseMin(d).array() - bandCells;
-    const Vec3 hi = a.cwiseMax(b).cwiseMax(d).array() + bandCells;
-    const Vec3i c0 = (lo.array() - 0.5).ceil().cast<int>().max(0);
-    const Vec3i c1 = (hi.array() - 0.5).floor().cast<int>().min(g.dims.array() - 1);
-    for (int i = c0.x(); i <= c1.x(); ++i)
-      for (int j = c0.y(); j <= c1.y(); ++j)
-        for (int k = c0.z(); k <= c1.z(); ++k) {
-          const Vec3 x(i + 0.5, j + 0.5, k + 0.5);
-          if (std::abs(n.dot(x - a)) <= bandCells) candidate[g.index(i, j, k)] = 1;
-        }
-  }
-  const TriangleBvh bvh(c.source);
-  std::vector<double> out(N, std::nan(""));
-  for (std::size_t idx = 0; idx < N; ++idx) {
-    if (!candidate[idx]) continue;
-    const Vec3 p = g.centerInPart(idx);
-    const ClosestPoint cp = bvh.closestPoint(p);
-    if (cp.distance > band) continue;
-    if (c.grid.inside[idx]) {
-      out[idx] = cp.distance;
-      continue;
-    }
-    const Vec3 v0 = c.source.corner(cp.triangle, 0);
-    const Vec3 n = (c.source.corner(cp.triangle, 1) - v0)
-                       .cross(c.source.corner(cp.triangle, 2) - v0)
-                       .normalized();
-    const double planeDistance = std::abs(n.dot(p - v0));
-    if (planeDistance >= cp.distance * (1.0 - 1e-9) - 1e-12) out[idx] = -cp.distance;
-  }
-  return out;
-}
-
 void exportCase(const std::filesystem::path& root, const std::string& slug, int cells) {
   const AnalyticCase c = caseKind(slug).make(cells);
   const GridGeometry& g = c.grid.geometry;
@@ -223,16 +144,16 @@ void exportCase(const std::filesystem::path& root, const std::string& slug, int 
   ensureDirectory(dir);
   const std::size_t N = g.cellCount();
 
-  writeNpy(dir / "inside.npy", "|u1", g.dims, c.grid.inside.data(), N);
-  const std::vector<double> phi = signedBandDistances(c);
-  writeNpy(dir / "phi_band.npy", "<f8", g.dims, phi.data(), N * sizeof(double));
+  testing::writeNpy(dir / "inside.npy", "|u1", g.dims, c.grid.inside.data(), N);
+  const std::vector<double> phi = testing::signedBandDistances(c.grid, c.source);
+  testing::writeNpy(dir / "phi_band.npy", "<f8", g.dims, phi.data(), N * sizeof(double));
   std::vector<double> exact(N, std::nan(""));
   for (std::size_t n = 0; n < N; ++n)
     if (c.grid.inside[n]) exact[n] = c.exact(g.centerInPart(n));
-  writeNpy(dir / "exact.npy", "<f8", g.dims, exact.data(), N * sizeof(double));
+  testing::writeNpy(dir / "exact.npy", "<f8", g.dims, exact.data(), N * sizeof(double));
 
   const GeodesicResult any = computeGeodesicField(c.grid, c.model, c.source);
-  writeNpy(dir / "anyangle.npy", "<f4", g.dims, any.field.distance.data(), N * sizeof(float));
+  testing::writeNpy(dir / "anyangle.npy", "<f4", g.dims, any.field.distance.data(), N * sizeof(float));
   const testing::FieldError e = testing::measureFieldError(c, any.field);
 
   std::size_t seeds = 0, behind = 0;
