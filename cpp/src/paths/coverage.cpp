@@ -6,8 +6,11 @@
 #include <cstdint>
 #include <cstdio>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <unordered_map>
+
+#include <omp.h>
 
 #include "curvedslicer/core/error.hpp"
 #include "paths_internal.hpp"
@@ -24,6 +27,8 @@ struct BeadSegment {
   double arcA = 0.0, arcB = 0.0;      ///< mm along the path
   double widthA = 0.0, widthB = 0.0;  ///< mm
   int path = 0;
+  Vec3 ab = Vec3::Zero();  ///< b − a
+  double len2 = 0.0;       ///< |b − a|²
 };
 
 /// What the overlap test needs of a path: its length and whether it closes.
@@ -60,6 +65,8 @@ std::vector<BeadSegment> collectSegments(const std::vector<PlanPath>& paths, dou
                       widthOf(p, s), widthOf(q, s), static_cast<int>(k)};
       info.length += (q.position - p.position).norm();
       seg.arcB = info.length;
+      seg.ab = seg.b - seg.a;
+      seg.len2 = seg.ab.squaredNorm();
       segments.push_back(seg);
     }
     beadPaths.push_back(info);
@@ -165,27 +172,29 @@ class SampleClassifier {
                    const SegmentCells& cells)
       : segments_(segments), paths_(paths), cells_(cells) {}
 
+  /// Overlap as soon as a bead far apart from one found before covers p.
   SampleCover classify(const Vec3& p) {
     hits_.clear();
     const auto [begin, end] = cells_.near(p);
-    for (const int* it = begin; it != end; ++it) addHit(p, segments_[*it]);
-    if (hits_.empty()) return SampleCover::Void;
-    for (std::size_t i = 0; i < hits_.size(); ++i) {
-      for (std::size_t j = i + 1; j < hits_.size(); ++j) {
-        if (farApart(hits_[i], hits_[j])) return SampleCover::Overlap;
+    for (const int* it = begin; it != end; ++it) {
+      const std::optional<BeadHit> hit = hitOf(p, segments_[*it]);
+      if (!hit) continue;
+      for (const BeadHit& earlier : hits_) {
+        if (farApart(earlier, *hit)) return SampleCover::Overlap;
       }
+      hits_.push_back(*hit);
     }
-    return SampleCover::Once;
+    return hits_.empty() ? SampleCover::Void : SampleCover::Once;
   }
 
  private:
-  void addHit(const Vec3& p, const BeadSegment& g) {
-    const Vec3 ab = g.b - g.a;
-    const double len2 = ab.squaredNorm();
+  static std::optional<BeadHit> hitOf(const Vec3& p, const BeadSegment& g) {
+    const Vec3& ab = g.ab;
+    const double len2 = g.len2;
     const double t = len2 > 0.0 ? std::clamp((p - g.a).dot(ab) / len2, 0.0, 1.0) : 0.0;
     const double width = g.widthA + t * (g.widthB - g.widthA);
-    if ((g.a + t * ab - p).squaredNorm() > 0.25 * width * width) return;
-    hits_.push_back({g.path, g.arcA + t * (g.arcB - g.arcA), width});
+    if ((g.a + t * ab - p).squaredNorm() > 0.25 * width * width) return std::nullopt;
+    return BeadHit{g.path, g.arcA + t * (g.arcB - g.arcA), width};
   }
   /// Two beads overlap at a point: different paths, or one path more than a bead width apart.
   bool farApart(const BeadHit& x, const BeadHit& y) const {
@@ -399,6 +408,10 @@ LayerCoverage computeLayerCoverage(const TriMesh& layerSurface, const std::vecto
     throw InvalidInput("bead spacing must be a positive number of mm: " +
                        formatNumber(beadSpacing) + "; pass a value such as 3.7");
   }
+  if (options.threads < 0) {
+    throw InvalidInput("coverage threads must be 0 or more: " + std::to_string(options.threads) +
+                       "; pass 0 for OpenMP's default");
+  }
   const double spacing = options.sampleSpacing < 0.0 ? 0.1 * beadSpacing : options.sampleSpacing;
   if (!std::isfinite(spacing) || spacing <= 0.0) {
     throw InvalidInput("coverage sample spacing must be a positive number of mm: " +
@@ -414,7 +427,8 @@ LayerCoverage computeLayerCoverage(const TriMesh& layerSurface, const std::vecto
   const std::size_t count = layerSurface.triangleCount();
   const std::size_t blockCount = std::min<std::size_t>(64, std::max<std::size_t>(count, 1));
   std::vector<SampleBlock> blocks(blockCount);
-#pragma omp parallel for schedule(dynamic)
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
   for (std::ptrdiff_t b = 0; b < static_cast<std::ptrdiff_t>(blockCount); ++b) {
     SampleClassifier classifier(segments, beadPaths, cells);
     const std::size_t begin = count * b / blockCount, end = count * (b + 1) / blockCount;

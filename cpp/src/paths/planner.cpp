@@ -4,15 +4,18 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include <omp.h>
 
@@ -735,6 +738,8 @@ class LayerPlanner {
 
   /// The next layer from its draft: order, connected insets, deposition, coverage.
   PlanLayer completeLayer(LayerDraft draft, const Progress& progress);
+  /// Threads of the coverage measurement (0: OpenMP's default); 1 while other threads draft.
+  void setCoverageThreads(int threads) { coverage_.threads = threads; }
   void finish();
 
  private:
@@ -748,6 +753,7 @@ class LayerPlanner {
   PlanResult& result_;
   StageTimer timer_;
   LayerTail tail_;
+  CoverageOptions coverage_;
   std::optional<TriangleBvh> support_;  // material under the current layer
   double widest_ = 0.0;  // largest GDTC over all layers (for the "spacing too wide" message)
   std::string firstReason_;
@@ -773,8 +779,9 @@ PlanLayer LayerPlanner::completeLayer(LayerDraft draft, const Progress& progress
   }
   if (options_.measureCoverage && draft.query) {
     progress.report(0.98, kStages[kCoverage]);
-    layer.coverage = timer_.run(
-        kCoverage, [&] { return computeLayerCoverage(*draft.query->mesh, layer.paths, s_); });
+    layer.coverage = timer_.run(kCoverage, [&] {
+      return computeLayerCoverage(*draft.query->mesh, layer.paths, s_, coverage_);
+    });
   }
   // The material under the next layer is this layer's surface (if it has one).
   if (draft.query) support_.emplace(std::move(draft.query->bvh));
@@ -1263,34 +1270,121 @@ void planLayersInTurn(const std::vector<LayerSurface>& layers, const PlannerOpti
   }
 }
 
-/// Batches of 4 layers per thread: the batch's drafts in parallel (no progress on the workers),
-/// then each layer completed in order on the calling thread, which reports progress and rethrows
-/// a draft's error where the layer-by-layer run would have thrown it. The plan is the same as
-/// planLayersInTurn's: a draft depends on its layer alone, and completion runs in layer order.
-void planLayersInBatches(const std::vector<LayerSurface>& layers, const PlannerOptions& options,
-                         int threads, LayerPlanner& planner, const Progress& progress, Plan& plan) {
-  const std::size_t batch = 4 * static_cast<std::size_t>(threads);
-  for (std::size_t begin = 0; begin < layers.size(); begin += batch) {
-    const std::size_t end = std::min(layers.size(), begin + batch);
-    std::vector<std::optional<LayerDraft>> drafts(end - begin);
-    std::vector<std::exception_ptr> errors(end - begin);
-    const auto count = static_cast<std::int64_t>(end - begin);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (std::int64_t k = 0; k < count; ++k) {
-      try {
-        const std::size_t li = begin + static_cast<std::size_t>(k);
-        drafts[k].emplace(LayerDrafter(options).draft(li, layers[li], Progress()));
-      } catch (...) {
-        errors[k] = std::current_exception();
+/// Layers drafted on `threads` threads (the calling thread and threads − 1 helpers) and
+/// completed in order on the calling thread, as a pipeline: a thread takes the next layer to
+/// draft while the drafts ahead of the next layer to complete stay within a window of 4 per thread
+/// (their surfaces' indices held at once); the calling thread completes the next layer as soon as
+/// its draft is there and drafts itself while it waits, so both cores stay busy through the
+/// layer-by-layer stages. Progress is reported and a draft's error rethrown on the calling thread
+/// where the layer-by-layer run would have done so. The plan is the same as planLayersInTurn's: a
+/// draft depends on its layer alone, and completion runs in layer order.
+class LayerPipeline {
+ public:
+  LayerPipeline(const std::vector<LayerSurface>& layers, const PlannerOptions& options, int threads)
+      : layers_(layers),
+        options_(options),
+        window_(4 * static_cast<std::size_t>(threads)),
+        drafts_(layers.size()),
+        errors_(layers.size()),
+        ready_(layers.size(), 0) {
+    try {
+      for (int t = 1; t < threads; ++t) helpers_.emplace_back([this] { helpDraft(); });
+    } catch (...) {
+      stopHelpers();
+      throw;
+    }
+  }
+  ~LayerPipeline() { stopHelpers(); }
+  LayerPipeline(const LayerPipeline&) = delete;
+  LayerPipeline& operator=(const LayerPipeline&) = delete;
+
+  /// Layer li's draft (li = 0, 1, … in turn), drafting other layers while it is not ready;
+  /// rethrows the error of its draft. Layers before li count as completed.
+  LayerDraft take(std::size_t li) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    completed_ = li;
+    changed_.notify_all();  // the window moved on
+    while (!ready_[li]) {
+      if (canClaim()) {
+        const std::size_t k = next_++;
+        lock.unlock();
+        draftLayer(k);
+        lock.lock();
+        continue;
       }
+      changed_.wait(lock, [&] { return ready_[li] || canClaim(); });
     }
-    for (std::size_t k = 0; k < drafts.size(); ++k) {
-      if (errors[k]) std::rethrow_exception(errors[k]);
-      const Progress layerProgress = layerProgressOf(progress, begin + k, layers.size());
-      plan.layers.push_back(planner.completeLayer(std::move(*drafts[k]), layerProgress));
-      drafts[k].reset();
-      layerProgress.report(1.0, kStages[kDeposition]);
+    if (errors_[li]) std::rethrow_exception(errors_[li]);
+    LayerDraft draft = std::move(*drafts_[li]);
+    drafts_[li].reset();
+    return draft;
+  }
+
+ private:
+  void stopHelpers() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
     }
+    changed_.notify_all();
+    for (std::thread& t : helpers_) t.join();
+  }
+  bool canClaim() const { return next_ < layers_.size() && next_ < completed_ + window_; }
+
+  void helpDraft() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+      changed_.wait(lock, [&] { return stop_ || canClaim(); });
+      if (stop_) return;
+      const std::size_t k = next_++;
+      lock.unlock();
+      draftLayer(k);
+      lock.lock();
+    }
+  }
+
+  /// Drafts layer k (no progress: a helper must not report) and hands it, or its error, over.
+  void draftLayer(std::size_t k) {
+    std::optional<LayerDraft> draft;
+    std::exception_ptr error;
+    try {
+      draft.emplace(LayerDrafter(options_).draft(k, layers_[k], Progress()));
+    } catch (...) {
+      error = std::current_exception();
+    }
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (draft) drafts_[k].emplace(std::move(*draft));
+      errors_[k] = error;
+      ready_[k] = 1;
+    }
+    changed_.notify_all();
+  }
+
+  const std::vector<LayerSurface>& layers_;
+  const PlannerOptions& options_;
+  const std::size_t window_;
+  std::mutex mutex_;  // guards everything below but the helpers
+  std::condition_variable changed_;
+  std::vector<std::optional<LayerDraft>> drafts_;
+  std::vector<std::exception_ptr> errors_;
+  std::vector<char> ready_;
+  std::size_t next_ = 0;       // the next layer to draft
+  std::size_t completed_ = 0;  // layers completed (the window starts there)
+  bool stop_ = false;
+  std::vector<std::thread> helpers_;  // last: started once the rest is set up
+};
+
+void planLayersInParallel(const std::vector<LayerSurface>& layers, const PlannerOptions& options,
+                          int threads, LayerPlanner& planner, const Progress& progress,
+                          Plan& plan) {
+  planner.setCoverageThreads(1);  // the other threads are drafting
+  LayerPipeline pipeline(layers, options, threads);
+  for (std::size_t li = 0; li < layers.size(); ++li) {
+    LayerDraft draft = pipeline.take(li);
+    const Progress layerProgress = layerProgressOf(progress, li, layers.size());
+    plan.layers.push_back(planner.completeLayer(std::move(draft), layerProgress));
+    layerProgress.report(1.0, kStages[kDeposition]);
   }
 }
 
@@ -1427,7 +1521,7 @@ PlanResult planLayers(const std::vector<LayerSurface>& layers, const TriMesh& st
   if (threads <= 1 || layers.size() < 2) {
     planLayersInTurn(layers, options, planner, progress, result.plan);
   } else {
-    planLayersInBatches(layers, options, threads, planner, progress, result.plan);
+    planLayersInParallel(layers, options, threads, planner, progress, result.plan);
   }
   planner.finish();
   return result;

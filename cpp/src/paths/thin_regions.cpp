@@ -131,6 +131,8 @@ struct ThinRegionPlanner::Impl {
   void collectRims();
   EndFit findEndShift(std::int32_t region, const Polyline& line, double w) const;
   double clearance(std::int32_t region, const Vec3& p) const;
+  double clearanceAbove(std::int32_t region, const Vec3& p, double floor,
+                        std::size_t& nearest) const;
   Inscribed findInscribed(std::int32_t region) const;
   std::int32_t regionAt(const Vec3& p, ClosestPoint& hint);
   double distanceAt(const ClosestPoint& c) const;
@@ -233,6 +235,26 @@ double ThinRegionPlanner::Impl::clearance(std::int32_t region, const Vec3& p) co
   return best;
 }
 
+/// clearance(region, p) when it exceeds `floor`; otherwise some value ≤ floor (the search stops
+/// at the first edge within `floor`, trying edge `nearest` first and leaving there the nearest
+/// edge found). The minimum does not depend on the order of the edges, so a value above `floor`
+/// is exactly clearance's.
+double ThinRegionPlanner::Impl::clearanceAbove(std::int32_t region, const Vec3& p, double floor,
+                                               std::size_t& nearest) const {
+  const std::vector<std::pair<Vec3, Vec3>>& rim = regions[region].rim;
+  double best = distanceToSegment(p, rim[nearest].first, rim[nearest].second);
+  if (best <= floor) return best;
+  for (std::size_t e = 0; e < rim.size(); ++e) {
+    const double d = distanceToSegment(p, rim[e].first, rim[e].second);
+    if (d < best) {
+      best = d;
+      nearest = e;
+      if (best <= floor) return best;
+    }
+  }
+  return best;
+}
+
 /// The largest clearance over the region's vertices and a barycentric grid of step 1/4 on each
 /// of its triangles (the vertex GDTC underestimates the half-width of a region a few edges wide).
 Inscribed ThinRegionPlanner::Impl::findInscribed(std::int32_t region) const {
@@ -240,6 +262,7 @@ Inscribed ThinRegionPlanner::Impl::findInscribed(std::int32_t region) const {
   best.centre = mesh.vertices[regions[region].top];
   best.radius = std::max(regions[region].maxDistance, 0.0);
   if (regions[region].rim.empty()) return best;
+  std::size_t nearestRim = 0;  // the previous sample's nearest edge: neighbours share it
   for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
     if (triangleRegion[t] != region) continue;
     const Vec3i& tri = mesh.triangles[t];
@@ -248,7 +271,7 @@ Inscribed ThinRegionPlanner::Impl::findInscribed(std::int32_t region) const {
         const Vec3 p = (i * mesh.vertices[tri[0]] + j * mesh.vertices[tri[1]] +
                         (4 - i - j) * mesh.vertices[tri[2]]) /
                        4.0;
-        const double c = clearance(region, p);
+        const double c = clearanceAbove(region, p, best.radius, nearestRim);
         if (c > best.radius) {
           best.radius = c;
           best.centre = p;

@@ -210,6 +210,24 @@ TEST(Coverage, DoesNotDependOnTheThreadCount) {
   }
 }
 
+TEST(Coverage, ThreadsOptionDoesNotChangeTheResult) {
+  const TriMesh plate = makePlate(0, 0, 40, 40);
+  const std::vector<PlanPath> paths = {makeSquareRing(20, 20, 36), makeSquareRing(20, 20, 29)};
+  CoverageOptions o = fine();
+  o.threads = 1;
+  const LayerCoverage one = computeLayerCoverage(plate, paths, 4.0, o);
+  o.threads = 3;
+  const LayerCoverage three = computeLayerCoverage(plate, paths, 4.0, o);
+  EXPECT_EQ(one.area, three.area);
+  EXPECT_EQ(one.voidShare, three.voidShare);
+  EXPECT_EQ(one.overlapShare, three.overlapShare);
+  EXPECT_GT(one.overlapShare, 0.0);
+  ASSERT_EQ(one.voids.size(), three.voids.size());
+  for (std::size_t k = 0; k < one.voids.size(); ++k) {
+    EXPECT_EQ(one.voids[k].centre, three.voids[k].centre);
+  }
+}
+
 TEST(Coverage, RejectsBadInput) {
   const TriMesh plate = makePlate(0, 0, 10, 10);
   EXPECT_THROW(computeLayerCoverage(plate, {}, 0.0), InvalidInput);
@@ -217,6 +235,9 @@ TEST(Coverage, RejectsBadInput) {
   CoverageOptions o;
   o.sampleSpacing = 0.0;
   EXPECT_THROW(computeLayerCoverage(plate, {}, 3.7, o), InvalidInput);
+  CoverageOptions negative;
+  negative.threads = -1;
+  EXPECT_THROW(computeLayerCoverage(plate, {}, 3.7, negative), InvalidInput);
   EXPECT_THROW(
       computeLayerCoverage(plate, {makePath({Vec3(1, 1, 0), Vec3(5, 1, 0)}, false, -1.0)}, 3.7),
       InvalidInput);

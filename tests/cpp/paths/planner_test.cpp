@@ -452,6 +452,26 @@ TEST(Planner, ParallelLayersCancelThroughProgress) {
   EXPECT_THROW(planLayers(layers, {}, options, cancelLater), Cancelled);
 }
 
+TEST(Planner, ParallelLayersRethrowTheErrorOfALayerInTheMiddle) {
+  // Layer 9 (beyond the first window of drafts on 2 threads) has a non-finite vertex: every
+  // thread count stops with the error the layer-by-layer run gives.
+  std::vector<LayerSurface> layers = makeMixedStack();
+  layers[9].mesh.vertices[3].x() = std::nan("");
+  PlannerOptions options;
+  options.threads = 1;
+  std::string expected;
+  try {
+    planLayers(layers, {}, options);
+  } catch (const InvalidInput& e) {
+    expected = e.what();
+  }
+  ASSERT_FALSE(expected.empty());
+  for (const int threads : {2, 3}) {
+    options.threads = threads;
+    expectMessage([&] { planLayers(layers, {}, options); }, expected);
+  }
+}
+
 TEST(Planner, RejectsNegativeThreads) {
   PlannerOptions options;
   options.threads = -1;

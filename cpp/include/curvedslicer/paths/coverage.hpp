@@ -45,6 +45,9 @@ struct CoverageOptions {
   double sampleSpacing = -1.0;
   /// How many of the largest uncovered patches LayerCoverage::voids lists (largest first).
   std::size_t maxVoids = 10;
+  /// Threads sampling the surface (>= 0); 0: OpenMP's default (OMP_NUM_THREADS, else the
+  /// cores). The result is the same for any number.
+  int threads = 0;
 };
 
 /// Measures the coverage of one layer (see the file comment).

@@ -126,11 +126,12 @@ struct PlannerOptions {
   /// takes to lay one bead width of bead, so it deposits about one bead's worth (a round deposit
   /// w across). Default: the default cell's weld speed (robot/cell.hpp ProcessDescription).
   double spotWeldSpeed = 8.0;
-  /// Layers planned at once (>= 0): their surface index, initial curves, surface geodesic,
-  /// iso-lines and fit run in parallel, then ordering, connected insets, deposition and coverage
-  /// run layer by layer in order (they carry the torch, the seams and the support from one layer
-  /// to the next). 0: OpenMP's default (OMP_NUM_THREADS, else the cores). The plan is the same
-  /// for any number.
+  /// Threads planning layers (>= 0): their surface index, initial curves, surface geodesic,
+  /// iso-lines and fit run in parallel (up to 4 layers per thread ahead), while ordering,
+  /// connected insets, deposition and coverage run layer by layer in order on the calling thread
+  /// (they carry the torch, the seams and the support from one layer to the next), which drafts
+  /// layers too while it waits. 0: OpenMP's default (OMP_NUM_THREADS, else the cores). The plan
+  /// is the same for any number.
   int threads = 0;
 };
 
