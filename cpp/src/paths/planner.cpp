@@ -1142,7 +1142,31 @@ void densifyWidenedBead(RawBead& bead, const std::vector<double>& left,
   bead = std::move(out);
 }
 
-/// The beads along strips too narrow for a fill bead widened into them (paths/bead_widening.hpp):
+/// Widens `bead` by `left`/`right` (mm per point, paths/bead_widening.hpp): each point moves by
+/// half the difference towards the wider side and goes back onto the layer surface; its width
+/// grows by both (from s where the bead carried none).
+void applyBeadWidening(RawBead& bead, const std::vector<double>& left,
+                       const std::vector<double>& right, double s, const SurfaceQuery& query) {
+  const std::vector<Vec3> before = bead.line.points;
+  const std::size_t n = before.size();
+  const bool closed = bead.line.closed && n >= 3;
+  if (bead.widths.empty()) bead.widths.assign(n, s);
+  ClosestPoint hint;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (left[i] + right[i] <= 0.0) continue;
+    const Vec3& prev = i > 0 ? before[i - 1] : (closed ? before[n - 1] : before[i]);
+    const Vec3& next = i + 1 < n ? before[i + 1] : (closed ? before[0] : before[i]);
+    const Vec3 side = (next - prev).cross(bead.normals[i]);
+    const Vec3 shift = side.norm() > 0.0 ? Vec3(0.5 * (right[i] - left[i]) * side.normalized())
+                                         : Vec3(Vec3::Zero());
+    hint = query.bvh.closestPoint(before[i] + shift, hint);
+    bead.line.points[i] = hint.point;
+    bead.normals[i] = query.normalAt(hint);
+    bead.widths[i] += left[i] + right[i];
+  }
+}
+
+/// The beads beside uncovered strips between beads widened into them (paths/bead_widening.hpp):
 /// each side by at most half the minimum fill width, to at most the widest allowed bead
 /// (widthMax·s, or 1.25·s at fixed width); moved points are put back on the layer surface.
 void LayerDrafter::widenBeadsIntoStrips(const SurfaceGeodesicResult& gdtc,
@@ -1155,8 +1179,9 @@ void LayerDrafter::widenBeadsIntoStrips(const SurfaceGeodesicResult& gdtc,
   const double minWidth = options_.minFeatureWidth < 0.0 ? 0.5 * s_ : options_.minFeatureWidth;
   o.maxExtension = 0.5 * minWidth;
   o.maxWidth = std::max(options_.widthMax, 1.25) * s_;
-  BeadWidening widening =
-      timer().run(kIso, [&] { return computeBeadWidening(gdtc.mesh, widenable, gdtc.distance, o); });
+  BeadWidening widening = timer().run(kIso, [&] {
+    return computeBeadWidening(gdtc.mesh, widenable, gdtc.distance, o);
+  });
   if (widening.widenedPoints == 0) return;
   // Widths vary linearly along a segment: split the long ones next to widened points so that
   // the growth stays where the strip is, then ask again on the finer beads.
@@ -1168,7 +1193,9 @@ void LayerDrafter::widenBeadsIntoStrips(const SurfaceGeodesicResult& gdtc,
     }
     widenable[k] = {&beads[k].line, &beads[k].normals, beads[k].widths};
   }
-  widening = timer().run(kIso, [&] { return computeBeadWidening(gdtc.mesh, widenable, gdtc.distance, o); });
+  widening = timer().run(kIso, [&] {
+    return computeBeadWidening(gdtc.mesh, widenable, gdtc.distance, o);
+  });
   for (auto& [k, bead] : coarse) {  // split for nothing: back as it was
     const std::vector<double>& l = widening.left[k];
     if (std::all_of(l.begin(), l.end(), [](double e) { return e == 0.0; }) &&
@@ -1181,29 +1208,13 @@ void LayerDrafter::widenBeadsIntoStrips(const SurfaceGeodesicResult& gdtc,
   }
   if (widening.widenedPoints == 0) return;
   for (std::size_t k = 0; k < beads.size(); ++k) {
-    if (widening.left[k].empty()) continue;
-    RawBead& bead = beads[k];
-    const std::vector<Vec3> before = bead.line.points;
-    const std::size_t n = before.size();
-    const bool closed = bead.line.closed && n >= 3;
-    if (bead.widths.empty()) bead.widths.assign(n, s_);
-    ClosestPoint hint;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double l = widening.left[k][i], r = widening.right[k][i];
-      if (l + r <= 0.0) continue;
-      const Vec3& prev = i > 0 ? before[i - 1] : (closed ? before[n - 1] : before[i]);
-      const Vec3& next = i + 1 < n ? before[i + 1] : (closed ? before[0] : before[i]);
-      Vec3 side = (next - prev).cross(bead.normals[i]);
-      side = side.norm() > 0.0 ? Vec3(side.normalized()) : Vec3(Vec3::Zero());
-      hint = query.bvh.closestPoint(before[i] + 0.5 * (r - l) * side, hint);
-      bead.line.points[i] = hint.point;
-      bead.normals[i] = query.normalAt(hint);
-      bead.widths[i] += l + r;
+    if (!widening.left[k].empty()) {
+      applyBeadWidening(beads[k], widening.left[k], widening.right[k], s_, query);
     }
   }
   layer.warnings.push_back("bead widening: " + std::to_string(widening.widenedPoints) +
-                           " bead point(s) widened into strips too narrow for a bead of their "
-                           "own, up to " + formatMm(widening.largestWidth) + " mm wide");
+                           " bead point(s) widened into uncovered strips between beads, up "
+                           "to " + formatMm(widening.largestWidth) + " mm wide");
 }
 
 // ---- adaptive bead width (issue 15; paths/adaptive_width.hpp) ----
