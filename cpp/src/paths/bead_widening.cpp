@@ -87,12 +87,14 @@ class SegmentCells {
     return {(p - foot).norm() - 0.5 * (g.widthA + t * (g.widthB - g.widthA)), &g, foot, t};
   }
   Vec3i cellOf(const Vec3& p) const {
-    return {static_cast<int>(std::floor(p.x() / cell_)), static_cast<int>(std::floor(p.y() / cell_)),
+    return {static_cast<int>(std::floor(p.x() / cell_)),
+            static_cast<int>(std::floor(p.y() / cell_)),
             static_cast<int>(std::floor(p.z() / cell_))};
   }
   static std::int64_t key(int x, int y, int z) {
     return (static_cast<std::int64_t>(x & 0x1FFFFF) << 42) |
-           (static_cast<std::int64_t>(y & 0x1FFFFF) << 21) | static_cast<std::int64_t>(z & 0x1FFFFF);
+           (static_cast<std::int64_t>(y & 0x1FFFFF) << 21) |
+           static_cast<std::int64_t>(z & 0x1FFFFF);
   }
   std::vector<Segment> segments_;
   double cell_;
@@ -108,12 +110,14 @@ std::vector<Segment> collectSegments(const std::vector<WidenableBead>& beads, do
   for (std::size_t k = 0; k < beads.size(); ++k) {
     const std::vector<Vec3>& pts = beads[k].line->points;
     const std::size_t n = pts.size();
-    if (n == 1) segments.push_back({pts[0], pts[0], widthOf(beads[k], 0, s), widthOf(beads[k], 0, s), k, 0, 0, false});
+    if (n == 1)
+      segments.push_back(
+          {pts[0], pts[0], widthOf(beads[k], 0, s), widthOf(beads[k], 0, s), k, 0, 0, false});
     const std::size_t count = n < 2 ? 0 : (beads[k].line->closed && n >= 3 ? n : n - 1);
     for (std::size_t i = 0; i < count; ++i) {
       const std::size_t j = (i + 1) % n;
-      segments.push_back({pts[i], pts[j], widthOf(beads[k], i, s), widthOf(beads[k], j, s), k, i,
-                          j, true});
+      segments.push_back(
+          {pts[i], pts[j], widthOf(beads[k], i, s), widthOf(beads[k], j, s), k, i, j, true});
     }
   }
   return segments;
@@ -134,8 +138,7 @@ std::vector<Vec3> computeRightSides(const WidenableBead& bead) {
   return right;
 }
 
-void validateWideningInput(const std::vector<WidenableBead>& beads,
-                           const BeadWideningOptions& o) {
+void validateWideningInput(const std::vector<WidenableBead>& beads, const BeadWideningOptions& o) {
   if (!std::isfinite(o.beadSpacing) || o.beadSpacing <= 0.0) {
     throw InvalidInput("bead spacing must be a positive number of mm: " +
                        formatNumber(o.beadSpacing) + "; pass a value such as 3.7");
@@ -149,10 +152,10 @@ void validateWideningInput(const std::vector<WidenableBead>& beads,
   }
   for (const WidenableBead& b : beads) {
     if (b.line == nullptr || b.normals == nullptr || b.normals->size() != b.line->points.size()) {
-      throw InvalidInput(
-          "bead widening needs one normal per bead point: " +
-          std::to_string(b.normals ? b.normals->size() : 0) + " normals for " +
-          std::to_string(b.line ? b.line->points.size() : 0) + " points; pass the bead's normals");
+      throw InvalidInput("bead widening needs one normal per bead point: " +
+                         std::to_string(b.normals ? b.normals->size() : 0) + " normals for " +
+                         std::to_string(b.line ? b.line->points.size() : 0) +
+                         " points; pass the bead's normals");
     }
   }
 }
@@ -250,7 +253,8 @@ BeadWidening computeBeadWidening(const TriMesh& mesh, const std::vector<Widenabl
     return std::isfinite(d) ? std::max(d, 0.0) : kInf;
   };
   for (const Vec3i& tri : mesh.triangles) {
-    const Vec3 &p0 = mesh.vertices[tri[0]], &p1 = mesh.vertices[tri[1]], &p2 = mesh.vertices[tri[2]];
+    const Vec3 &p0 = mesh.vertices[tri[0]], &p1 = mesh.vertices[tri[1]],
+               &p2 = mesh.vertices[tri[2]];
     const double edge = std::max({(p1 - p0).norm(), (p2 - p1).norm(), (p0 - p2).norm()});
     const double lo = std::min({vertexBeyond[tri[0]], vertexBeyond[tri[1]], vertexBeyond[tri[2]]});
     const double hi = std::max({vertexBeyond[tri[0]], vertexBeyond[tri[1]], vertexBeyond[tri[2]]});

@@ -1125,7 +1125,8 @@ void densifyWidenedBead(RawBead& bead, const std::vector<double>& left,
   out.dwell = bead.dwell;
   const bool hasWidths = !bead.widths.empty();
   const auto push = [&](std::size_t i, std::size_t j, double t) {
-    out.line.points.push_back(bead.line.points[i] + t * (bead.line.points[j] - bead.line.points[i]));
+    out.line.points.push_back(bead.line.points[i] +
+                              t * (bead.line.points[j] - bead.line.points[i]));
     const Vec3 normal = bead.normals[i] + t * (bead.normals[j] - bead.normals[i]);
     out.normals.push_back(normal.norm() > 0.0 ? Vec3(normal.normalized()) : bead.normals[i]);
     if (hasWidths) out.widths.push_back(bead.widths[i] + t * (bead.widths[j] - bead.widths[i]));
@@ -1179,9 +1180,8 @@ void LayerDrafter::widenBeadsIntoStrips(const SurfaceGeodesicResult& gdtc,
   const double minWidth = options_.minFeatureWidth < 0.0 ? 0.5 * s_ : options_.minFeatureWidth;
   o.maxExtension = 0.5 * minWidth;
   o.maxWidth = std::max(options_.widthMax, 1.25) * s_;
-  BeadWidening widening = timer().run(kIso, [&] {
-    return computeBeadWidening(gdtc.mesh, widenable, gdtc.distance, o);
-  });
+  BeadWidening widening = timer().run(
+      kIso, [&] { return computeBeadWidening(gdtc.mesh, widenable, gdtc.distance, o); });
   if (widening.widenedPoints == 0) return;
   // Widths vary linearly along a segment: split the long ones next to widened points so that
   // the growth stays where the strip is, then ask again on the finer beads.
@@ -1193,9 +1193,8 @@ void LayerDrafter::widenBeadsIntoStrips(const SurfaceGeodesicResult& gdtc,
     }
     widenable[k] = {&beads[k].line, &beads[k].normals, beads[k].widths};
   }
-  widening = timer().run(kIso, [&] {
-    return computeBeadWidening(gdtc.mesh, widenable, gdtc.distance, o);
-  });
+  widening = timer().run(
+      kIso, [&] { return computeBeadWidening(gdtc.mesh, widenable, gdtc.distance, o); });
   for (auto& [k, bead] : coarse) {  // split for nothing: back as it was
     const std::vector<double>& l = widening.left[k];
     if (std::all_of(l.begin(), l.end(), [](double e) { return e == 0.0; }) &&
@@ -1214,7 +1213,8 @@ void LayerDrafter::widenBeadsIntoStrips(const SurfaceGeodesicResult& gdtc,
   }
   layer.warnings.push_back("bead widening: " + std::to_string(widening.widenedPoints) +
                            " bead point(s) widened into uncovered strips between beads, up "
-                           "to " + formatMm(widening.largestWidth) + " mm wide");
+                           "to " +
+                           formatMm(widening.largestWidth) + " mm wide");
 }
 
 // ---- adaptive bead width (issue 15; paths/adaptive_width.hpp) ----

@@ -98,8 +98,8 @@ TEST(BeadWidening, SliversAndShortStretchesAreLeft) {
   // 7.6 mm wall: a 0.2 mm sliver (< s/10) between the beads stays; an 8.6 mm wall whose beads
   // are only 3 mm long (< s) keeps them as they are.
   const TwoBeads sliver = makeWall(7.6);
-  EXPECT_EQ(computeBeadWidening(sliver.mesh, {{&sliver.a, &sliver.normalsA, {}},
-                                              {&sliver.b, &sliver.normalsB, {}}})
+  EXPECT_EQ(computeBeadWidening(
+                sliver.mesh, {{&sliver.a, &sliver.normalsA, {}}, {&sliver.b, &sliver.normalsB, {}}})
                 .widenedPoints,
             0u);
   TwoBeads w = makeWall(8.6);
@@ -134,8 +134,8 @@ TEST(BeadWidening, RejectsBadInputNamingIt) {
 
 TEST(BeadWidening, ThinWallsAreCoveredByThePlanner) {
   // Walls 7.8–9.0 mm wide hold one ring on each side and leave a strip 0.4–1.6 mm wide, under
-  // the gap fill's minimum s/2: without widening it stays void (5.4 % of the layer at 7.8 mm, 16 % at 9 mm;
-  // measured 0.01–0.02 % with it).
+  // the gap fill's minimum s/2: without widening it stays void (5.4 % of the layer at 7.8 mm, 16 %
+  // at 9 mm; measured 0.01–0.02 % with it).
   for (double width = 7.8; width <= 9.01; width += 0.4) {
     LayerSurface layer;
     layer.index = 1;

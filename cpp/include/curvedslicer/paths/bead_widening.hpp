@@ -43,9 +43,9 @@ struct BeadWideningOptions {
 
 /// One bead to widen: its points, per-point surface normals and widths (part frame, mm).
 struct WidenableBead {
-  const Polyline* line = nullptr;           ///< not owned; ≥ 2 points to be widened
+  const Polyline* line = nullptr;              ///< not owned; ≥ 2 points to be widened
   const std::vector<Vec3>* normals = nullptr;  ///< one per point (not owned)
-  std::vector<double> widths;                ///< mm per point; empty: s
+  std::vector<double> widths;                  ///< mm per point; empty: s
 };
 
 /// Per bead, per point: how far each edge moves out (mm, ≥ 0). Left is −(tangent × normal).
