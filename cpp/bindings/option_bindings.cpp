@@ -259,7 +259,7 @@ void bindPlannerOptions(py::module_& m) {
              "join consecutive rings of one region into one arc-on path (fewer arc starts)")
       .value("fill_gaps", member(&O::fillGaps),
              "give uncovered strips between beads (at least min_feature_width wide) a "
-             "centre-line bead")
+             "centre-line bead, and widen the beads beside narrower strips into them")
       .value("measure_coverage", member(&O::measureCoverage),
              "measure every layer's bead coverage (void and overlap shares) into the plan");
   bindPathOrderFields(c);

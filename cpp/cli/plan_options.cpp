@@ -102,7 +102,8 @@ void addPlannerOptions(CLI::App& plan, OptionBindings<PlannerOptions>& b) {
             "consecutive rings of one region with a short step-over.");
   b.addFlag(plan, "--no-gap-fill", &PlannerOptions::fillGaps, false,
             "Leave uncovered strips between beads empty instead of giving\n"
-            "each strip at least the minimum feature width wide a centre-line bead.");
+            "each strip at least the minimum feature width wide a centre-line bead\n"
+            "and widening the beads beside narrower strips into them.");
   b.addFlag(plan, "--no-coverage", &PlannerOptions::measureCoverage, false,
             "Do not measure the layers' bead coverage (void and overlap\n"
             "shares in plan.json, report.json and the summary).");

@@ -22,6 +22,7 @@
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/geom/triangle_bvh.hpp"
 #include "curvedslicer/paths/adaptive_width.hpp"
+#include "curvedslicer/paths/bead_widening.hpp"
 #include "curvedslicer/paths/connected_insets.hpp"
 #include "curvedslicer/paths/coverage.hpp"
 #include "curvedslicer/paths/gap_fill.hpp"
@@ -646,6 +647,8 @@ class LayerDrafter {
                    const SurfaceQuery& query, std::vector<RawBead>& beads, std::size_t& lost);
   void addGapFillBeads(const SurfaceGeodesicResult& gdtc, const SurfaceQuery& query,
                        std::vector<RawBead>& beads, std::size_t& dropped, PlanLayer& layer);
+  void widenBeadsIntoStrips(const SurfaceGeodesicResult& gdtc, const SurfaceQuery& query,
+                            std::vector<RawBead>& beads, PlanLayer& layer);
   std::vector<double> fitFixedWidthLevels(const SurfaceGeodesicResult& gdtc,
                                           const std::vector<Polyline>& curves,
                                           const SurfaceQuery& query, double maxDistance,
@@ -854,7 +857,10 @@ void LayerDrafter::fitOnField(const SurfaceGeodesicResult& gdtc,
   beadLevels.resize(beads.size(), -1);
   if (fromBoundary_) {
     addThinRegionBeads(gdtc, fit.shortRings, fit.fitWouldDrop, query, beads, dropped, layer);
-    if (options_.fillGaps) addGapFillBeads(gdtc, query, beads, dropped, layer);
+    if (options_.fillGaps) {
+      addGapFillBeads(gdtc, query, beads, dropped, layer);
+      widenBeadsIntoStrips(gdtc, query, beads, layer);
+    }
   }
   beadLevels.resize(beads.size(), -1);  // thin-region beads belong to no level: never joined
   draft_.beadLevels = std::move(beadLevels);
@@ -1110,6 +1116,110 @@ void LayerDrafter::addGapFillBeads(const SurfaceGeodesicResult& gdtc, const Surf
                              " patch(es) too narrow or too small stay uncovered (" +
                              formatNumber(fill.uncoveredArea - fill.filledArea) + " mm²)");
   }
+}
+
+/// Splits the segments of `bead` longer than `longest` (mm) that end at a point with an
+/// extension (`left`/`right` per point) into equal pieces; points, normals and widths are
+/// interpolated, so the bead's centre line and widths stay as they were.
+void densifyWidenedBead(RawBead& bead, const std::vector<double>& left,
+                        const std::vector<double>& right, double longest) {
+  const std::size_t n = bead.line.points.size();
+  const std::size_t count = bead.line.closed && n >= 3 ? n : (n >= 2 ? n - 1 : 0);
+  RawBead out;
+  out.line.closed = bead.line.closed;
+  out.dwell = bead.dwell;
+  const bool hasWidths = !bead.widths.empty();
+  const auto push = [&](std::size_t i, std::size_t j, double t) {
+    out.line.points.push_back(bead.line.points[i] +
+                              t * (bead.line.points[j] - bead.line.points[i]));
+    const Vec3 normal = bead.normals[i] + t * (bead.normals[j] - bead.normals[i]);
+    out.normals.push_back(normal.norm() > 0.0 ? Vec3(normal.normalized()) : bead.normals[i]);
+    if (hasWidths) out.widths.push_back(bead.widths[i] + t * (bead.widths[j] - bead.widths[i]));
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    push(i, i, 0.0);
+    if (i >= count) continue;
+    const std::size_t j = (i + 1) % n;
+    const bool widened = left[i] + right[i] > 0.0 || left[j] + right[j] > 0.0;
+    const double length = (bead.line.points[j] - bead.line.points[i]).norm();
+    const int pieces = widened ? static_cast<int>(std::ceil(length / longest)) : 1;
+    for (int p = 1; p < pieces; ++p) push(i, j, static_cast<double>(p) / pieces);
+  }
+  bead = std::move(out);
+}
+
+/// Widens `bead` by `left`/`right` (mm per point, paths/bead_widening.hpp): each point moves by
+/// half the difference towards the wider side and goes back onto the layer surface; its width
+/// grows by both (from s where the bead carried none).
+void applyBeadWidening(RawBead& bead, const std::vector<double>& left,
+                       const std::vector<double>& right, double s, const SurfaceQuery& query) {
+  const std::vector<Vec3> before = bead.line.points;
+  const std::size_t n = before.size();
+  const bool closed = bead.line.closed && n >= 3;
+  if (bead.widths.empty()) bead.widths.assign(n, s);
+  ClosestPoint hint;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (left[i] + right[i] <= 0.0) continue;
+    const Vec3& prev = i > 0 ? before[i - 1] : (closed ? before[n - 1] : before[i]);
+    const Vec3& next = i + 1 < n ? before[i + 1] : (closed ? before[0] : before[i]);
+    const Vec3 side = (next - prev).cross(bead.normals[i]);
+    const Vec3 shift = side.norm() > 0.0 ? Vec3(0.5 * (right[i] - left[i]) * side.normalized())
+                                         : Vec3(Vec3::Zero());
+    hint = query.bvh.closestPoint(before[i] + shift, hint);
+    bead.line.points[i] = hint.point;
+    bead.normals[i] = query.normalAt(hint);
+    bead.widths[i] += left[i] + right[i];
+  }
+}
+
+/// The beads beside uncovered strips between beads widened into them (paths/bead_widening.hpp):
+/// each side by at most half the minimum fill width, to at most the widest allowed bead
+/// (widthMax·s, or 1.25·s at fixed width); moved points are put back on the layer surface.
+void LayerDrafter::widenBeadsIntoStrips(const SurfaceGeodesicResult& gdtc,
+                                        const SurfaceQuery& query, std::vector<RawBead>& beads,
+                                        PlanLayer& layer) {
+  std::vector<WidenableBead> widenable;
+  for (const RawBead& b : beads) widenable.push_back({&b.line, &b.normals, b.widths});
+  BeadWideningOptions o;
+  o.beadSpacing = s_;
+  const double minWidth = options_.minFeatureWidth < 0.0 ? 0.5 * s_ : options_.minFeatureWidth;
+  o.maxExtension = 0.5 * minWidth;
+  o.maxWidth = std::max(options_.widthMax, 1.25) * s_;
+  BeadWidening widening = timer().run(
+      kIso, [&] { return computeBeadWidening(gdtc.mesh, widenable, gdtc.distance, o); });
+  if (widening.widenedPoints == 0) return;
+  // Widths vary linearly along a segment: split the long ones next to widened points so that
+  // the growth stays where the strip is, then ask again on the finer beads.
+  std::vector<std::pair<std::size_t, RawBead>> coarse;  // beads as they were before the split
+  for (std::size_t k = 0; k < beads.size(); ++k) {
+    if (!widening.left[k].empty()) {
+      coarse.emplace_back(k, beads[k]);
+      densifyWidenedBead(beads[k], widening.left[k], widening.right[k], 0.25 * s_);
+    }
+    widenable[k] = {&beads[k].line, &beads[k].normals, beads[k].widths};
+  }
+  widening = timer().run(
+      kIso, [&] { return computeBeadWidening(gdtc.mesh, widenable, gdtc.distance, o); });
+  for (auto& [k, bead] : coarse) {  // split for nothing: back as it was
+    const std::vector<double>& l = widening.left[k];
+    if (std::all_of(l.begin(), l.end(), [](double e) { return e == 0.0; }) &&
+        std::all_of(widening.right[k].begin(), widening.right[k].end(),
+                    [](double e) { return e == 0.0; })) {
+      beads[k] = std::move(bead);
+      widening.left[k].clear();
+      widening.right[k].clear();
+    }
+  }
+  if (widening.widenedPoints == 0) return;
+  for (std::size_t k = 0; k < beads.size(); ++k) {
+    if (!widening.left[k].empty()) {
+      applyBeadWidening(beads[k], widening.left[k], widening.right[k], s_, query);
+    }
+  }
+  layer.warnings.push_back("bead widening: " + std::to_string(widening.widenedPoints) +
+                           " bead point(s) widened into uncovered strips between beads, up "
+                           "to " +
+                           formatMm(widening.largestWidth) + " mm wide");
 }
 
 // ---- adaptive bead width (issue 15; paths/adaptive_width.hpp) ----

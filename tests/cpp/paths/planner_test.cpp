@@ -117,6 +117,7 @@ TEST(Planner, MeasuresEveryLayersCoverage) {
       makeLayer(1, 1.5, makeFlatPatch(0, 40, 0, 30, 1.5, 40, 30))};
   PlannerOptions options;
   options.connectInsets = false;  // four rings, four arc starts, no step-over overlap
+  options.fillGaps = false;       // the strip stays void (gap fill widens the ring into it)
   const PlanResult result = planLayers(layers, TriMesh{}, options);
   const LayerCoverage& c = result.plan.layers[0].coverage;
   EXPECT_TRUE(c.measured);

@@ -117,7 +117,8 @@ struct PlannerOptions {
   /// one arc-on path (fewer arc starts).
   bool connectInsets = true;
   /// Issue 15: the uncovered strips the beads leave (between rings of one level, in corners) get
-  /// a bead on their centre line when at least minFeatureWidth wide (paths/gap_fill.hpp).
+  /// a bead on their centre line when at least minFeatureWidth wide (paths/gap_fill.hpp); the
+  /// beads beside narrower strips between beads grow into them (paths/bead_widening.hpp).
   bool fillGaps = true;
   /// Issue 15: measure every layer's coverage (paths/coverage.hpp) into PlanLayer::coverage.
   bool measureCoverage = true;

@@ -122,7 +122,7 @@ PROPERTIES = [
      "arc starts)", defaults.CONNECT_INSETS),
     ("App::PropertyBool", "FillGaps", "Paths",
      "Give uncovered strips between beads (at least MinFeatureWidth wide) a bead on their centre "
-     "line", defaults.FILL_GAPS),
+     "line, and widen the beads beside narrower strips into them", defaults.FILL_GAPS),
     ("App::PropertyBool", "MeasureCoverage", "Paths",
      "Measure every layer's bead coverage (void and overlap shares, VoidShare / OverlapShare of "
      "the path layers)", defaults.MEASURE_COVERAGE),
