@@ -1219,7 +1219,7 @@ void LayerDrafter::widenBeadsIntoStrips(const SurfaceGeodesicResult& gdtc,
   layer.warnings.push_back("bead widening: " + std::to_string(widening.widenedPoints) +
                            " bead point(s) widened into uncovered strips between beads, up "
                            "to " +
-                           formatMm(widening.largestWidth) + " mm wide");
+                           formatNumber(widening.largestWidth) + " mm wide");
 }
 
 // ---- adaptive bead width (issue 15; paths/adaptive_width.hpp) ----
