@@ -419,7 +419,7 @@ PlanParameters readParameters(const Reader& r, const Json& pj, int version) {
   } else {
     r.expectKeys(pj, "/parameters", required,
                  {"narrow_strips", "corner_angle_deg", "min_feature_width_mm", "bead_width_range",
-                  "connect_insets"});
+                  "connect_insets", "layer_tolerance_mm"});
   }
   PlanParameters p;
   p.layerThickness = r.nonNegative(pj["layer_thickness_mm"], "/parameters/layer_thickness_mm");
@@ -446,6 +446,9 @@ PlanParameters readParameters(const Reader& r, const Json& pj, int version) {
     p.cornerAngle = angle;
   }
   readCoverageParameters(r, pj, p);
+  if (pj.contains("layer_tolerance_mm")) {
+    p.layerTolerance = r.nonNegative(pj["layer_tolerance_mm"], "/parameters/layer_tolerance_mm");
+  }
   return p;
 }
 
@@ -557,6 +560,11 @@ void appendParameters(std::string& out, const PlanParameters& p) {
     out += ",\n";
     appendKey(out, "    ", "connect_insets");
     out += *p.connectInsets ? "true" : "false";
+  }
+  if (p.layerTolerance) {
+    out += ",\n";
+    appendKey(out, "    ", "layer_tolerance_mm");
+    appendNumber(out, *p.layerTolerance);
   }
   out += "\n  },\n";
 }

@@ -100,6 +100,9 @@ struct PlanParameters {
   std::optional<std::array<double, 2>> beadWidthRange;
   /// Issue 15: whether consecutive rings of one region were joined into one arc-on path
   std::optional<bool> connectInsets;
+  /// Issue 18: ε, mm, of the layer simplification the layer surfaces went through; absent for
+  /// full-resolution layers, thin walls and plans written before it existed
+  std::optional<double> layerTolerance;
 };
 
 struct Plan {
