@@ -41,6 +41,19 @@ void addTessellationOption(CLI::App& command, LayersArguments& args) {
       ->type_name("MM");
 }
 
+void addLayerSimplificationOptions(CLI::App& command, LayersArguments& args) {
+  command
+      .add_option("--layer-tolerance", args.layerTolerance,
+                  "Simplify each layer surface by edge collapse so that it stays\n"
+                  "within this distance of the full-resolution surface, mm (> 0);\n"
+                  "the rim on the part surface is kept as it is. Default " +
+                      formatDefault(kDefaultLayerToleranceVoxels) + " x voxel.")
+      ->type_name("MM");
+  command.add_flag("--full-resolution-layers", args.fullResolutionLayers,
+                   "Keep the layer surfaces as marching tetrahedra give them (about\n"
+                   "4-5 triangles per voxel crossed; no simplification).");
+}
+
 namespace {
 
 /// --method, --grid, --format: the enum choices, the default read from the options structs.
@@ -115,6 +128,7 @@ void addLayersOptions(CLI::App& layers, LayersArguments& args) {
                   "Default 0 = 80 % of physical memory.")
       ->type_name("MB");
   addTessellationOption(layers, args);
+  addLayerSimplificationOptions(layers, args);
   layers.add_flag("--cap-holes", args.capHoles,
                   "Close the holes of an open model before slicing (default: off;\n"
                   "an open model the voxelizer cannot resolve is an error). Holes\n"
