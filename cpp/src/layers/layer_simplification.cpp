@@ -1,37 +1,20 @@
-// Layer surface simplification: CGAL edge collapse with a distance filter, border fixed. See the
+// Layer surface simplification: half-edge collapse bounded by quadrics of the original planes, in
+// threshold passes over a flat triangle array; border and non-manifold vertices fixed. See the
 // header for the method and the bound.
 #include "curvedslicer/layers/layer_simplification.hpp"
-
-#include <CGAL/Simple_cartesian.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Constrained_placement.h>
-#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_ratio_stop_predicate.h>
-#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk_cost.h>
-#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/LindstromTurk_placement.h>
-#include <CGAL/Surface_mesh_simplification/Edge_collapse_visitor_base.h>
-#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <functional>
-#include <numeric>
 #include <sstream>
 #include <string>
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "curvedslicer/core/error.hpp"
-#include "curvedslicer/geom/triangle_bvh.hpp"
 
 namespace curvedslicer {
 namespace {
-
-namespace SMS = CGAL::Surface_mesh_simplification;
-using Kernel = CGAL::Simple_cartesian<double>;
-using Mesh = CGAL::Surface_mesh<Kernel::Point_3>;
-using VertexIndex = Mesh::Vertex_index;
-using EdgeIndex = Mesh::Edge_index;
 
 std::string formatNumber(double x) {
   std::ostringstream s;
@@ -39,137 +22,6 @@ std::string formatNumber(double x) {
   s << x;
   return s.str();
 }
-
-/// The input with every non-manifold vertex split into one vertex per fan of triangles (corners
-/// joined through shared edges). `original[v]` is the input vertex of vertex v; `split[v]` is true
-/// for every copy, the first one included.
-struct SplitSurface {
-  std::vector<Vec3i> triangles;
-  std::vector<int> original;
-  std::vector<char> split;
-};
-
-int findRoot(std::vector<int>& parent, int i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
-}
-
-SplitSurface splitNonManifoldVertices(const TriMesh& surface) {
-  const auto nv = static_cast<int>(surface.vertices.size());
-  const auto nt = static_cast<int>(surface.triangles.size());
-  // Corners (3·t + k) grouped by vertex (CSR).
-  std::vector<int> first(static_cast<std::size_t>(nv) + 1, 0);
-  for (const Vec3i& t : surface.triangles) {
-    for (int k = 0; k < 3; ++k) ++first[static_cast<std::size_t>(t[k]) + 1];
-  }
-  std::partial_sum(first.begin(), first.end(), first.begin());
-  std::vector<int> corners(static_cast<std::size_t>(3 * nt));
-  std::vector<int> fill(first.begin(), first.end() - 1);
-  for (int t = 0; t < nt; ++t) {
-    for (int k = 0; k < 3; ++k) corners[fill[surface.triangles[t][k]]++] = 3 * t + k;
-  }
-  SplitSurface out;
-  out.triangles = surface.triangles;
-  out.original.resize(static_cast<std::size_t>(nv));
-  std::iota(out.original.begin(), out.original.end(), 0);
-  out.split.assign(static_cast<std::size_t>(nv), 0);
-  std::vector<int> parent;
-  std::unordered_map<int, int> byNeighbour;
-  for (int v = 0; v < nv; ++v) {
-    const int begin = first[v], end = first[v + 1];
-    if (end - begin < 2) continue;
-    parent.resize(static_cast<std::size_t>(end - begin));
-    std::iota(parent.begin(), parent.end(), 0);
-    byNeighbour.clear();
-    for (int c = begin; c < end; ++c) {
-      const int t = corners[c] / 3, k = corners[c] % 3;
-      for (int other : {surface.triangles[t][(k + 1) % 3], surface.triangles[t][(k + 2) % 3]}) {
-        auto [it, inserted] = byNeighbour.try_emplace(other, c - begin);
-        if (!inserted) parent[findRoot(parent, c - begin)] = findRoot(parent, it->second);
-      }
-    }
-    const int root0 = findRoot(parent, 0);
-    bool manifold = true;
-    for (int c = begin; c < end && manifold; ++c) manifold = findRoot(parent, c - begin) == root0;
-    if (manifold) continue;
-    // One vertex per fan: the fan of the first corner keeps v, the others get copies.
-    out.split[static_cast<std::size_t>(v)] = 1;
-    std::unordered_map<int, int> copyOfRoot{{root0, v}};
-    for (int c = begin; c < end; ++c) {
-      const int root = findRoot(parent, c - begin);
-      auto [it, inserted] = copyOfRoot.try_emplace(root, static_cast<int>(out.original.size()));
-      if (inserted) {
-        out.original.push_back(v);
-        out.split.push_back(1);
-      }
-      out.triangles[corners[c] / 3][corners[c] % 3] = it->second;
-    }
-  }
-  return out;
-}
-
-/// The split surface as a CGAL halfedge mesh; false if a triangle cannot be added (an edge of
-/// more than two triangles or inconsistent orientation).
-bool buildMesh(const TriMesh& surface, const SplitSurface& split, Mesh& mesh) {
-  mesh.reserve(split.original.size(), 3 * split.triangles.size() / 2 + 3,
-               split.triangles.size());
-  for (int v : split.original) {
-    const Vec3& p = surface.vertices[static_cast<std::size_t>(v)];
-    mesh.add_vertex(Kernel::Point_3(p.x(), p.y(), p.z()));
-  }
-  for (const Vec3i& t : split.triangles) {
-    const Mesh::Face_index f =
-        mesh.add_face(VertexIndex(static_cast<Mesh::size_type>(t[0])),
-                      VertexIndex(static_cast<Mesh::size_type>(t[1])),
-                      VertexIndex(static_cast<Mesh::size_type>(t[2])));
-    if (f == Mesh::null_face()) return false;
-  }
-  return true;
-}
-
-/// Border edges and every edge of a split vertex: never collapsed; their vertices never move.
-std::size_t constrainBorder(const Mesh& mesh, const SplitSurface& split,
-                            Mesh::Property_map<EdgeIndex, bool>& constrained) {
-  std::vector<char> fixed(mesh.number_of_vertices(), 0);
-  for (EdgeIndex e : mesh.edges()) {
-    const VertexIndex a = mesh.vertex(e, 0), b = mesh.vertex(e, 1);
-    const bool keep = mesh.is_border(e) || split.split[a.idx()] != 0 || split.split[b.idx()] != 0;
-    constrained[e] = keep;
-    if (keep) fixed[a.idx()] = fixed[b.idx()] = 1;
-  }
-  return static_cast<std::size_t>(std::count(fixed.begin(), fixed.end(), 1));
-}
-
-/// The remaining vertices and faces in index order; copies of a split vertex welded again.
-TriMesh collectResult(const Mesh& mesh, const SplitSurface& split, std::size_t inputVertices) {
-  TriMesh out;
-  std::vector<int> newIndex(inputVertices, -1);
-  std::vector<int> byMeshVertex(mesh.num_vertices(), -1);
-  for (VertexIndex v : mesh.vertices()) {
-    const int original = split.original[v.idx()];
-    int& id = newIndex[static_cast<std::size_t>(original)];
-    if (id < 0) {
-      id = static_cast<int>(out.vertices.size());
-      const Kernel::Point_3& p = mesh.point(v);
-      out.vertices.emplace_back(p.x(), p.y(), p.z());
-    }
-    byMeshVertex[v.idx()] = id;
-  }
-  out.triangles.reserve(mesh.number_of_faces());
-  for (Mesh::Face_index f : mesh.faces()) {
-    Vec3i t;
-    int k = 0;
-    for (VertexIndex v : mesh.vertices_around_face(mesh.halfedge(f))) t[k++] = byMeshVertex[v.idx()];
-    out.triangles.push_back(t);
-  }
-  return out;
-}
-
-Vec3 toVec(const Kernel::Point_3& p) { return Vec3(p.x(), p.y(), p.z()); }
-
-/// Points sampled inside new triangles must lie within this share of ε: the samples are a third of
-/// an edge apart, and the surface between them can bulge a little further out.
-constexpr double kInteriorShare = 0.75;
 
 /// New triangles must have |a × b| above kMinSine times their longest edge squared (angles not
 /// within about 1e-6 rad of 0 or π).
@@ -179,101 +31,320 @@ constexpr double kMinSine = 1e-6;
 /// triangle it replaces.
 constexpr double kMinNormalCosine = 0.5;
 
-/// Per vertex: its closest point on the full surface (a search hint for nearby queries).
-using HintMap = Mesh::Property_map<VertexIndex, ClosestPoint>;
+/// Thresholds of the passes as shares of ε²: small errors first (a coarse stand-in for a priority
+/// queue), then passes at ε² until one removes fewer than kLastPassShare of the vertices left.
+constexpr std::array<double, 4> kThresholdShares = {1.0 / 256, 1.0 / 32, 1.0 / 4, 1.0};
+constexpr double kLastPassShare = 0.01;
+constexpr int kMaxPasses = 8;
 
-/// Accepts a collapse only if the placement lies within ε of the full surface and the points of
-/// the barycentric grid of step 1/3 on every triangle the collapse creates within kInteriorShare·ε
-/// (closest-point queries, each started from the answer before it). Records the placement's closest point for
-/// the visitor, which stores it on the surviving vertex once the collapse is done.
-class DistanceFilter {
+/// Symmetric 4 × 4 quadric Q of a sum of squared plane distances: e(p) = [p 1] Q [p 1]ᵀ
+/// (Garland & Heckbert 1997), stored as its upper triangle.
+struct Quadric {
+  std::array<double, 10> q{};  // xx xy xz xw yy yz yw zz zw ww
+
+  void addPlane(const Vec3& n, double d) {  // n·p + d = 0, |n| = 1
+    q[0] += n.x() * n.x(), q[1] += n.x() * n.y(), q[2] += n.x() * n.z(), q[3] += n.x() * d;
+    q[4] += n.y() * n.y(), q[5] += n.y() * n.z(), q[6] += n.y() * d;
+    q[7] += n.z() * n.z(), q[8] += n.z() * d, q[9] += d * d;
+  }
+  void add(const Quadric& o) {
+    for (std::size_t k = 0; k < q.size(); ++k) q[k] += o.q[k];
+  }
+  double error(const Vec3& p) const {
+    const double x = p.x(), y = p.y(), z = p.z();
+    return q[0] * x * x + 2 * q[1] * x * y + 2 * q[2] * x * z + 2 * q[3] * x + q[4] * y * y +
+           2 * q[5] * y * z + 2 * q[6] * y + q[7] * z * z + 2 * q[8] * z + q[9];
+  }
+};
+
+/// One corner of a triangle: the triangle and the corner's position in it (0–2).
+struct Corner {
+  int triangle;
+  int k;
+};
+
+class Decimator {
  public:
-  DistanceFilter(const TriangleBvh& full, double epsilon, HintMap hints)
-      : full_(full), epsilon_(epsilon), hints_(hints) {}
+  Decimator(const TriMesh& surface, double epsilon)
+      : p_(surface.vertices),
+        tris_(surface.triangles),
+        centre_(surface.bounds().center()),
+        epsilonSq_(epsilon * epsilon),
+        alive_(tris_.size(), 1),
+        quadrics_(p_.size()),
+        fixed_(p_.size(), 0),
+        touched_(p_.size(), 0),
+        stamp_(p_.size(), 0) {}
 
-  template <class Profile>
-  boost::optional<Kernel::Point_3> operator()(const Profile& profile,
-                                              boost::optional<Kernel::Point_3> placement) const {
-    if (!placement) return placement;
-    const Vec3 p = toVec(*placement);
-    ClosestPoint hint = full_.closestPoint(p, hints_[profile.v0()]);
-    if (hint.distance > epsilon_) return boost::none;
-    pending_ = hint;
-    const auto v0 = profile.v0(), v1 = profile.v1();
-    const auto& vpm = profile.vertex_point_map();
-    for (const auto& t : profile.triangles()) {
-      std::array<VertexIndex, 3> ids = {t.v0, t.v1, t.v2};
-      if (std::count(ids.begin(), ids.end(), v0) + std::count(ids.begin(), ids.end(), v1) == 2) {
-        continue;  // removed by the collapse
+  /// False if an edge has more than two triangles or two triangles using it in one direction.
+  bool classifyVertices();
+  void addPlanes();
+  /// Runs the passes; returns the number of vertices held fixed.
+  std::size_t run();
+  TriMesh collect() const;
+
+ private:
+  void buildCorners();
+  std::size_t runPass(double threshold);
+  bool tryCollapse(int u, int v, double threshold, double& cost);
+  bool linkConditionHolds(int u, int v);
+  bool keepsTrianglesSound(int u, int v) const;
+  void collapse(int u, int v);
+  bool hasVertex(int t, int v) const {
+    const Vec3i& f = tris_[static_cast<std::size_t>(t)];
+    return f[0] == v || f[1] == v || f[2] == v;
+  }
+
+  const std::vector<Vec3>& p_;
+  std::vector<Vec3i> tris_;
+  Vec3 centre_;  // quadrics are taken about this point (fewer digits lost)
+  double epsilonSq_;
+  std::vector<char> alive_;
+  std::vector<Quadric> quadrics_;
+  std::vector<char> fixed_;    // border, non-manifold, or on a degenerate fan: never removed
+  std::vector<char> touched_;  // changed in this pass: not collapsed again before the next
+  std::vector<int> stamp_;     // scratch marks for the link condition
+  int stampValue_ = 0;
+  std::vector<Corner> corners_;  // per vertex [first_[v], first_[v] + count_[v]); dead ones stay
+  std::vector<std::size_t> first_;
+  std::vector<int> count_;
+  std::size_t verticesLeft_ = 0;
+};
+
+void Decimator::buildCorners() {
+  const std::size_t nv = p_.size();
+  first_.assign(nv + 1, 0);
+  count_.assign(nv, 0);
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    if (alive_[t] == 0) continue;
+    for (int k = 0; k < 3; ++k) ++first_[static_cast<std::size_t>(tris_[t][k]) + 1];
+  }
+  for (std::size_t v = 0; v < nv; ++v) first_[v + 1] += first_[v];
+  corners_.assign(first_[nv], Corner{});
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    if (alive_[t] == 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      const auto v = static_cast<std::size_t>(tris_[t][k]);
+      corners_[first_[v] + static_cast<std::size_t>(count_[v]++)] = {static_cast<int>(t), k};
+    }
+  }
+}
+
+bool Decimator::classifyVertices() {
+  buildCorners();
+  // Walk each vertex's fan: triangle (v, a, b) maps a → b. An interior manifold vertex has every
+  // neighbour once as a and once as b, and the map is one cycle through all its triangles.
+  std::vector<std::pair<int, int>> next;
+  for (std::size_t v = 0; v < p_.size(); ++v) {
+    const int n = count_[v];
+    if (n == 0) continue;
+    ++verticesLeft_;
+    next.clear();
+    for (int c = 0; c < n; ++c) {
+      const Corner& corner = corners_[first_[v] + static_cast<std::size_t>(c)];
+      const Vec3i& f = tris_[static_cast<std::size_t>(corner.triangle)];
+      next.emplace_back(f[(corner.k + 1) % 3], f[(corner.k + 2) % 3]);
+    }
+    std::sort(next.begin(), next.end());
+    for (int c = 0; c + 1 < n; ++c) {
+      if (next[c].first == next[c + 1].first) return false;  // an edge used twice v → a
+    }
+    bool closed = true;
+    for (int c = 0; c < n && closed; ++c) {
+      const auto it =
+          std::lower_bound(next.begin(), next.end(), std::make_pair(next[c].second, -1));
+      closed = it != next.end() && it->first == next[c].second;
+    }
+    if (!closed) {
+      fixed_[v] = 1;  // on the border
+      continue;
+    }
+    int steps = 0;
+    for (int a = next[0].first;;) {
+      a = std::lower_bound(next.begin(), next.end(), std::make_pair(a, -1))->second;
+      ++steps;
+      if (a == next[0].first || steps > n) break;
+    }
+    if (steps != n) fixed_[v] = 1;  // two or more fans meet here
+  }
+  return true;
+}
+
+void Decimator::addPlanes() {
+  for (const Vec3i& f : tris_) {
+    const Vec3 n = (p_[f[1]] - p_[f[0]]).cross(p_[f[2]] - p_[f[0]]);
+    const double length = n.norm();
+    if (!(length > 0.0)) {
+      for (int k = 0; k < 3; ++k) fixed_[static_cast<std::size_t>(f[k])] = 1;  // no plane
+      continue;
+    }
+    const Vec3 unit = n / length;
+    const double d = -unit.dot(p_[f[0]] - centre_);
+    for (int k = 0; k < 3; ++k) quadrics_[static_cast<std::size_t>(f[k])].addPlane(unit, d);
+  }
+}
+
+bool Decimator::linkConditionHolds(int u, int v) {
+  const auto iterate = [&](int vertex, auto&& body) {
+    const auto begin = first_[static_cast<std::size_t>(vertex)];
+    const auto end = begin + static_cast<std::size_t>(count_[static_cast<std::size_t>(vertex)]);
+    for (std::size_t c = begin; c < end; ++c) {
+      if (alive_[static_cast<std::size_t>(corners_[c].triangle)] != 0) body(corners_[c]);
+    }
+  };
+  const int neighbourOfU = ++stampValue_;
+  int trianglesU = 0;
+  iterate(u, [&](const Corner& c) {
+    for (int j : {1, 2}) {
+      stamp_[static_cast<std::size_t>(tris_[static_cast<std::size_t>(c.triangle)][(c.k + j) % 3])] =
+          neighbourOfU;
+    }
+    ++trianglesU;
+  });
+  const int counted = ++stampValue_;
+  int shared = 0, trianglesV = 0;
+  iterate(v, [&](const Corner& c) {
+    for (int j : {1, 2}) {
+      int& s = stamp_[static_cast<std::size_t>(
+          tris_[static_cast<std::size_t>(c.triangle)][(c.k + j) % 3])];
+      if (s == neighbourOfU) {
+        s = counted;
+        ++shared;
       }
-      std::array<Vec3, 3> corners;
-      int moved = 0;
-      for (int k = 0; k < 3; ++k) {
-        const bool isMoved = ids[k] == v0 || ids[k] == v1;
-        corners[k] = isMoved ? p : toVec(get(vpm, ids[k]));
-        if (isMoved) moved = k;
+    }
+    ++trianglesV;
+  });
+  // u is interior, so the edge has two triangles, whose third vertices must be the only shared
+  // neighbours; v keeps at least three triangles (no fold of a closed tetrahedron).
+  return shared == 2 && trianglesU + trianglesV - 4 >= 3;
+}
+
+bool Decimator::keepsTrianglesSound(int u, int v) const {
+  const Vec3& to = p_[static_cast<std::size_t>(v)];
+  const auto begin = first_[static_cast<std::size_t>(u)];
+  const auto end = begin + static_cast<std::size_t>(count_[static_cast<std::size_t>(u)]);
+  for (std::size_t c = begin; c < end; ++c) {
+    const Corner& corner = corners_[c];
+    if (alive_[static_cast<std::size_t>(corner.triangle)] == 0 || hasVertex(corner.triangle, v)) {
+      continue;  // gone, or removed by the collapse
+    }
+    const Vec3i& f = tris_[static_cast<std::size_t>(corner.triangle)];
+    const Vec3& b = p_[static_cast<std::size_t>(f[(corner.k + 1) % 3])];
+    const Vec3& c2 = p_[static_cast<std::size_t>(f[(corner.k + 2) % 3])];
+    const Vec3 normal = (b - to).cross(c2 - to);
+    const double longest =
+        std::max({(b - to).squaredNorm(), (c2 - b).squaredNorm(), (to - c2).squaredNorm()});
+    if (!(normal.squaredNorm() > kMinSine * kMinSine * longest * longest)) return false;
+    const Vec3& from = p_[static_cast<std::size_t>(u)];
+    const Vec3 before = (b - from).cross(c2 - from);
+    if (!(normal.dot(before) > kMinNormalCosine * normal.norm() * before.norm())) return false;
+  }
+  return true;
+}
+
+bool Decimator::tryCollapse(int u, int v, double threshold, double& cost) {
+  const auto ui = static_cast<std::size_t>(u), vi = static_cast<std::size_t>(v);
+  if (fixed_[ui] != 0 || touched_[ui] != 0 || touched_[vi] != 0) return false;
+  Quadric q = quadrics_[ui];
+  q.add(quadrics_[vi]);
+  cost = q.error(p_[vi] - centre_);
+  return cost <= threshold;
+}
+
+void Decimator::collapse(int u, int v) {
+  const auto ui = static_cast<std::size_t>(u), vi = static_cast<std::size_t>(v);
+  quadrics_[vi].add(quadrics_[ui]);
+  // v's corners: u's live ones that survive (now corners of v), then v's live ones.
+  const std::size_t start = corners_.size();
+  for (const int vertex : {u, v}) {
+    const auto begin = first_[static_cast<std::size_t>(vertex)];
+    const auto end = begin + static_cast<std::size_t>(count_[static_cast<std::size_t>(vertex)]);
+    for (std::size_t c = begin; c < end; ++c) {
+      const Corner corner = corners_[c];
+      auto& f = tris_[static_cast<std::size_t>(corner.triangle)];
+      if (alive_[static_cast<std::size_t>(corner.triangle)] == 0) continue;
+      if (vertex == u && hasVertex(corner.triangle, v)) {
+        alive_[static_cast<std::size_t>(corner.triangle)] = 0;
+        continue;
       }
-      // No new sliver of (nearly) zero area, e.g. three rim vertices on a straight rim.
-      const Vec3 normal = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
-      const double longest = std::max({(corners[1] - corners[0]).squaredNorm(),
-                                       (corners[2] - corners[1]).squaredNorm(),
-                                       (corners[0] - corners[2]).squaredNorm()});
-      if (!(normal.squaredNorm() > kMinSine * kMinSine * longest * longest)) return boost::none;
-      // Nor one turned far from the triangle it replaces (e.g. standing up on a curved rim).
-      std::array<Vec3, 3> before = corners;
-      before[moved] = toVec(get(vpm, ids[moved]));
-      const Vec3 oldNormal = (before[1] - before[0]).cross(before[2] - before[0]);
-      if (!(normal.dot(oldNormal) > kMinNormalCosine * normal.norm() * oldNormal.norm())) {
-        return boost::none;
+      if (vertex == u) f[corner.k] = v;
+      corners_.push_back(corner);
+    }
+  }
+  first_[vi] = start;
+  count_[vi] = static_cast<int>(corners_.size() - start);
+  count_[ui] = 0;
+  touched_[ui] = touched_[vi] = 1;
+  --verticesLeft_;
+}
+
+std::size_t Decimator::runPass(double threshold) {
+  std::fill(touched_.begin(), touched_.end(), 0);
+  std::size_t collapses = 0;
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    if (alive_[t] == 0) continue;
+    for (int k = 0; k < 3 && alive_[t] != 0; ++k) {
+      const int a = tris_[t][k], b = tris_[t][(k + 1) % 3];
+      // A collapse removes an interior vertex, so the edge is interior and its other triangle
+      // sees it as (b, a): each edge once.
+      if (a > b ||
+          (fixed_[static_cast<std::size_t>(a)] & fixed_[static_cast<std::size_t>(b)]) != 0) {
+        continue;
       }
-      // The barycentric grid of step 1/3 on the triangle, but for its two unmoved corners.
-      const Vec3& a = corners[moved];
-      const Vec3& b = corners[(moved + 1) % 3];
-      const Vec3& c = corners[(moved + 2) % 3];
-      for (int i = 0; i <= 3; ++i) {
-        for (int j = 0; i + j <= 3; ++j) {
-          if ((i == 3 && j == 0) || (i == 0 && j == 3) || (i == 0 && j == 0)) continue;
-          const Vec3 q = a + (i / 3.0) * (b - a) + (j / 3.0) * (c - a);
-          hint = full_.closestPoint(q, hint);
-          if (hint.distance > kInteriorShare * epsilon_) return boost::none;
+      double costAB = 0.0, costBA = 0.0;
+      const bool ab = tryCollapse(a, b, threshold, costAB);
+      const bool ba = tryCollapse(b, a, threshold, costBA);
+      // The cheaper direction first, then the other if the first breaks a check.
+      std::array<std::pair<int, int>, 2> order = {std::make_pair(a, b), std::make_pair(b, a)};
+      if (ba && (!ab || costBA < costAB)) std::swap(order[0], order[1]);
+      for (int o = 0; o < (ab ? 1 : 0) + (ba ? 1 : 0); ++o) {
+        const auto [u, v] = order[static_cast<std::size_t>(o)];
+        if (linkConditionHolds(u, v) && keepsTrianglesSound(u, v)) {
+          collapse(u, v);
+          ++collapses;
+          break;
         }
       }
     }
-    return placement;
   }
+  return collapses;
+}
 
-  const ClosestPoint& pending() const { return pending_; }
-
- private:
-  const TriangleBvh& full_;
-  double epsilon_;
-  HintMap hints_;
-  mutable ClosestPoint pending_;
-};
-
-/// Stores the placement's closest point on the vertex that survives a collapse.
-struct HintVisitor : SMS::Edge_collapse_visitor_base<Mesh> {
-  HintVisitor(const DistanceFilter& filter, HintMap hints) : filter_(&filter), hints_(hints) {}
-  template <class Profile>
-  void OnCollapsed(const Profile&, VertexIndex survivor) {
-    hints_[survivor] = filter_->pending();
-  }
-  const DistanceFilter* filter_;
-  HintMap hints_;
-};
-
-/// Each vertex's hint: itself, on one of its input triangles.
-HintMap addHints(Mesh& mesh, const TriMesh& surface, const SplitSurface& split) {
-  HintMap hints = mesh.add_property_map<VertexIndex, ClosestPoint>("v:hint").first;
-  for (std::size_t t = 0; t < split.triangles.size(); ++t) {
-    for (int k = 0; k < 3; ++k) {
-      ClosestPoint& h = hints[VertexIndex(static_cast<Mesh::size_type>(split.triangles[t][k]))];
-      h.triangle = static_cast<int>(t);
-      h.point = surface.vertices[static_cast<std::size_t>(split.original[split.triangles[t][k]])];
-      h.distance = 0.0;
+std::size_t Decimator::run() {
+  for (int pass = 0; pass < kMaxPasses; ++pass) {
+    const double share = kThresholdShares[std::min<std::size_t>(static_cast<std::size_t>(pass),
+                                                                kThresholdShares.size() - 1)];
+    if (pass > 0) buildCorners();  // drops the dead corners and the stale lists
+    const std::size_t before = verticesLeft_;
+    const std::size_t collapses = runPass(share * epsilonSq_);
+    if (static_cast<std::size_t>(pass) + 1 >= kThresholdShares.size() &&
+        static_cast<double>(collapses) < kLastPassShare * static_cast<double>(before)) {
+      break;
     }
   }
-  return hints;
+  return static_cast<std::size_t>(std::count(fixed_.begin(), fixed_.end(), 1));
+}
+
+TriMesh Decimator::collect() const {
+  TriMesh out;
+  std::vector<int> newIndex(p_.size(), -1);
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    if (alive_[t] == 0) continue;
+    for (int k = 0; k < 3; ++k) newIndex[static_cast<std::size_t>(tris_[t][k])] = 0;
+  }
+  for (std::size_t v = 0; v < p_.size(); ++v) {
+    if (newIndex[v] < 0) continue;
+    newIndex[v] = static_cast<int>(out.vertices.size());
+    out.vertices.push_back(p_[v]);
+  }
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    if (alive_[t] == 0) continue;
+    const Vec3i& f = tris_[t];
+    out.triangles.emplace_back(newIndex[static_cast<std::size_t>(f[0])],
+                               newIndex[static_cast<std::size_t>(f[1])],
+                               newIndex[static_cast<std::size_t>(f[2])]);
+  }
+  return out;
 }
 
 }  // namespace
@@ -295,33 +366,17 @@ SimplifiedSurface simplifyLayerSurface(const TriMesh& surface, double tolerance)
   SimplifiedSurface result;
   result.trianglesBefore = surface.triangleCount();
   result.verticesBefore = surface.vertexCount();
-  const SplitSurface split = splitNonManifoldVertices(surface);
-  Mesh mesh;
-  if (surface.empty() || !buildMesh(surface, split, mesh)) {
+  Decimator decimator(surface, tolerance);
+  if (surface.empty() || !decimator.classifyVertices()) {
     result.mesh = surface;
     result.keptFull = !surface.empty();
     result.trianglesAfter = result.trianglesBefore;
     result.verticesAfter = result.verticesBefore;
     return result;
   }
-  auto constrained = mesh.add_property_map<EdgeIndex, bool>("e:constrained", false).first;
-  result.fixedVertices = constrainBorder(mesh, split, constrained);
-
-  const TriangleBvh full(surface);
-  const HintMap hints = addHints(mesh, surface, split);
-  using Placement = SMS::Constrained_placement<SMS::LindstromTurk_placement<Mesh>,
-                                               Mesh::Property_map<EdgeIndex, bool>>;
-  const SMS::Count_ratio_stop_predicate<Mesh> never(0.0);  // the distance filter decides
-  const DistanceFilter filter(full, tolerance, hints);
-  HintVisitor visitor(filter, hints);
-  SMS::edge_collapse(mesh, never,
-                     CGAL::parameters::edge_is_constrained_map(constrained)
-                         .get_cost(SMS::LindstromTurk_cost<Mesh>())
-                         .get_placement(Placement(constrained))
-                         .filter(std::cref(filter))
-                         .visitor(visitor));
-
-  result.mesh = collectResult(mesh, split, surface.vertexCount());
+  decimator.addPlanes();
+  result.fixedVertices = decimator.run();
+  result.mesh = decimator.collect();
   result.trianglesAfter = result.mesh.triangleCount();
   result.verticesAfter = result.mesh.vertexCount();
   return result;

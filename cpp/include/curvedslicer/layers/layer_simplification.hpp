@@ -1,34 +1,36 @@
 // Simplification of a layer surface within a stated distance of the full-resolution surface.
 //
 // Marching tetrahedra give about 4–5 triangles per crossed dual-grid cube, most of them slivers,
-// whatever the surface's curvature. This step removes triangles by edge collapse (CGAL
-// Surface_mesh_simplification: Lindstrom & Turk, "Fast and memory efficient polygonal
-// simplification", IEEE Visualization 1998, for the cost and placement) and accepts a collapse
-// only if (own filter, layer_simplification.cpp):
-//  - the new vertex lies within ε of the full-resolution surface (closest-point query on a
-//    TriangleBvh of the full surface),
-//  - the points of the barycentric grid of step 1/3 on every triangle the collapse creates lie
-//    within 0.75·ε of it (the margin covers the surface bulging between samples a third of an
-//    edge apart),
+// whatever the surface's curvature. This step removes vertices by half-edge collapse (a vertex u
+// merged into a neighbour v, which keeps its position), ordered and bounded by quadric error
+// metrics (Garland & Heckbert, "Surface simplification using quadric error metrics", SIGGRAPH
+// 1997): every vertex carries the quadric Q of the planes of its ORIGINAL incident triangles (unit
+// weight each), a collapse u → v adds Q_u to Q_v, and it is accepted only if
+//  - Q_u + Q_v at v's position is at most ε² — the sum of squared distances from v to all original
+//    planes merged into it, so v lies within ε of every one of those planes;
 //  - no new triangle is a sliver (sine of its angles ≥ 1e-6) or turns more than 60° from the
-//    triangle it replaces.
-// Bound: vertices exactly within ε; triangle interiors within ε at the checked samples and, as
-// measured by the tests at denser samples (a grid of step 1/8), within ε everywhere they looked —
-// a sampled bound, not a proof. CGAL's Polyhedral_envelope_filter would give a proof (every new
-// triangle inside the union of ε-prisms of the input), but without GMP its exact predicates fall
-// back to boost::multiprecision rationals on every nearly coplanar test — i.e. on every flat layer
-// — and the custom_base example's layer stage had not finished after 11 minutes (3.5 CPU minutes
-// under load), the stacks in those predicates; hence the sampled filter.
-// The rim is kept exactly: border edges (the rim on the part surface after clipping, or the end
-// of the field) are constrained, so border vertices neither move nor merge and border edges are
-// not collapsed. Vertices where two fans of triangles meet at one point (the rim touching itself)
-// are split for the collapse, held fixed with all their edges, and welded again afterwards.
+//    triangle it replaces, and the link condition holds (u and v share exactly the two neighbours
+//    of the edge's triangles; v keeps at least three triangles), so the surface stays a manifold
+//    with the same topology.
+// The collapses run in threshold passes over a flat triangle array (ε²/256, ε²/32, ε²/4, then ε²
+// until a pass removes fewer than 1 % of the vertices left, at most 8 passes), each vertex removed
+// or collapsed onto at most once per pass — a cheap stand-in for a global priority queue (own
+// code; CGAL's Surface_mesh edge collapse with a closest-point filter, the previous version, took
+// far too long on the bunny: see docs/METHODS.md).
+// Bound. Guaranteed: every vertex of the result is a vertex of the full surface (distance 0), and
+// lies within ε of the planes of all original triangles merged into it. Not guaranteed but checked
+// by sampling in the tests (a second computation: closest points on the full surface from the
+// vertices and a barycentric grid of step 1/8 or 1/4 on every new triangle): triangle interiors
+// within ε of the full surface — a plane bound on the corners is not a distance bound on the
+// interior, so this is a measured bound, not a proof.
+// The rim is kept exactly: border vertices are never removed, so border edges stay as they were.
+// Vertices where two fans of triangles meet at one point (the rim touching itself) and vertices of
+// a zero-area triangle are never removed either.
 // Preconditions: finite coordinates; triangles consistently oriented (layer surfaces are); no
-// edge shared by more than two triangles — a surface that is not an oriented 2-manifold with
-// boundary after the vertex split is returned unchanged (`keptFull`).
-// Cost: O(T log T) for T input triangles (priority queue of edges) plus about 10–30 hinted
-// closest-point queries per accepted collapse; memory: the CGAL mesh and a hierarchy over the
-// input while the step runs (a few hundred bytes per input triangle). Measured on the bunny in
+// edge shared by more than two triangles — otherwise the surface is returned unchanged
+// (`keptFull`).
+// Cost: O(T) per pass for T input triangles (about 6 passes), no search structure; memory about
+// 150 bytes per input vertex and 40 per triangle while the step runs. Measured on the bunny in
 // tests/bench/README.md §3.
 #pragma once
 
@@ -59,8 +61,9 @@ struct SimplifiedSurface {
 };
 
 /// Simplifies `surface` (part frame, mm; indexed, no degenerate triangles) so that the result lies
-/// within `tolerance` mm of it (vertices exactly, triangles at samples; see the file comment) and
-/// its border is unchanged.
+/// within `tolerance` mm of it (vertices: on it, and within `tolerance` of their merged original
+/// planes; triangle interiors checked by sampling in the tests; see the file comment) and its
+/// border is unchanged.
 /// Deterministic: the result depends only on the input (vertex and triangle order included).
 /// @throws InvalidInput if `tolerance` is not positive and finite.
 SimplifiedSurface simplifyLayerSurface(const TriMesh& surface, double tolerance);
