@@ -39,7 +39,8 @@ struct LayersArguments {
   std::string memoryBudgetMb;
   std::string tessellationTolerance;  ///< CAD models only; empty: voxel/4
   std::string layerTolerance;         ///< layer simplification ε, mm; empty: 0.05 × voxel
-  bool fullResolutionLayers = false;  ///< no layer simplification
+  bool simplifyLayers = false;        ///< layer simplification with the default ε
+  bool fullResolutionLayers = false;  ///< no layer simplification (the default, stated)
   bool capHoles = false;
   bool quiet = false;
   std::string output;
@@ -62,7 +63,8 @@ LayerJobArguments parseLayerJobArguments(const LayersArguments& args);
 /// (layers_options.cpp; used by `layers` and `plan`).
 void addTessellationOption(CLI::App& command, LayersArguments& args);
 
-/// Adds --layer-tolerance and --full-resolution-layers (bound to `args`) to `command`
+/// Adds --simplify-layers, --layer-tolerance and --full-resolution-layers (bound to `args`) to
+/// `command`
 /// (layers_options.cpp; used by `layers` and `plan`).
 void addLayerSimplificationOptions(CLI::App& command, LayersArguments& args);
 

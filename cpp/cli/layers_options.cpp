@@ -42,16 +42,19 @@ void addTessellationOption(CLI::App& command, LayersArguments& args) {
 }
 
 void addLayerSimplificationOptions(CLI::App& command, LayersArguments& args) {
+  command.add_flag("--simplify-layers", args.simplifyLayers,
+                   "Simplify each layer surface by edge collapse within " +
+                       formatDefault(kDefaultLayerToleranceVoxels) +
+                       " x voxel\nof the full-resolution surface (the rim on the part surface\n"
+                       "is kept as it is). Default: off.");
   command
       .add_option("--layer-tolerance", args.layerTolerance,
-                  "Simplify each layer surface by edge collapse so that it stays\n"
-                  "within this distance of the full-resolution surface, mm (> 0);\n"
-                  "the rim on the part surface is kept as it is. Default " +
-                      formatDefault(kDefaultLayerToleranceVoxels) + " x voxel.")
+                  "Simplify the layer surfaces (as --simplify-layers) within this\n"
+                  "distance of the full-resolution surface, mm (> 0).")
       ->type_name("MM");
   command.add_flag("--full-resolution-layers", args.fullResolutionLayers,
                    "Keep the layer surfaces as marching tetrahedra give them (about\n"
-                   "4-5 triangles per voxel crossed; no simplification).");
+                   "4-5 triangles per voxel crossed; no simplification). The default.");
 }
 
 namespace {

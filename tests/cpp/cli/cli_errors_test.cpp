@@ -268,6 +268,9 @@ TEST(CliErrors, NonPositiveOrNonFiniteLayerTolerance) {
   expectFailure(ws, ws.layers(ws.box, {"--layer-tolerance", "0.02", "--full-resolution-layers"}),
                 kInvalidInput,
                 {"--layer-tolerance does not apply with --full-resolution-layers: '0.02'"});
+  expectFailure(ws, ws.layers(ws.box, {"--simplify-layers", "--full-resolution-layers"}),
+                kInvalidInput,
+                {"--simplify-layers does not apply with --full-resolution-layers: both given"});
 }
 
 TEST(CliErrors, UnknownMethodGridAndFormat) {

@@ -224,6 +224,7 @@ TEST(LayerSimplification, LayersStayWithinTheToleranceAndRimsOnThePart) {
   LayerOptions options;
   options.layerThickness = 2.0;
   options.thicknessSamples = -1;
+  options.simplification.enabled = true;
   LayerOptions full = options;
   full.simplification.enabled = false;
   const LayersResult simplified = extractLayers(c.field, c.grid, c.model, TriMesh{}, options);

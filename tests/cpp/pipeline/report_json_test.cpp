@@ -143,6 +143,7 @@ TEST(LayerReport, CarriesInputsMeshGridAndField) {
 
 TEST(LayerReport, RecordsTheLayerSimplification) {
   LayerJobOptions options = makeOptions();
+  options.layers.simplification.enabled = true;
   Json report = makeLayerReport(makeInputs(), options, makeResult());
   EXPECT_EQ(report["inputs"]["full_resolution_layers"], false);
   EXPECT_EQ(report["inputs"]["layer_tolerance_mm"], 0.025);
