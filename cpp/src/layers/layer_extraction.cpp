@@ -280,6 +280,14 @@ LayerSummary summarizeLayer(const LayerSurface& layer, std::size_t voxelSetSize,
   return s;
 }
 
+/// Adds the batch's clipping counts to the statistics.
+void addClipStats(const std::vector<ClipStats>& clipStats, LayerExtractionStats& stats) {
+  for (const ClipStats& c : clipStats) {
+    stats.exactDistanceQueries += c.exactQueries;
+    stats.rimVertices += c.rimVertices;
+  }
+}
+
 /// Simplifies the batch's clipped surfaces in place (when on) and measures their area and
 /// components; returns their triangle counts before simplification and adds to the statistics.
 std::vector<std::size_t> simplifyBatch(std::vector<LayerSurface>& layers,
@@ -416,10 +424,7 @@ void extractInBatches(std::vector<float>& values, const VoxelGrid& grid, const T
       surfaces[q] = TriMesh{};  // release the unclipped surface
     });
     std::vector<TriMesh>().swap(surfaces);
-    for (const ClipStats& c : clipStats) {
-      stats.exactDistanceQueries += c.exactQueries;
-      stats.rimVertices += c.rimVertices;
-    }
+    addClipStats(clipStats, stats);
 
     // ---- simplifying layers ----
     const std::vector<std::size_t> fullTriangles =
