@@ -158,6 +158,12 @@ void bindLayerJobOptions(py::module_& m) {
              "vertices per layer measured for the thickness; 0 all, < 0 none")
       .value("batch_crossings", member(&O::layers, &LayerOptions::batchCrossings),
              "layer batch size in crossed cubes; 0 automatic")
+      .value(
+          "simplify_layers", [](O& o) -> bool& { return o.layers.simplification.enabled; },
+          "simplify each layer surface within layer_tolerance (False: full resolution)")
+      .value(
+          "layer_tolerance", [](O& o) -> double& { return o.layers.simplification.tolerance; },
+          "ε, mm, of the layer simplification (>= 0); 0 = 0.05 × voxel size")
       .value("relative_weld_tolerance", member(&O::clean, &CleanOptions::relativeWeldTolerance),
              "cleaning: weld distance as a fraction of the bounding-box diagonal")
       .value("remove_degenerate", member(&O::clean, &CleanOptions::removeDegenerate),

@@ -28,6 +28,32 @@ namespace curvedslicer::cli {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+/// --simplify-layers, --layer-tolerance and --full-resolution-layers into the layer options.
+void parseLayerSimplification(const LayersArguments& args, LayerSimplificationOptions& options) {
+  if (args.fullResolutionLayers && !args.layerTolerance.empty()) {
+    throw InvalidInput("--layer-tolerance does not apply with --full-resolution-layers: '" +
+                       args.layerTolerance + "'; pass one of the two");
+  }
+  if (args.fullResolutionLayers && args.simplifyLayers) {
+    throw InvalidInput(
+        "--simplify-layers does not apply with --full-resolution-layers: both given; pass one of "
+        "the two");
+  }
+  options.enabled = args.simplifyLayers || !args.layerTolerance.empty();
+  if (args.layerTolerance.empty()) return;
+  const double tolerance = parseLength(args.layerTolerance, "layer tolerance");
+  if (!std::isfinite(tolerance) || tolerance <= 0.0) {
+    throw InvalidInput(
+        "--layer-tolerance must be a positive number of mm: '" + args.layerTolerance +
+        "'; pass e.g. --layer-tolerance 0.025, or --simplify-layers for 0.05 × voxel");
+  }
+  options.tolerance = tolerance;
+}
+
+}  // namespace
+
 LayerJobArguments parseLayerJobArguments(const LayersArguments& args) {
   LayerJobArguments job;
   LayerJobOptions& o = job.options;
@@ -46,6 +72,7 @@ LayerJobArguments parseLayerJobArguments(const LayersArguments& args) {
     o.voxelize.memoryBudgetBytes = budgetMb * 1024.0 * 1024.0;
   }
   o.capHoles = args.capHoles;
+  parseLayerSimplification(args, o.layers.simplification);
   job.tessellationTolerance = parseTessellationTolerance(args.tessellationTolerance);
   return job;
 }

@@ -38,6 +38,9 @@ struct LayersArguments {
   std::string format;
   std::string memoryBudgetMb;
   std::string tessellationTolerance;  ///< CAD models only; empty: voxel/4
+  std::string layerTolerance;         ///< layer simplification ε, mm; empty: 0.05 × voxel
+  bool simplifyLayers = false;        ///< layer simplification with the default ε
+  bool fullResolutionLayers = false;  ///< no layer simplification (the default, stated)
   bool capHoles = false;
   bool quiet = false;
   std::string output;
@@ -59,6 +62,11 @@ LayerJobArguments parseLayerJobArguments(const LayersArguments& args);
 /// Adds --tessellation-tolerance (bound to `args.tessellationTolerance`) to `command`
 /// (layers_options.cpp; used by `layers` and `plan`).
 void addTessellationOption(CLI::App& command, LayersArguments& args);
+
+/// Adds --simplify-layers, --layer-tolerance and --full-resolution-layers (bound to `args`) to
+/// `command`
+/// (layers_options.cpp; used by `layers` and `plan`).
+void addLayerSimplificationOptions(CLI::App& command, LayersArguments& args);
 
 /// Runs the command; prints progress and errors on stderr, a summary on stdout.
 /// @return the exit code.

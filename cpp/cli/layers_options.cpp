@@ -41,6 +41,22 @@ void addTessellationOption(CLI::App& command, LayersArguments& args) {
       ->type_name("MM");
 }
 
+void addLayerSimplificationOptions(CLI::App& command, LayersArguments& args) {
+  command.add_flag("--simplify-layers", args.simplifyLayers,
+                   "Simplify each layer surface by edge collapse within " +
+                       formatDefault(kDefaultLayerToleranceVoxels) +
+                       " x voxel\nof the full-resolution surface (the rim on the part surface\n"
+                       "is kept as it is). Default: off.");
+  command
+      .add_option("--layer-tolerance", args.layerTolerance,
+                  "Simplify the layer surfaces (as --simplify-layers) within this\n"
+                  "distance of the full-resolution surface, mm (> 0).")
+      ->type_name("MM");
+  command.add_flag("--full-resolution-layers", args.fullResolutionLayers,
+                   "Keep the layer surfaces as marching tetrahedra give them (about\n"
+                   "4-5 triangles per voxel crossed; no simplification). The default.");
+}
+
 namespace {
 
 /// --method, --grid, --format: the enum choices, the default read from the options structs.
@@ -115,6 +131,7 @@ void addLayersOptions(CLI::App& layers, LayersArguments& args) {
                   "Default 0 = 80 % of physical memory.")
       ->type_name("MB");
   addTessellationOption(layers, args);
+  addLayerSimplificationOptions(layers, args);
   layers.add_flag("--cap-holes", args.capHoles,
                   "Close the holes of an open model before slicing (default: off;\n"
                   "an open model the voxelizer cannot resolve is an error). Holes\n"

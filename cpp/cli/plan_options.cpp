@@ -174,6 +174,7 @@ void addLayerJobDetails(CLI::App& plan, LayersArguments& l) {
                   "Memory the job may use, MB (default 0 = 80 % of physical memory).")
       ->type_name("MB");
   addTessellationOption(plan, l);
+  addLayerSimplificationOptions(plan, l);
   plan.add_flag("--cap-holes", l.capHoles, "Close the holes of an open model first (as `layers`).");
   plan.add_flag("-q,--quiet", l.quiet, "No progress and no summary; errors still go to stderr.");
   plan.add_option("-o,--output", l.output,

@@ -56,6 +56,7 @@ void checkInputs(const DistanceField& field, const VoxelGrid& grid, const TriMes
                        std::to_string(grid.inside.size()) + " mask entries for " +
                        std::to_string(g.cellCount()) + " cells; compute both from one grid");
   }
+  resolveLayerTolerance(options.simplification, g.voxelSize);  // throws on a bad tolerance
   if (options.clipToSolid && model.empty()) {
     throw InvalidInput(
         "model surface for clipping is empty: 0 triangles; pass the solid's surface mesh or set "
@@ -264,17 +265,62 @@ std::vector<std::pair<int, int>> planBatches(const std::vector<std::uint64_t>& c
   return batches;
 }
 
-LayerSummary summarizeLayer(const LayerSurface& layer, std::size_t voxelSetSize) {
+LayerSummary summarizeLayer(const LayerSurface& layer, std::size_t voxelSetSize,
+                           std::size_t fullResolutionTriangles) {
   LayerSummary s;
   s.index = layer.index;
   s.level = layer.level;
   s.vertices = layer.mesh.vertexCount();
   s.triangles = layer.mesh.triangleCount();
+  s.fullResolutionTriangles = fullResolutionTriangles;
   s.area = layer.area;
   s.components = layer.components;
   s.thicknessToPrevious = layer.thicknessToPrevious;
   s.voxelSetSize = voxelSetSize;
   return s;
+}
+
+/// Adds the batch's clipping counts to the statistics.
+void addClipStats(const std::vector<ClipStats>& clipStats, LayerExtractionStats& stats) {
+  for (const ClipStats& c : clipStats) {
+    stats.exactDistanceQueries += c.exactQueries;
+    stats.rimVertices += c.rimVertices;
+  }
+}
+
+/// Simplifies the batch's clipped surfaces in place (when on) and measures their area and
+/// components; returns their triangle counts before simplification and adds to the statistics.
+std::vector<std::size_t> simplifyBatch(std::vector<LayerSurface>& layers,
+                                       const LayerOptions& options, double voxelSize,
+                                       const Progress& progress, LayerExtractionStats& stats) {
+  const auto start = std::chrono::steady_clock::now();
+  const bool simplify = options.simplification.enabled;
+  const double tolerance =
+      simplify ? resolveLayerTolerance(options.simplification, voxelSize) : 0.0;
+  std::vector<std::size_t> before(layers.size());
+  std::vector<char> keptFull(layers.size(), 0);
+  runChunked(layers.size(), progress, "simplifying layers", [&](std::size_t q) {
+    LayerSurface& layer = layers[q];
+    before[q] = layer.mesh.triangleCount();
+    if (simplify) {
+      SimplifiedSurface simplified = simplifyLayerSurface(layer.mesh, tolerance);
+      keptFull[q] = simplified.keptFull ? 1 : 0;
+      layer.mesh = std::move(simplified.mesh);
+    }
+    layer.area = surfaceArea(layer.mesh);
+    layer.components = countEdgeComponents(layer.mesh);
+  });
+  stats.simplificationTolerance = tolerance;
+  for (std::size_t q = 0; q < layers.size(); ++q) {
+    stats.layersKeptFull += keptFull[q] != 0 ? 1 : 0;
+    stats.fullResolutionTriangles += before[q];
+    stats.simplifiedTriangles += layers[q].mesh.triangleCount();
+  }
+  if (simplify) {
+    stats.simplificationSeconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return before;
 }
 
 /// Collects everything (extractLayers).
@@ -365,7 +411,7 @@ void extractInBatches(std::vector<float>& values, const VoxelGrid& grid, const T
     // ---- clipping layers ----
     std::vector<LayerSurface> layers(size);
     std::vector<ClipStats> clipStats(size);
-    runChunked(size, batch.sub(0.5, 0.8), "clipping layers", [&](std::size_t q) {
+    runChunked(size, batch.sub(0.5, 0.65), "clipping layers", [&](std::size_t q) {
       LayerSurface& layer = layers[q];
       layer.index = first + static_cast<int>(q);
       layer.level = static_cast<double>(layer.index) * h;
@@ -376,14 +422,13 @@ void extractInBatches(std::vector<float>& values, const VoxelGrid& grid, const T
         removeDegenerateAndUnused(layer.mesh);
       }
       surfaces[q] = TriMesh{};  // release the unclipped surface
-      layer.area = surfaceArea(layer.mesh);
-      layer.components = countEdgeComponents(layer.mesh);
     });
     std::vector<TriMesh>().swap(surfaces);
-    for (const ClipStats& c : clipStats) {
-      stats.exactDistanceQueries += c.exactQueries;
-      stats.rimVertices += c.rimVertices;
-    }
+    addClipStats(clipStats, stats);
+
+    // ---- simplifying layers ----
+    const std::vector<std::size_t> fullTriangles =
+        simplifyBatch(layers, options, geometry.voxelSize, batch.sub(0.65, 0.8), stats);
 
     // ---- measuring thickness ----
     if (measure) {
@@ -406,8 +451,9 @@ void extractInBatches(std::vector<float>& values, const VoxelGrid& grid, const T
 
     // Hand the surfaces over in order.
     for (LayerSurface& layer : layers) {
-      result.summaries.push_back(
-          summarizeLayer(layer, setSizes[static_cast<std::size_t>(layer.index - 1)]));
+      const auto q = static_cast<std::size_t>(layer.index - first);
+      result.summaries.push_back(summarizeLayer(
+          layer, setSizes[static_cast<std::size_t>(layer.index - 1)], fullTriangles[q]));
       sink.acceptSurface(std::move(layer));
     }
     std::vector<LayerSurface>().swap(layers);

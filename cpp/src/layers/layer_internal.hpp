@@ -3,6 +3,8 @@
 // Not part of the public API.
 #pragma once
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -17,13 +19,15 @@
 
 namespace curvedslicer::layers_detail {
 
-/// Runs body(i) for i in [0, count) with OpenMP, in consecutive chunks; after each chunk reports
+/// Runs body(i) for i in [0, count) with OpenMP, in consecutive chunks of at least one item per
+/// thread (a batch of a few layers still runs them in parallel); after each chunk reports
 /// progress (fraction of items done) on the calling thread, which may throw Cancelled. `body` must
 /// not throw.
 template <class Body>
 void runChunked(std::size_t count, const Progress& progress, std::string_view stage, Body&& body) {
   progress.report(0.0, stage);
-  const std::size_t chunk = std::max<std::size_t>(1, (count + 31) / 32);
+  const auto threads = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
+  const std::size_t chunk = std::max<std::size_t>(threads, (count + 31) / 32);
   for (std::size_t begin = 0; begin < count; begin += chunk) {
     const auto end = static_cast<std::ptrdiff_t>(std::min(count, begin + chunk));
 #pragma omp parallel for schedule(dynamic, 1)

@@ -30,6 +30,13 @@ void recordProvenance(Plan& plan, const PlanJobOptions& options) {
   plan.parameters.fieldMethod = std::string(toString(options.layerJob.geodesic.method));
 }
 
+/// The layer simplification's tolerance, once the layers are known (absent at full resolution).
+void recordLayerTolerance(Plan& plan, const PlanJobOptions& options,
+                          const LayerJobResult& layers) {
+  if (options.thinWall || !options.layerJob.layers.simplification.enabled) return;
+  plan.parameters.layerTolerance = layers.layers.stats.simplificationTolerance;
+}
+
 /// Refuses a plan whose robot points would not fit the job's memory budget
 /// (layerJob.voxelize.memoryBudgetBytes, also for a thin wall), before anything is fitted.
 /// @param area  mm², of the layer surfaces (or of the wall's surface)
@@ -128,6 +135,7 @@ PlanJobResult runPlanJob(const TriMesh& model, const PlanJobOptions& options, Pr
   result.layers.totalSeconds += planSeconds;
   result.layerFiles = layerFileNames(result.layers.layers, options.layerFormat);
   Plan& plan = result.planned.plan;
+  recordLayerTolerance(plan, options, result.layers);
   for (std::size_t k = 0; k < plan.layers.size() && k < result.layerFiles.size(); ++k) {
     plan.layers[k].surface = result.layerFiles[k];
   }

@@ -40,6 +40,10 @@ Json inputsJson(const LayerReportInputs& inputs, const LayerJobOptions& options,
   j["grid_alignment"] = std::string(toString(options.voxelize.alignment));
   j["cap_holes"] = options.capHoles;
   j["memory_budget_bytes"] = number(options.voxelize.memoryBudgetBytes);
+  j["full_resolution_layers"] = !options.layers.simplification.enabled;
+  j["layer_tolerance_mm"] = options.layers.simplification.enabled
+                                ? number(result.layers.stats.simplificationTolerance)
+                                : Json(nullptr);
   j["layer_format"] = std::string(toString(inputs.layerFormat));
   j["version"] = CURVEDSLICER_VERSION;
   return j;
@@ -134,6 +138,7 @@ std::vector<LayerSummary> layerSummaries(const LayersResult& layers) {
     m.level = s.level;
     m.vertices = s.mesh.vertexCount();
     m.triangles = s.mesh.triangleCount();
+    m.fullResolutionTriangles = m.triangles;  // unknown here; the surfaces are all there is
     m.area = s.area;
     m.components = s.components;
     m.thicknessToPrevious = s.thicknessToPrevious;
@@ -156,6 +161,7 @@ Json layersJson(const LayerReportInputs& inputs, const std::vector<LayerSummary>
     j["file"] = inputs.layerFiles.empty() ? Json(nullptr) : Json(inputs.layerFiles[k]);
     j["vertices"] = s.vertices;
     j["triangles"] = s.triangles;
+    j["full_resolution_triangles"] = s.fullResolutionTriangles;
     j["area_mm2"] = number(s.area);
     j["components"] = s.components;
     j["thickness_mm"] = Json{{"min", measured ? number(t.min) : Json(nullptr)},
@@ -210,6 +216,16 @@ Json makeLayerReport(const LayerReportInputs& inputs, const LayerJobOptions& opt
            {"voxel_set_points", voxelSetPoints},
            {"layer_batches", result.layers.batches},
            {"largest_layer_batch_crossed_cubes", result.layers.largestBatchCrossings}};
+  const LayerExtractionStats& ls = result.layers.stats;
+  report["layer_simplification"] =
+      Json{{"enabled", options.layers.simplification.enabled},
+           {"tolerance_mm", options.layers.simplification.enabled
+                                ? number(ls.simplificationTolerance)
+                                : Json(nullptr)},
+           {"full_resolution_triangles", ls.fullResolutionTriangles},
+           {"triangles", ls.simplifiedTriangles},
+           {"layers_kept_full_resolution", ls.layersKeptFull},
+           {"seconds", number(ls.simplificationSeconds)}};
   report["layers"] = layersJson(inputs, summaries);
   return report;
 }

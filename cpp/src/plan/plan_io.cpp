@@ -422,7 +422,7 @@ PlanParameters readParameters(const Reader& r, const Json& pj, int version) {
   } else {
     r.expectKeys(pj, "/parameters", required,
                  {"narrow_strips", "corner_angle_deg", "min_feature_width_mm", "bead_width_range",
-                  "connect_insets", "fill_gaps"});
+                  "connect_insets", "fill_gaps", "layer_tolerance_mm"});
   }
   PlanParameters p;
   p.layerThickness = r.nonNegative(pj["layer_thickness_mm"], "/parameters/layer_thickness_mm");
@@ -449,6 +449,9 @@ PlanParameters readParameters(const Reader& r, const Json& pj, int version) {
     p.cornerAngle = angle;
   }
   readCoverageParameters(r, pj, p);
+  if (pj.contains("layer_tolerance_mm")) {
+    p.layerTolerance = r.nonNegative(pj["layer_tolerance_mm"], "/parameters/layer_tolerance_mm");
+  }
   return p;
 }
 
@@ -565,6 +568,11 @@ void appendParameters(std::string& out, const PlanParameters& p) {
     out += ",\n";
     appendKey(out, "    ", "fill_gaps");
     out += *p.fillGaps ? "true" : "false";
+  }
+  if (p.layerTolerance) {
+    out += ",\n";
+    appendKey(out, "    ", "layer_tolerance_mm");
+    appendNumber(out, *p.layerTolerance);
   }
   out += "\n  },\n";
 }

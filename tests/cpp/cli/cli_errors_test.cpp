@@ -257,6 +257,22 @@ TEST(CliErrors, LargePartBeyondTheMemoryBudget) {
   EXPECT_FALSE(estimateGrid(model, options).fits);
 }
 
+TEST(CliErrors, NonPositiveOrNonFiniteLayerTolerance) {
+  Workspace ws;
+  for (const char* bad : {"0", "-0.1", "nan", "inf"}) {
+    expectFailure(ws, ws.layers(ws.box, {std::string("--layer-tolerance=") + bad}),
+                  kInvalidInput,
+                  {"--layer-tolerance must be a positive number of mm: '" + std::string(bad) +
+                   "'"});
+  }
+  expectFailure(ws, ws.layers(ws.box, {"--layer-tolerance", "0.02", "--full-resolution-layers"}),
+                kInvalidInput,
+                {"--layer-tolerance does not apply with --full-resolution-layers: '0.02'"});
+  expectFailure(ws, ws.layers(ws.box, {"--simplify-layers", "--full-resolution-layers"}),
+                kInvalidInput,
+                {"--simplify-layers does not apply with --full-resolution-layers: both given"});
+}
+
 TEST(CliErrors, UnknownMethodGridAndFormat) {
   Workspace ws;
   expectFailure(ws, ws.layers(ws.box, {"--method", "fast"}), kInvalidInput,

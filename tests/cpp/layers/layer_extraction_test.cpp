@@ -228,6 +228,7 @@ TEST(LayerExtraction, TiltedLinearFieldExtendedExactly) {
       [&](const Vec3& p) { return (p - centre).norm() < 4.0; },
       [&](const Vec3& p) { return n.dot(p - x0); });
   LayerOptions options;
+  options.simplification.enabled = false;  // exactness of the extension, not of simplifying
   options.layerThickness = 0.7;
   options.clipToSolid = false;
   options.thicknessSamples = 100;
@@ -320,6 +321,7 @@ TEST(LayerExtraction, ShellLayersAreClosedSpheres) {
   LayerOptions options;
   options.layerThickness = h;
   options.thicknessSamples = 3000;  // strided runs of vertices: ~4 µs–25 µs per sample
+  options.simplification.enabled = false;  // samples and deviation of the full surfaces
   const LayersResult result = extractLayers(c.field, c.grid, model, source, options);
   ASSERT_EQ(result.surfaces.size(), 4u);  // radii 4..7; the top centre is below R2
   for (const LayerSurface& layer : result.surfaces) {
@@ -634,6 +636,7 @@ TEST(LayerStreaming, FlatLayersGiveEightTrianglesPerCrossedCube) {
   options.clipToSolid = false;
   options.thicknessSamples = -1;
   options.batchCrossings = 1;  // one level per batch: largestBatchCrossings is a level's count
+  options.simplification.enabled = false;  // the marching tetrahedra's own triangles
   DistanceField field = c.field;
   RecordingSink sink;
   const LayersResult result =

@@ -64,6 +64,10 @@ LayerJobResult makeResult() {
     r.layers.surfaces.push_back(s);
     r.layers.voxelSets.push_back({i, 4.0 * i, std::vector<std::size_t>(100u * i, 0)});
   }
+  r.layers.stats.simplificationTolerance = 0.025;
+  r.layers.stats.fullResolutionTriangles = 40;
+  r.layers.stats.simplifiedTriangles = 2;
+  r.layers.stats.simplificationSeconds = 0.25;
   r.stageTimes = {{"clean", 0.01}, {"voxelize", 0.5}, {"field", 2.0}};
   r.totalSeconds = 2.6;
   r.peakMemoryBytes = 123456789;
@@ -91,11 +95,12 @@ TEST(LayerReport, TopLevelKeysInAStableOrder) {
   const Json report = makeLayerReport(makeInputs(), makeOptions(), makeResult());
   EXPECT_EQ(keysOf(report), (Names{"report", "format_version", "inputs", "mesh", "start_surface",
                                    "grid", "field", "warnings", "timing", "peak_memory_bytes",
-                                   "peak_memory_bytes_per_cell", "outputs", "layers"}));
-  EXPECT_EQ(
-      keysOf(report["inputs"]),
-      (Names{"model", "start_surface", "layer_thickness_mm", "voxel_size_mm", "method",
-             "grid_alignment", "cap_holes", "memory_budget_bytes", "layer_format", "version"}));
+                                   "peak_memory_bytes_per_cell", "outputs",
+                                   "layer_simplification", "layers"}));
+  EXPECT_EQ(keysOf(report["inputs"]),
+            (Names{"model", "start_surface", "layer_thickness_mm", "voxel_size_mm", "method",
+                   "grid_alignment", "cap_holes", "memory_budget_bytes", "full_resolution_layers",
+                   "layer_tolerance_mm", "layer_format", "version"}));
   // Same input, same text.
   EXPECT_EQ(formatLayerReport(report),
             formatLayerReport(makeLayerReport(makeInputs(), makeOptions(), makeResult())));
@@ -136,11 +141,31 @@ TEST(LayerReport, CarriesInputsMeshGridAndField) {
   EXPECT_EQ(report["outputs"]["voxel_set_points"], 300);
 }
 
+TEST(LayerReport, RecordsTheLayerSimplification) {
+  LayerJobOptions options = makeOptions();
+  options.layers.simplification.enabled = true;
+  Json report = makeLayerReport(makeInputs(), options, makeResult());
+  EXPECT_EQ(report["inputs"]["full_resolution_layers"], false);
+  EXPECT_EQ(report["inputs"]["layer_tolerance_mm"], 0.025);
+  EXPECT_EQ(report["layer_simplification"]["enabled"], true);
+  EXPECT_EQ(report["layer_simplification"]["tolerance_mm"], 0.025);
+  EXPECT_EQ(report["layer_simplification"]["full_resolution_triangles"], 40);
+  EXPECT_EQ(report["layer_simplification"]["triangles"], 2);
+  EXPECT_EQ(report["layer_simplification"]["seconds"], 0.25);
+  options.layers.simplification.enabled = false;
+  report = makeLayerReport(makeInputs(), options, makeResult());
+  EXPECT_EQ(report["inputs"]["full_resolution_layers"], true);
+  EXPECT_TRUE(report["inputs"]["layer_tolerance_mm"].is_null());
+  EXPECT_TRUE(report["layer_simplification"]["tolerance_mm"].is_null());
+}
+
 TEST(LayerReport, OneEntryPerLayer) {
   const Json layers = makeLayerReport(makeInputs(), makeOptions(), makeResult())["layers"];
   ASSERT_EQ(layers.size(), 2u);
-  EXPECT_EQ(keysOf(layers[0]), (Names{"index", "level_mm", "file", "vertices", "triangles",
-                                      "area_mm2", "components", "thickness_mm", "voxel_set_size"}));
+  EXPECT_EQ(keysOf(layers[0]),
+            (Names{"index", "level_mm", "file", "vertices", "triangles",
+                   "full_resolution_triangles", "area_mm2", "components", "thickness_mm",
+                   "voxel_set_size"}));
   EXPECT_EQ(layers[1]["index"], 2);
   EXPECT_EQ(layers[1]["level_mm"], 8.0);
   EXPECT_EQ(layers[1]["file"], "layer_0002.ply");

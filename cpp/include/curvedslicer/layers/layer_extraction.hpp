@@ -23,6 +23,9 @@
 //       the linear zero of the signed distance; the new rim vertices (and vertices within 1e-6·L
 //       of the surface) are moved to their closest point on the model surface, so the rim lies
 //       on it. Triangles with repeated vertices or zero area and unused vertices are removed.
+//    3b. Simplification (opt-in, `LayerOptions::simplification`): edge collapse within a
+//       distance ε of the full-resolution surface (default 0.05·L), the rim held fixed
+//       (layers/layer_simplification.hpp).
 //    4. Statistics: area, connected components (triangles sharing an edge), and the thickness to
 //       the previous layer: distances from this layer's vertices (or a sample of them, see
 //       `LayerOptions::thicknessSamples`) to the previous layer's surface — for layer 1 to the
@@ -51,6 +54,7 @@
 
 #include "curvedslicer/core/progress.hpp"
 #include "curvedslicer/field/geodesic_field.hpp"
+#include "curvedslicer/layers/layer_simplification.hpp"
 #include "curvedslicer/mesh/tri_mesh.hpp"
 #include "curvedslicer/voxel/voxel_grid.hpp"
 
@@ -75,6 +79,9 @@ struct LayerOptions {
   /// VoxelizeOptions::bytesPerCell the memory budget is checked with (tests/bench/README.md,
   /// "Large thin-walled part"). Results do not depend on it.
   std::size_t batchCrossings = 0;
+  /// Simplification of each clipped surface (off by default; ε = 0.05·L); the thickness,
+  /// area and components are those of the simplified surfaces.
+  LayerSimplificationOptions simplification;
 };
 
 /// Smallest automatic batch, in crossed cubes.
@@ -110,6 +117,7 @@ struct LayerSummary {
   int index = 0;       ///< i, 1-based
   double level = 0.0;  ///< i·h, mm
   std::size_t vertices = 0, triangles = 0;
+  std::size_t fullResolutionTriangles = 0;  ///< before simplification (= triangles if off)
   double area = 0.0;  ///< mm²
   std::size_t components = 0;
   ThicknessStats thicknessToPrevious;
@@ -123,7 +131,12 @@ struct LayerExtractionStats {
   std::size_t nearestFallbacks = 0;      ///< of those, given the nearest reached value
   std::size_t exactDistanceQueries = 0;  ///< vertices clipped with an exact signed distance
   std::size_t rimVertices = 0;           ///< vertices created on the model surface by clipping
-  double seconds = 0.0;                  ///< wall time of the call
+  double simplificationTolerance = 0.0;  ///< ε used, mm (0: simplification off)
+  std::size_t fullResolutionTriangles = 0;  ///< all layers, after clipping, before simplifying
+  std::size_t simplifiedTriangles = 0;      ///< all layers after simplifying (= the above if off)
+  std::size_t layersKeptFull = 0;  ///< layers left unsimplified (not a 2-manifold, see header)
+  double simplificationSeconds = 0.0;  ///< wall time of the "simplifying layers" stage
+  double seconds = 0.0;                ///< wall time of the call
 };
 
 struct LayersResult {
@@ -157,7 +170,8 @@ class LayerSink {
 };
 
 /// Extracts layers 1..n (see the file comment). Progress stages: "extending field", "marching
-/// tetrahedra", "merging layers", "clipping layers", "measuring thickness", "voxel sets".
+/// tetrahedra", "merging layers", "clipping layers", "simplifying layers", "measuring
+/// thickness", "voxel sets".
 /// @param field   geodesic field, mm, +inf for outside/unreached cells (geometry matches `grid`)
 /// @param grid    the voxelized solid
 /// @param model   the solid's surface, part frame (for clipping and rim projection; may be empty
@@ -166,7 +180,8 @@ class LayerSink {
 ///                empty, then layer 1 reports no thickness samples)
 /// @throws InvalidInput for h <= 0 or non-finite, more than `maxLayers` layers (the message gives
 ///         the count and the smallest h that fits), a field that does not match the grid, has NaN
-///         values or no reached voxel, or an empty model with clipping on; Cancelled via
+///         values or no reached voxel, an empty model with clipping on, or a negative or
+///         non-finite simplification tolerance; Cancelled via
 ///         `progress` (no partial result).
 LayersResult extractLayers(const DistanceField& field, const VoxelGrid& grid, const TriMesh& model,
                            const TriMesh& source, const LayerOptions& options = {},

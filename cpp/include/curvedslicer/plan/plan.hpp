@@ -102,6 +102,9 @@ struct PlanParameters {
   std::optional<bool> connectInsets;
   /// Issue 15: whether uncovered strips between beads got centre-line fill beads (paths/gap_fill)
   std::optional<bool> fillGaps;
+  /// Issue 18: ε, mm, of the layer simplification the layer surfaces went through; absent for
+  /// full-resolution layers, thin walls and plans written before it existed
+  std::optional<double> layerTolerance;
 };
 
 struct Plan {
