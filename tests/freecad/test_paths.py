@@ -20,10 +20,11 @@ from freecad.curvedslicer.core import InvalidInput, native  # noqa: E402
 
 
 class PathTestCase(cs_testing.DocumentTestCase):
-    def box_job(self, bead_spacing=4.0, width=30):
+    def box_job(self, bead_spacing=4.0, width=30, fill_gaps=True):
         box = self.box(40, width, 6)
         job = api.make_job(self.doc, box, layer_thickness=2.0, voxel_size=1.0,
-                           bead_spacing=bead_spacing, point_spacing=2.0, cell_file="")
+                           bead_spacing=bead_spacing, point_spacing=2.0, cell_file="",
+                           fill_gaps=fill_gaps)
         api.run(job, progress=False)
         return job
 
@@ -61,14 +62,26 @@ class TestPaths(PathTestCase):
         self.assertLess(max(abs(d - 4.0) for d in spacing), 0.06, spacing)
         # 30 mm wide, the innermost ring's sides would be 2 mm apart: one open centre bead on
         # y = 15 instead (NarrowStrips CentreBead), s + 1 mm from the ring beside it, reported;
-        # with Overlap every path stays a closed ring.
-        narrow = self.box_job(bead_spacing=4.0, width=30)
+        # with Overlap every path stays a closed ring. Gap fill off: it would widen the beads
+        # beside the 1 mm strips and move them (checked below).
+        narrow = self.box_job(bead_spacing=4.0, width=30, fill_gaps=False)
         spacing = sorted(api.path_spacing(narrow))
         self.assertLess(abs(spacing[0] - 4.0), 0.06, spacing)
         self.assertLess(abs(spacing[-1] - 5.0), 0.06, spacing)
         self.assertTrue(any("centre bead" in w for layer in json.loads(narrow.PlanJson)["layers"]
                             for w in layer["warnings"]))
         self.assertEqual(sum(1 for _, _, ring in api.path_beads(narrow) if not ring), 2)
+        narrow_layers = json.loads(narrow.PlanJson)["layers"]
+        # Gap fill on: the beads beside the 1 mm strips widen into them, so less area is void.
+        narrow.FillGaps = True
+        self.doc.recompute()
+        filled = json.loads(narrow.PlanJson)["layers"]
+        self.assertTrue(json.loads(narrow.PlanJson)["parameters"]["fill_gaps"])
+        self.assertTrue(all(after["coverage"]["void_share"] < before["coverage"]["void_share"]
+                            for before, after in zip(narrow_layers, filled)),
+                        [(b["coverage"]["void_share"], a["coverage"]["void_share"])
+                         for b, a in zip(narrow_layers, filled)])
+        narrow.FillGaps = False
         narrow.NarrowStrips = "Overlap"
         self.doc.recompute()
         self.assertTrue(all(ring for _, _, ring in api.path_beads(narrow)))
