@@ -266,7 +266,7 @@ std::vector<std::pair<int, int>> planBatches(const std::vector<std::uint64_t>& c
 }
 
 LayerSummary summarizeLayer(const LayerSurface& layer, std::size_t voxelSetSize,
-                           std::size_t fullResolutionTriangles) {
+                            std::size_t fullResolutionTriangles) {
   LayerSummary s;
   s.index = layer.index;
   s.level = layer.level;
