@@ -144,8 +144,7 @@ TEST(LayerSimplification, TouchingFansAreWeldedAgainAndKeptInPlace) {
 
 TEST(LayerSimplification, EdgeOfThreeTrianglesIsLeftAlone) {
   TriMesh fin;
-  fin.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 1, 0), Vec3(0.5, -1, 0),
-                  Vec3(0.5, 0, 1)};
+  fin.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 1, 0), Vec3(0.5, -1, 0), Vec3(0.5, 0, 1)};
   fin.triangles = {Vec3i(0, 1, 2), Vec3i(1, 0, 3), Vec3i(0, 1, 4)};
   const SimplifiedSurface s = simplifyLayerSurface(fin, 0.1);
   EXPECT_TRUE(s.keptFull);
@@ -202,9 +201,9 @@ ClippedCase makeClippedCase(double L) {
   GridGeometry& g = c.grid.geometry;
   g.voxelSize = L;
   g.corner = Vec3(-r, -r, z0) - Vec3::Constant(2 * L);
-  g.dims = Vec3i(static_cast<int>(std::ceil(2 * r / L)) + 4,
-                 static_cast<int>(std::ceil(2 * r / L)) + 4,
-                 static_cast<int>(std::ceil(height / L)) + 4);
+  g.dims =
+      Vec3i(static_cast<int>(std::ceil(2 * r / L)) + 4, static_cast<int>(std::ceil(2 * r / L)) + 4,
+            static_cast<int>(std::ceil(height / L)) + 4);
   c.grid.inside.assign(g.cellCount(), 0);
   c.field.geometry = g;
   c.field.distance.assign(g.cellCount(), kInfF);
