@@ -10,12 +10,24 @@
 #    only the Python module and the build-tree workbench, and runs the ctest tests labelled
 #    freecad and gui (cmake/freecad_workbench.cmake).
 #
+# With --prepare-only it stops after step 1 (chroot and packages ready, mounts undone): the
+# network- and disk-bound part, which scripts/run_tests.sh runs in the background while the
+# compiler-bound legs build and test.
+#
 # Needs root (debootstrap, mount, chroot): run as root or through sudo. Environment:
 #   CURVEDSLICER_SID_ROOT    the chroot (default /srv/curvedslicer-sid; never inside the tree)
 #   CURVEDSLICER_SID_MIRROR  the Debian mirror (default: the host's, else deb.debian.org)
 #   CURVEDSLICER_SID_FRESH=1 delete the chroot first (a cold run)
 # Exits non-zero if the set-up, the build or a test failed.
 set -euo pipefail
+
+prepare_only=0
+case "${1:-}" in
+  "") ;;
+  --prepare-only) prepare_only=1 ;;
+  *) printf 'freecad11: error: unknown argument: %s; the only option is --prepare-only\n' "$1" >&2
+     exit 2 ;;
+esac
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 root="${CURVEDSLICER_SID_ROOT:-/srv/curvedslicer-sid}"
@@ -152,6 +164,10 @@ else
 fi
 t2=$(date +%s)
 log "FreeCAD in the chroot: $(in_chroot dpkg-query -W -f='${Version}' freecad)"
+if ((prepare_only)); then
+  log "prepared: chroot $((t1 - t0)) s, packages $((t2 - t1)) s"
+  exit 0
+fi
 
 # ---- 2. build the Python module from a copy of the tree ---------------------------------------
 work=/var/tmp/curvedslicer
