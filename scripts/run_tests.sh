@@ -104,7 +104,8 @@ else
     tail -n 60 "$logs/freecad11-prepare.log"
     fc11_detail="chroot preparation failed (exit $prepare_status), log: $logs/freecad11-prepare.log"
   else
-    if bash "$repo/scripts/freecad11_leg.sh" >"$logs/freecad11.log" 2>&1; then
+    # CURVEDSLICER_SID_FRESH=1 (a cold chroot) was honoured by the preparation; not again here.
+    if env -u CURVEDSLICER_SID_FRESH bash "$repo/scripts/freecad11_leg.sh" >"$logs/freecad11.log" 2>&1; then
       fc11_status=PASS
     else
       fc11_status=FAIL
