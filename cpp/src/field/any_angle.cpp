@@ -27,6 +27,7 @@
 // triangles in the bricks it passes; without it, exact cell walking.
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -244,6 +245,9 @@ class AnyAnglePropagator {
         state[m] &= static_cast<std::uint8_t>(~kVerified);
         std::uint32_t ticket = kNoTicket;
         if (ahead_) {
+          // The newest test of cell m: the worker skips the older ones still queued.
+          latest_[m & latestMask_].store((std::uint64_t{m} << 32) | ahead_->nextTicket(),
+                                         std::memory_order_relaxed);
           ticket =
               ahead_->submit({static_cast<std::uint32_t>(m), p, y, pivot ? pivot->position : foot,
                               pivot ? pivot->edge : -1, slackFor(p)});
@@ -370,6 +374,9 @@ class AnyAnglePropagator {
     } stopAhead{ahead_};
     if (reset >= kParallelTestsMin && omp_get_max_threads() > 1) {
       const int log2 = std::min(kLookaheadLog2Max, static_cast<int>(std::bit_width(reset / 4)));
+      latestMask_ = (std::size_t{2} << log2) - 1;
+      latest_ = std::make_unique<std::atomic<std::uint64_t>[]>(latestMask_ + 1);
+      for (std::size_t i = 0; i <= latestMask_; ++i) latest_[i].store(~std::uint64_t{0});
       ahead_ = std::make_unique<Lookahead>(
           log2, SightWork{this, boundary_ ? boundary_->makeMailbox() : SolidBoundary::Mailbox{}});
     }
@@ -863,7 +870,13 @@ class AnyAnglePropagator {
   struct SightWork {
     const AnyAnglePropagator* self;
     SolidBoundary::Mailbox mailbox;  // the worker's own
-    void operator()(const SightTask& t, SightResult& r) {
+    void operator()(const SightTask& t, SightResult& r, std::uint32_t ticket) {
+      const std::uint64_t latest =
+          self->latest_[t.cell & self->latestMask_].load(std::memory_order_relaxed);
+      if (latest >> 32 == t.cell && static_cast<std::uint32_t>(latest) != ticket) {
+        r.cell = UINT32_MAX;  // the cell was queued again since: this test is not needed
+        return;
+      }
       r.cell = t.cell;
       r.parent = t.parent;
       r.hitFound = false;
@@ -1065,6 +1078,10 @@ class AnyAnglePropagator {
   MethodStats stats_;
   std::size_t edgePivots_ = 0;
   std::unique_ptr<Lookahead> ahead_;  // phase 3's look-ahead tests, while it runs
+  /// Per cell (low bits of the index; collisions only keep a stale test), the cell and the
+  /// ticket of its newest look-ahead test, packed (cell << 32 | ticket).
+  std::unique_ptr<std::atomic<std::uint64_t>[]> latest_;
+  std::size_t latestMask_ = 0;
   bool inheritSight_ = false;  // inheritsLineOfSight applies (closed model, few reflex edges)
   Vec3 offsets_[26];
   double lengths_[26];

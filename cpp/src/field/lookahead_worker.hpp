@@ -24,7 +24,8 @@ class LookaheadWorker {
   static constexpr std::uint32_t kNoTicket = UINT32_MAX;
 
   /// @param capacityLog2  the ring holds 2^capacityLog2 tasks
-  /// @param work          work(const Task&, Result&), pure; runs on the worker thread only
+  /// @param work          work(const Task&, Result&, ticket), pure; runs on the worker thread
+  ///                      only (it may leave a result invalid for a task it knows is not needed)
   LookaheadWorker(int capacityLog2, Work work)
       : mask_((std::uint64_t{1} << capacityLog2) - 1),
         tasks_(mask_ + 1),
@@ -35,6 +36,11 @@ class LookaheadWorker {
   LookaheadWorker(const LookaheadWorker&) = delete;
   LookaheadWorker& operator=(const LookaheadWorker&) = delete;
   ~LookaheadWorker() { stop(); }
+
+  /// Owner thread: the ticket the next submit returns unless the ring is full.
+  std::uint32_t nextTicket() const {
+    return static_cast<std::uint32_t>(produced_.load(std::memory_order_relaxed));
+  }
 
   /// Owner thread: queues a task; returns its ticket (the low 32 bits of its sequence number),
   /// or kNoTicket when the worker is a whole ring behind.
@@ -70,7 +76,7 @@ class LookaheadWorker {
     std::uint64_t next = 0;
     while (true) {
       if (next < produced_.load(std::memory_order_acquire)) {
-        work_(tasks_[next & mask_], results_[next & mask_]);
+        work_(tasks_[next & mask_], results_[next & mask_], static_cast<std::uint32_t>(next));
         done_.store(++next, std::memory_order_release);
       } else if (stop_.load(std::memory_order_acquire)) {
         return;
