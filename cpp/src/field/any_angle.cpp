@@ -18,16 +18,13 @@
 // Pivots therefore appear only where shortest paths bend around concave edges; elsewhere distances
 // are exact straight-line distances, and the stencil bias of fixed-neighbour Dijkstra
 // (ACCURACY.md) never accumulates. Cost: phase 1 O(N log C) with a radix heap; phase 2 one segment
-// test per cell on all cores; phase 3 a test per shadow cell plus repairs, the tests computed
-// ahead on a second thread while the cells wait in the queue (same results: each is a pure
-// function of the cell and its parent).
+// test per cell on all cores; phase 3 a test per shadow cell plus repairs.
 //
 // Line of sight: sphere tracing through the clearance field (exact EDT of the outside) far from
 // walls; near walls, with the model surface, an exact test of the segment against the surface
 // triangles in the bricks it passes; without it, exact cell walking.
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -35,12 +32,9 @@
 #include <memory>
 #include <vector>
 
-#include <omp.h>
-
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/voxel/clearance.hpp"
 #include "field_internal.hpp"
-#include "lookahead_worker.hpp"
 #include "solid_boundary.hpp"
 
 namespace curvedslicer::detail {
@@ -67,13 +61,8 @@ constexpr double kChordDepth = 0.02;
 /// Line of sight is inherited from a neighbour (see inheritsLineOfSight) only on closed models
 /// with at most this many reflex edges, which are then all tested per cell.
 constexpr std::size_t kInheritMaxReflexEdges = 64;
-/// Phase 2 runs its segment tests on all threads only when at least this many are pending; phase
-/// 3 tests ahead on a second thread when at least this many cells were reset.
+/// Phase 2 runs its segment tests on all threads only when at least this many are pending.
 constexpr std::size_t kParallelTestsMin = 20000;
-/// Phase 3's look-ahead ring holds at most 2^this tests.
-constexpr int kLookaheadLog2Max = 18;
-/// Ticket of a queued cell whose test was not handed to the look-ahead worker.
-constexpr std::uint32_t kNoTicket = UINT32_MAX;
 /// Geometric tolerance of the inheritance test, cells (any doubt makes it fall back).
 constexpr double kInheritTolerance = 1e-6;
 
@@ -91,7 +80,6 @@ struct Candidate {
 struct HeapItem {
   float d;
   std::uint32_t n;
-  std::uint32_t ticket;  // phase 3: the look-ahead test of this entry's parent, or kNoTicket
 };
 
 /// Monotone priority queue of (distance, cell) — a radix heap (Ahuja, Mehlhorn, Orlin & Tarjan
@@ -104,10 +92,10 @@ struct HeapItem {
 class RadixQueue {
  public:
   bool empty() const { return size_ == 0; }
-  void push(float d, std::uint32_t n, std::uint32_t ticket = kNoTicket) {
+  void push(float d, std::uint32_t n) {
     std::uint32_t key = keyOf(d);
     if (key < last_) key = last_;
-    buckets_[bucketOf(key)].push_back({key, d, n, ticket});
+    buckets_[bucketOf(key)].push_back({key, d, n});
     ++size_;
   }
   HeapItem pop() {
@@ -115,7 +103,7 @@ class RadixQueue {
     const Entry e = buckets_[0].back();
     buckets_[0].pop_back();
     --size_;
-    return {e.d, e.n, e.ticket};
+    return {e.d, e.n};
   }
   void clear() {
     for (auto& b : buckets_) std::vector<Entry>().swap(b);
@@ -141,7 +129,6 @@ class RadixQueue {
     std::uint32_t key;
     float d;
     std::uint32_t n;
-    std::uint32_t ticket;
   };
   static std::uint32_t keyOf(float d) {
     std::uint32_t k;
@@ -205,7 +192,7 @@ class AnyAnglePropagator {
     inheritParents(seeds, insideCount, progress.sub(0.0, 0.45));
     std::size_t reset = 0;
     const std::size_t finished = checkInheritedParents(reset, progress.sub(0.45, 0.65));
-    if (reset > 0) propagateIntoShadow(finished, reset, insideCount, progress.sub(0.65, 1.0));
+    if (reset > 0) propagateIntoShadow(finished, insideCount, progress.sub(0.65, 1.0));
     return stats_;
   }
 
@@ -243,16 +230,7 @@ class AnyAnglePropagator {
         dist[m] = cand;
         parent[m] = p;
         state[m] &= static_cast<std::uint8_t>(~kVerified);
-        std::uint32_t ticket = kNoTicket;
-        if (ahead_) {
-          // The newest test of cell m: the worker skips the older ones still queued.
-          latest_[m & latestMask_].store((std::uint64_t{m} << 32) | ahead_->nextTicket(),
-                                         std::memory_order_relaxed);
-          ticket =
-              ahead_->submit({static_cast<std::uint32_t>(m), p, y, pivot ? pivot->position : foot,
-                              pivot ? pivot->edge : -1, slackFor(p)});
-        }
-        heap_.push(cand, static_cast<std::uint32_t>(m), ticket);
+        push(cand, static_cast<std::uint32_t>(m));
       }
     }
   }
@@ -362,24 +340,8 @@ class AnyAnglePropagator {
   // ---- geodesic field: any-angle propagation ------------------------------------------------
   /// Phase 3: the cells without line of sight to their inherited parent, in Dijkstra order from
   /// the finished cells around them, with a line-of-sight test per cell and repairs (pivots), as
-  /// in Lazy Theta*. Sequential, as which pivots exist depends on the order of the repairs; but
-  /// the tests, pure functions of (cell, parent), are computed ahead on a second thread.
-  void propagateIntoShadow(std::size_t finished, std::size_t reset, std::size_t insideCount,
-                           Progress progress) {
-    // The cells' tests are pure functions of (cell, parent): a second thread computes them while
-    // the cells wait in the queue; a result not ready when its cell is popped is computed here.
-    struct StopAhead {
-      std::unique_ptr<Lookahead>& ahead;
-      ~StopAhead() { ahead.reset(); }
-    } stopAhead{ahead_};
-    if (reset >= kParallelTestsMin && omp_get_max_threads() > 1) {
-      const int log2 = std::min(kLookaheadLog2Max, static_cast<int>(std::bit_width(reset / 4)));
-      latestMask_ = (std::size_t{2} << log2) - 1;
-      latest_ = std::make_unique<std::atomic<std::uint64_t>[]>(latestMask_ + 1);
-      for (std::size_t i = 0; i <= latestMask_; ++i) latest_[i].store(~std::uint64_t{0});
-      ahead_ = std::make_unique<Lookahead>(
-          log2, SightWork{this, boundary_ ? boundary_->makeMailbox() : SolidBoundary::Mailbox{}});
-    }
+  /// in Lazy Theta*. Sequential: which pivots exist depends on the order of the repairs.
+  void propagateIntoShadow(std::size_t finished, std::size_t insideCount, Progress progress) {
     pushShadowFrontier();
     const std::size_t reportEvery = std::max<std::size_t>(insideCount / 200, 4096);
     while (!heap_.empty()) {
@@ -394,7 +356,7 @@ class AnyAnglePropagator {
         if (!inherited) ++stats_.lineOfSightTests;
         Vec3 hit;
         bool hitFound = false;
-        if (!inherited && !visibleAhead(item, x, &hit, &hitFound)) {
+        if (!inherited && !visibleVia(parent_[n], x, &hit, &hitFound)) {
           ++stats_.lineOfSightFailures;
           repair(n, x, hitFound ? &hit : nullptr);
           push(dist_[n], n);  // its value grew: back into the queue, now verified
@@ -850,59 +812,6 @@ class AnyAnglePropagator {
            boundary_->leavesSolidAt(static_cast<std::uint32_t>(p.edge), x - p.position, 0.0);
   }
 
-  /// A line-of-sight test of phase 3 for the look-ahead worker: visibleVia(parent, x, ...) for
-  /// the cell, with the parent's data copied (the owner thread adds pivots meanwhile).
-  struct SightTask {
-    std::uint32_t cell;
-    std::int32_t parent;
-    Vec3 x;             // the cell's centre
-    Vec3 target;        // the segment's far end, as evaluate(parent, x, &target) gives it
-    std::int32_t edge;  // the pivot's reflex edge (behindPivotEdge), or −1
-    double slack;       // slackFor(parent)
-  };
-  struct SightResult {
-    std::uint32_t cell;
-    std::int32_t parent;
-    bool visible;
-    bool hitFound;
-    Vec3 hit;
-  };
-  struct SightWork {
-    const AnyAnglePropagator* self;
-    SolidBoundary::Mailbox mailbox;  // the worker's own
-    void operator()(const SightTask& t, SightResult& r, std::uint32_t ticket) {
-      const std::uint64_t latest =
-          self->latest_[t.cell & self->latestMask_].load(std::memory_order_relaxed);
-      if (latest >> 32 == t.cell && static_cast<std::uint32_t>(latest) != ticket) {
-        r.cell = UINT32_MAX;  // the cell was queued again since: this test is not needed
-        return;
-      }
-      r.cell = t.cell;
-      r.parent = t.parent;
-      r.hitFound = false;
-      // As behindPivotEdge(parent, x): the pivot sits at `target`.
-      r.visible =
-          !(t.edge >= 0 && self->boundary_->leavesSolidAt(static_cast<std::uint32_t>(t.edge),
-                                                          t.x - t.target, 0.0)) &&
-          self->visible(t.x, t.target, t.slack, mailbox, /*strict=*/false, &r.hit, &r.hitFound);
-    }
-  };
-  using Lookahead = LookaheadWorker<SightTask, SightResult, SightWork>;
-
-  /// visibleVia(parent_[n], x, hit, hitFound) for the popped queue entry of cell n, from the
-  /// look-ahead worker when it has computed that very test.
-  bool visibleAhead(const HeapItem& item, const Vec3& x, Vec3* hit, bool* hitFound) const {
-    const SightResult* r = ahead_ ? ahead_->find(item.ticket) : nullptr;
-    if (r && r->cell == item.n && r->parent == parent_[item.n]) {
-      if (!r->visible && r->hitFound) {
-        *hit = r->hit;
-        *hitFound = true;
-      }
-      return r->visible;
-    }
-    return visibleVia(parent_[item.n], x, hit, hitFound);
-  }
-
   /// Line of sight from x to its segment's end through parent q. When the surface blocks it and
   /// `hit` is given, *hitFound tells whether a crossing point was stored in *hit.
   bool visibleVia(std::int32_t q, const Vec3& x, Vec3* hit = nullptr,
@@ -1077,11 +986,6 @@ class AnyAnglePropagator {
   std::size_t feetMask_ = 0;
   MethodStats stats_;
   std::size_t edgePivots_ = 0;
-  std::unique_ptr<Lookahead> ahead_;  // phase 3's look-ahead tests, while it runs
-  /// Per cell (low bits of the index; collisions only keep a stale test), the cell and the
-  /// ticket of its newest look-ahead test, packed (cell << 32 | ticket).
-  std::unique_ptr<std::atomic<std::uint64_t>[]> latest_;
-  std::size_t latestMask_ = 0;
   bool inheritSight_ = false;  // inheritsLineOfSight applies (closed model, few reflex edges)
   Vec3 offsets_[26];
   double lengths_[26];

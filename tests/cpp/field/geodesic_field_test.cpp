@@ -197,12 +197,9 @@ TEST(GeodesicField, DeterministicAcrossRuns) {
 }
 
 TEST(GeodesicField, SameFieldWithOneOrTwoThreads) {
-  // The line-of-sight phase runs in parallel, and with two threads the shadow phase computes
-  // its tests ahead on the second one (from 20,000 shadow voxels: the U-bend at 128 cells has
-  // ~56,000); the result must not depend on the thread count.
+  // The line-of-sight phase runs in parallel; the result must not depend on the thread count.
   const int threads = omp_get_max_threads();
-  for (const auto& c : {testing::makeLShapeCase(48), testing::makeUBendCase(48),
-                        testing::makeUBendCase(128)}) {
+  for (const auto& c : {testing::makeLShapeCase(48), testing::makeUBendCase(48)}) {
     omp_set_num_threads(1);
     const GeodesicResult one = computeGeodesicField(c.grid, c.model, c.source);
     omp_set_num_threads(2);
