@@ -144,14 +144,15 @@ class RadixQueue {
 };
 
 /// A byte per grid cell in tiles of 4 × 4 × 4 cells, one cache line each: sphere tracing's short
-/// steps near walls then mostly stay within a line (the same values as the row-major array, the
-/// bunny's field at L = 0.5 mm ~17 % faster, tests/bench/README.md).
+/// steps near walls then mostly stay within a line. The same values as the row-major array, so
+/// the same steps.
 class TiledBytes {
  public:
   /// `linear`: one byte per cell of a grid of `dims`, row-major (VoxelGrid::index); released
   /// once copied, so the peak is one extra byte per cell only while copying.
   TiledBytes(const Vec3i& dims, std::vector<std::uint8_t>&& linear)
-      : tiles_((dims.array() + 3) / 4), bytes_(static_cast<std::size_t>(tiles_.prod()) * 64, 0) {
+      : tiles_((dims.array() + 3) / 4),
+        bytes_(static_cast<std::size_t>(tiles_.x()) * tiles_.y() * tiles_.z() * 64, 0) {
     for (int i = 0; i < dims.x(); ++i)
       for (int j = 0; j < dims.y(); ++j)
         for (int k = 0; k < dims.z(); ++k)
