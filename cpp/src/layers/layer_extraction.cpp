@@ -266,7 +266,7 @@ std::vector<std::pair<int, int>> planBatches(const std::vector<std::uint64_t>& c
 }
 
 LayerSummary summarizeLayer(const LayerSurface& layer, std::size_t voxelSetSize,
-                           std::size_t fullResolutionTriangles) {
+                            std::size_t fullResolutionTriangles) {
   LayerSummary s;
   s.index = layer.index;
   s.level = layer.level;
@@ -303,7 +303,8 @@ std::vector<std::size_t> simplifyBatch(std::vector<LayerSurface>& layers,
     LayerSurface& layer = layers[q];
     before[q] = layer.mesh.triangleCount();
     if (simplify) {
-      SimplifiedSurface simplified = simplifyLayerSurface(layer.mesh, tolerance);
+      SimplifiedSurface simplified =
+          simplifyLayerSurface(layer.mesh, tolerance, kDefaultLayerMaxEdgeVoxels * voxelSize);
       keptFull[q] = simplified.keptFull ? 1 : 0;
       layer.mesh = std::move(simplified.mesh);
     }
