@@ -153,7 +153,8 @@ void exportCase(const std::filesystem::path& root, const std::string& slug, int 
   testing::writeNpy(dir / "exact.npy", "<f8", g.dims, exact.data(), N * sizeof(double));
 
   const GeodesicResult any = computeGeodesicField(c.grid, c.model, c.source);
-  testing::writeNpy(dir / "anyangle.npy", "<f4", g.dims, any.field.distance.data(), N * sizeof(float));
+  testing::writeNpy(dir / "anyangle.npy", "<f4", g.dims, any.field.distance.data(),
+                    N * sizeof(float));
   const testing::FieldError e = testing::measureFieldError(c, any.field);
 
   std::size_t seeds = 0, behind = 0;

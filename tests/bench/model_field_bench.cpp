@@ -11,7 +11,8 @@
 // field_bench --export does (C order, shape = grid dims): inside.npy (uint8), source_distance.npy
 // (float64 mm, straight distance from the inside cell centres to the start surface up to 3·√3·L,
 // NaN elsewhere: the seeds are the cells within √3·L), exact.npy (float64 mm, the exact method's
-// field, NaN outside or unreached) and meta.json. --json prints one JSON object per model instead of the text line.
+// field, NaN outside or unreached) and meta.json. --json prints one JSON object per model instead
+// of the text line.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -136,20 +137,21 @@ void runModel(const std::filesystem::path& path, const Settings& s) {
   if (s.json) {
     std::printf("%s\n", j.dump().c_str());
   } else {
-    std::printf("%-34s L %.3f mm, %zu inside: exact %.3f s (CPU %.2f s; %zu LOS failures, %zu "
-                "edge pivots)",
-                path.filename().string().c_str(), s.voxel, vox.grid.insideCount, exact.seconds,
-                exact.cpuSeconds, exact.result.lineOfSightFailures, exact.result.edgePivots);
+    std::printf(
+        "%-34s L %.3f mm, %zu inside: exact %.3f s (CPU %.2f s; %zu LOS failures, %zu "
+        "edge pivots)",
+        path.filename().string().c_str(), s.voxel, vox.grid.insideCount, exact.seconds,
+        exact.cpuSeconds, exact.result.lineOfSightFailures, exact.result.edgePivots);
     if (j.contains("compare")) {
       const auto& c = j["compare"];
       const auto& e = c["error"];
-      std::printf("; %s %.3f s (CPU %.2f s): |%s - exact| mean %.4f L, max %.4f L (over %.3f, "
-                  "under %.3f), %zu voxels beyond 0.1 L",
-                  c["method"].get<std::string>().c_str(), c["seconds"].get<double>(),
-                  c["cpu_s"].get<double>(), c["method"].get<std::string>().c_str(),
-                  e["mean_L"].get<double>(), e["max_L"].get<double>(),
-                  e["max_over_L"].get<double>(), e["max_under_L"].get<double>(),
-                  e["voxels_beyond_0.1L"].get<std::size_t>());
+      std::printf(
+          "; %s %.3f s (CPU %.2f s): |%s - exact| mean %.4f L, max %.4f L (over %.3f, "
+          "under %.3f), %zu voxels beyond 0.1 L",
+          c["method"].get<std::string>().c_str(), c["seconds"].get<double>(),
+          c["cpu_s"].get<double>(), c["method"].get<std::string>().c_str(),
+          e["mean_L"].get<double>(), e["max_L"].get<double>(), e["max_over_L"].get<double>(),
+          e["max_under_L"].get<double>(), e["voxels_beyond_0.1L"].get<std::size_t>());
     }
     std::printf("\n");
   }

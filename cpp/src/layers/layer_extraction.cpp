@@ -21,13 +21,6 @@ namespace {
 
 using namespace layers_detail;
 
-std::string formatNumber(double x) {
-  std::ostringstream s;
-  s.precision(10);
-  s << x;
-  return s.str();
-}
-
 std::string describeDims(const Vec3i& d) {
   return std::to_string(d.x()) + "×" + std::to_string(d.y()) + "×" + std::to_string(d.z());
 }

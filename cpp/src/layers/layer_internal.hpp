@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <sstream>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -18,6 +20,14 @@
 #include "curvedslicer/voxel/voxel_grid.hpp"
 
 namespace curvedslicer::layers_detail {
+
+/// A number in a message, with up to ten significant digits.
+inline std::string formatNumber(double x) {
+  std::ostringstream s;
+  s.precision(10);
+  s << x;
+  return s.str();
+}
 
 /// Runs body(i) for i in [0, count) with OpenMP, in consecutive chunks of at least one item per
 /// thread (a batch of a few layers still runs them in parallel); after each chunk reports

@@ -13,16 +13,12 @@
 #include <vector>
 
 #include "curvedslicer/core/error.hpp"
+#include "layers/layer_internal.hpp"
 
 namespace curvedslicer {
 namespace {
 
-std::string formatNumber(double x) {
-  std::ostringstream s;
-  s.precision(10);
-  s << x;
-  return s.str();
-}
+using layers_detail::formatNumber;
 
 /// New triangles must have |a × b| above kMinSine times their longest edge squared (angles not
 /// within about 1e-6 rad of 0 or π).

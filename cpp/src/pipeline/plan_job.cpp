@@ -31,8 +31,7 @@ void recordProvenance(Plan& plan, const PlanJobOptions& options) {
 }
 
 /// The layer simplification's tolerance, once the layers are known (absent at full resolution).
-void recordLayerTolerance(Plan& plan, const PlanJobOptions& options,
-                          const LayerJobResult& layers) {
+void recordLayerTolerance(Plan& plan, const PlanJobOptions& options, const LayerJobResult& layers) {
   if (options.thinWall || !options.layerJob.layers.simplification.enabled) return;
   plan.parameters.layerTolerance = layers.layers.stats.simplificationTolerance;
 }

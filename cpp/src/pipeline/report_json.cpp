@@ -217,15 +217,14 @@ Json makeLayerReport(const LayerReportInputs& inputs, const LayerJobOptions& opt
            {"layer_batches", result.layers.batches},
            {"largest_layer_batch_crossed_cubes", result.layers.largestBatchCrossings}};
   const LayerExtractionStats& ls = result.layers.stats;
-  report["layer_simplification"] =
-      Json{{"enabled", options.layers.simplification.enabled},
-           {"tolerance_mm", options.layers.simplification.enabled
-                                ? number(ls.simplificationTolerance)
-                                : Json(nullptr)},
-           {"full_resolution_triangles", ls.fullResolutionTriangles},
-           {"triangles", ls.simplifiedTriangles},
-           {"layers_kept_full_resolution", ls.layersKeptFull},
-           {"seconds", number(ls.simplificationSeconds)}};
+  report["layer_simplification"] = Json{
+      {"enabled", options.layers.simplification.enabled},
+      {"tolerance_mm",
+       options.layers.simplification.enabled ? number(ls.simplificationTolerance) : Json(nullptr)},
+      {"full_resolution_triangles", ls.fullResolutionTriangles},
+      {"triangles", ls.simplifiedTriangles},
+      {"layers_kept_full_resolution", ls.layersKeptFull},
+      {"seconds", number(ls.simplificationSeconds)}};
   report["layers"] = layersJson(inputs, summaries);
   return report;
 }

@@ -260,10 +260,9 @@ TEST(CliErrors, LargePartBeyondTheMemoryBudget) {
 TEST(CliErrors, NonPositiveOrNonFiniteLayerTolerance) {
   Workspace ws;
   for (const char* bad : {"0", "-0.1", "nan", "inf"}) {
-    expectFailure(ws, ws.layers(ws.box, {std::string("--layer-tolerance=") + bad}),
-                  kInvalidInput,
-                  {"--layer-tolerance must be a positive number of mm: '" + std::string(bad) +
-                   "'"});
+    expectFailure(
+        ws, ws.layers(ws.box, {std::string("--layer-tolerance=") + bad}), kInvalidInput,
+        {"--layer-tolerance must be a positive number of mm: '" + std::string(bad) + "'"});
   }
   expectFailure(ws, ws.layers(ws.box, {"--layer-tolerance", "0.02", "--full-resolution-layers"}),
                 kInvalidInput,

@@ -320,7 +320,7 @@ TEST(LayerExtraction, ShellLayersAreClosedSpheres) {
   const TriMesh source = testing::makeSphere(kCentre, kR1, 4);
   LayerOptions options;
   options.layerThickness = h;
-  options.thicknessSamples = 3000;  // strided runs of vertices: ~4 µs–25 µs per sample
+  options.thicknessSamples = 3000;         // strided runs of vertices: ~4 µs–25 µs per sample
   options.simplification.enabled = false;  // samples and deviation of the full surfaces
   const LayersResult result = extractLayers(c.field, c.grid, model, source, options);
   ASSERT_EQ(result.surfaces.size(), 4u);  // radii 4..7; the top centre is below R2

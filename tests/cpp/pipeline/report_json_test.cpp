@@ -93,10 +93,10 @@ LayerJobOptions makeOptions() {
 
 TEST(LayerReport, TopLevelKeysInAStableOrder) {
   const Json report = makeLayerReport(makeInputs(), makeOptions(), makeResult());
-  EXPECT_EQ(keysOf(report), (Names{"report", "format_version", "inputs", "mesh", "start_surface",
-                                   "grid", "field", "warnings", "timing", "peak_memory_bytes",
-                                   "peak_memory_bytes_per_cell", "outputs",
-                                   "layer_simplification", "layers"}));
+  EXPECT_EQ(keysOf(report),
+            (Names{"report", "format_version", "inputs", "mesh", "start_surface", "grid", "field",
+                   "warnings", "timing", "peak_memory_bytes", "peak_memory_bytes_per_cell",
+                   "outputs", "layer_simplification", "layers"}));
   EXPECT_EQ(keysOf(report["inputs"]),
             (Names{"model", "start_surface", "layer_thickness_mm", "voxel_size_mm", "method",
                    "grid_alignment", "cap_holes", "memory_budget_bytes", "full_resolution_layers",
@@ -162,10 +162,9 @@ TEST(LayerReport, RecordsTheLayerSimplification) {
 TEST(LayerReport, OneEntryPerLayer) {
   const Json layers = makeLayerReport(makeInputs(), makeOptions(), makeResult())["layers"];
   ASSERT_EQ(layers.size(), 2u);
-  EXPECT_EQ(keysOf(layers[0]),
-            (Names{"index", "level_mm", "file", "vertices", "triangles",
-                   "full_resolution_triangles", "area_mm2", "components", "thickness_mm",
-                   "voxel_set_size"}));
+  EXPECT_EQ(keysOf(layers[0]), (Names{"index", "level_mm", "file", "vertices", "triangles",
+                                      "full_resolution_triangles", "area_mm2", "components",
+                                      "thickness_mm", "voxel_set_size"}));
   EXPECT_EQ(layers[1]["index"], 2);
   EXPECT_EQ(layers[1]["level_mm"], 8.0);
   EXPECT_EQ(layers[1]["file"], "layer_0002.ply");

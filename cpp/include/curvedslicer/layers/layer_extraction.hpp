@@ -118,7 +118,7 @@ struct LayerSummary {
   double level = 0.0;  ///< i·h, mm
   std::size_t vertices = 0, triangles = 0;
   std::size_t fullResolutionTriangles = 0;  ///< before simplification (= triangles if off)
-  double area = 0.0;  ///< mm²
+  double area = 0.0;                        ///< mm²
   std::size_t components = 0;
   ThicknessStats thicknessToPrevious;
   std::size_t voxelSetSize = 0;  ///< cells of S_i
@@ -126,15 +126,15 @@ struct LayerSummary {
 
 /// Diagnostics of one `extractLayers` call.
 struct LayerExtractionStats {
-  std::size_t extendedCells = 0;         ///< outside cells given extrapolated field values
-  std::size_t partialFits = 0;           ///< of those, fitted with a rank-deficient gradient
-  std::size_t nearestFallbacks = 0;      ///< of those, given the nearest reached value
-  std::size_t exactDistanceQueries = 0;  ///< vertices clipped with an exact signed distance
-  std::size_t rimVertices = 0;           ///< vertices created on the model surface by clipping
-  double simplificationTolerance = 0.0;  ///< ε used, mm (0: simplification off)
+  std::size_t extendedCells = 0;            ///< outside cells given extrapolated field values
+  std::size_t partialFits = 0;              ///< of those, fitted with a rank-deficient gradient
+  std::size_t nearestFallbacks = 0;         ///< of those, given the nearest reached value
+  std::size_t exactDistanceQueries = 0;     ///< vertices clipped with an exact signed distance
+  std::size_t rimVertices = 0;              ///< vertices created on the model surface by clipping
+  double simplificationTolerance = 0.0;     ///< ε used, mm (0: simplification off)
   std::size_t fullResolutionTriangles = 0;  ///< all layers, after clipping, before simplifying
   std::size_t simplifiedTriangles = 0;      ///< all layers after simplifying (= the above if off)
-  std::size_t layersKeptFull = 0;  ///< layers left unsimplified (not a 2-manifold, see header)
+  std::size_t layersKeptFull = 0;      ///< layers left unsimplified (not a 2-manifold, see header)
   double simplificationSeconds = 0.0;  ///< wall time of the "simplifying layers" stage
   double seconds = 0.0;                ///< wall time of the call
 };
