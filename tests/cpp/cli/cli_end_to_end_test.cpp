@@ -264,6 +264,37 @@ TEST(CliEndToEndCases, CurvedBasePair) {
   }
 }
 
+TEST(CliEndToEndCases, LayersAreSimplifiedUnlessFullResolutionIsAsked) {
+  const fs::path model = modelPath("simple_cylinder_closed_mid_res.stl");
+  const double L = voxelSizeFor(model);
+  const double h = std::stod(numberArg(5.0 * L));
+  const fs::path byDefault = freshTempDir("default");
+  const fs::path asked = freshTempDir("asked");
+  const fs::path full = freshTempDir("full");
+  ASSERT_EQ(runCli(layersArgs(model, L, h, byDefault, {"-q"})).exitCode, 0);
+  ASSERT_EQ(runCli(layersArgs(model, L, h, asked, {"-q", "--simplify-layers"})).exitCode, 0);
+  ASSERT_EQ(runCli(layersArgs(model, L, h, full, {"-q", "--full-resolution-layers"})).exitCode,
+            0);
+  const json simplified = expectConsistentOutput(byDefault, L, h, "ply");
+  const json fullResolution = expectConsistentOutput(full, L, h, "ply");
+  EXPECT_FALSE(simplified.at("inputs").at("full_resolution_layers").get<bool>());
+  EXPECT_DOUBLE_EQ(simplified.at("inputs").at("layer_tolerance_mm").get<double>(), 0.05 * L);
+  EXPECT_TRUE(fullResolution.at("inputs").at("full_resolution_layers").get<bool>());
+  EXPECT_TRUE(fullResolution.at("inputs").at("layer_tolerance_mm").is_null());
+  const json& s = simplified.at("layer_simplification");
+  const json& f = fullResolution.at("layer_simplification");
+  EXPECT_EQ(s.at("full_resolution_triangles"), f.at("triangles"));
+  EXPECT_EQ(f.at("full_resolution_triangles"), f.at("triangles"));
+  EXPECT_LT(s.at("triangles").get<std::size_t>(), f.at("triangles").get<std::size_t>() / 3);
+  // --simplify-layers names the default: the same layer files.
+  ASSERT_EQ(listFolder(asked), listFolder(byDefault));
+  for (const json& layer : simplified.at("layers")) {
+    const std::string file = layer.at("file");
+    EXPECT_EQ(testing::readWholeFile(asked / file), testing::readWholeFile(byDefault / file))
+        << file;
+  }
+}
+
 TEST(CliEndToEndCases, FacesOfTheModelAsStartSurface) {
   // The bottom triangles of the box, given by their positions in the file, give the same layers
   // as the build plate.
