@@ -18,6 +18,7 @@
 
 #include "cli_test_support.hpp"
 #include "common/test_paths.hpp"
+#include "curvedslicer/layers/layer_simplification.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
 
 namespace curvedslicer {
@@ -264,7 +265,7 @@ TEST(CliEndToEndCases, CurvedBasePair) {
   }
 }
 
-TEST(CliEndToEndCases, LayersAreSimplifiedUnlessFullResolutionIsAsked) {
+TEST(CliEndToEndCases, SimplifyAndFullResolutionFlagsAndTheDefault) {
   const fs::path model = modelPath("simple_cylinder_closed_mid_res.stl");
   const double L = voxelSizeFor(model);
   const double h = std::stod(numberArg(5.0 * L));
@@ -275,7 +276,7 @@ TEST(CliEndToEndCases, LayersAreSimplifiedUnlessFullResolutionIsAsked) {
   ASSERT_EQ(runCli(layersArgs(model, L, h, asked, {"-q", "--simplify-layers"})).exitCode, 0);
   ASSERT_EQ(runCli(layersArgs(model, L, h, full, {"-q", "--full-resolution-layers"})).exitCode,
             0);
-  const json simplified = expectConsistentOutput(byDefault, L, h, "ply");
+  const json simplified = expectConsistentOutput(asked, L, h, "ply");
   const json fullResolution = expectConsistentOutput(full, L, h, "ply");
   EXPECT_FALSE(simplified.at("inputs").at("full_resolution_layers").get<bool>());
   EXPECT_DOUBLE_EQ(simplified.at("inputs").at("layer_tolerance_mm").get<double>(), 0.05 * L);
@@ -286,11 +287,12 @@ TEST(CliEndToEndCases, LayersAreSimplifiedUnlessFullResolutionIsAsked) {
   EXPECT_EQ(s.at("full_resolution_triangles"), f.at("triangles"));
   EXPECT_EQ(f.at("full_resolution_triangles"), f.at("triangles"));
   EXPECT_LT(s.at("triangles").get<std::size_t>(), f.at("triangles").get<std::size_t>() / 3);
-  // --simplify-layers names the default: the same layer files.
-  ASSERT_EQ(listFolder(asked), listFolder(byDefault));
+  // No flag: the layers of LayerSimplificationOptions{}, file for file.
+  const fs::path expected = LayerSimplificationOptions{}.enabled ? asked : full;
+  ASSERT_EQ(listFolder(byDefault), listFolder(expected));
   for (const json& layer : simplified.at("layers")) {
     const std::string file = layer.at("file");
-    EXPECT_EQ(testing::readWholeFile(asked / file), testing::readWholeFile(byDefault / file))
+    EXPECT_EQ(testing::readWholeFile(byDefault / file), testing::readWholeFile(expected / file))
         << file;
   }
 }

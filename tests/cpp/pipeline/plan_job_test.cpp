@@ -45,7 +45,9 @@ TEST(PlanJob, EqualsTheLayerJobFollowedByThePlannerWithProvenance) {
   plan.parameters.layerThickness = 20.0;
   plan.parameters.voxelSize = 5.0;
   plan.parameters.fieldMethod = "paper";
-  plan.parameters.layerTolerance = kDefaultLayerToleranceVoxels * 5.0;  // simplified by default
+  if (options.layerJob.layers.simplification.enabled) {
+    plan.parameters.layerTolerance = kDefaultLayerToleranceVoxels * 5.0;
+  }
   ASSERT_FALSE(plan.layers.empty());
   ASSERT_EQ(job.layerFiles.size(), layers.layers.surfaces.size());
   for (std::size_t k = 0; k < plan.layers.size(); ++k) {
@@ -67,7 +69,11 @@ TEST(PlanJob, PlanOnLayersRecordsTheSameProvenanceWithoutFileNames) {
   EXPECT_EQ(planned.plan.parameters.layerThickness, 20.0);
   EXPECT_EQ(planned.plan.parameters.voxelSize, 5.0);
   EXPECT_EQ(planned.plan.parameters.fieldMethod, "anyangle");
-  EXPECT_EQ(planned.plan.parameters.layerTolerance, kDefaultLayerToleranceVoxels * 5.0);
+  if (options.layerJob.layers.simplification.enabled) {
+    EXPECT_EQ(planned.plan.parameters.layerTolerance, kDefaultLayerToleranceVoxels * 5.0);
+  } else {
+    EXPECT_FALSE(planned.plan.parameters.layerTolerance.has_value());
+  }
   EXPECT_TRUE(planned.plan.layers.front().surface.empty());
 }
 
@@ -86,6 +92,10 @@ TEST(PlanJob, FullResolutionLayersRecordNoLayerTolerance) {
   EXPECT_EQ(simplified.layers.layers.stats.simplificationTolerance, 0.5);
   EXPECT_LT(simplified.layers.layers.stats.simplifiedTriangles,
             simplified.layers.layers.stats.fullResolutionTriangles);
+  // A plan on the layers of an earlier layer job records the same tolerance.
+  const PlanResult onLayers =
+      planOnLayers(simplified.layers.layers.surfaces, simplified.layers.source, options);
+  EXPECT_EQ(onLayers.plan.parameters.layerTolerance, 0.5);
 }
 
 TEST(PlanJob, ValidationNamesTheBadOption) {

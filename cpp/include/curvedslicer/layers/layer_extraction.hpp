@@ -23,7 +23,7 @@
 //       the linear zero of the signed distance; the new rim vertices (and vertices within 1e-6·L
 //       of the surface) are moved to their closest point on the model surface, so the rim lies
 //       on it. Triangles with repeated vertices or zero area and unused vertices are removed.
-//    3b. Simplification (on by default, `LayerOptions::simplification`): edge collapse within a
+//    3b. Simplification (opt-in, `LayerOptions::simplification`): edge collapse within a
 //       distance ε of the full-resolution surface (default 0.05·L), edges at most 3·L, the rim
 //       held fixed (layers/layer_simplification.hpp).
 //    4. Statistics: area, connected components (triangles sharing an edge), and the thickness to
@@ -79,7 +79,7 @@ struct LayerOptions {
   /// VoxelizeOptions::bytesPerCell the memory budget is checked with (tests/bench/README.md,
   /// "Large thin-walled part"). Results do not depend on it.
   std::size_t batchCrossings = 0;
-  /// Simplification of each clipped surface (on by default; ε = 0.05·L); the thickness,
+  /// Simplification of each clipped surface (off by default; ε = 0.05·L); the thickness,
   /// area and components are those of the simplified surfaces.
   LayerSimplificationOptions simplification;
 };
