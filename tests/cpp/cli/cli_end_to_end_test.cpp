@@ -274,8 +274,7 @@ TEST(CliEndToEndCases, SimplifyAndFullResolutionFlagsAndTheDefault) {
   const fs::path full = freshTempDir("full");
   ASSERT_EQ(runCli(layersArgs(model, L, h, byDefault, {"-q"})).exitCode, 0);
   ASSERT_EQ(runCli(layersArgs(model, L, h, asked, {"-q", "--simplify-layers"})).exitCode, 0);
-  ASSERT_EQ(runCli(layersArgs(model, L, h, full, {"-q", "--full-resolution-layers"})).exitCode,
-            0);
+  ASSERT_EQ(runCli(layersArgs(model, L, h, full, {"-q", "--full-resolution-layers"})).exitCode, 0);
   const json simplified = expectConsistentOutput(asked, L, h, "ply");
   const json fullResolution = expectConsistentOutput(full, L, h, "ply");
   EXPECT_FALSE(simplified.at("inputs").at("full_resolution_layers").get<bool>());
