@@ -57,8 +57,7 @@ void addLayerSimplificationOptions(CLI::App& command, LayersArguments& args) {
       ->type_name("MM");
   command.add_flag("--full-resolution-layers", args.fullResolutionLayers,
                    "Keep the layer surfaces as marching tetrahedra give them (about\n"
-                   "4-5 triangles per voxel crossed; no simplification, as before\n"
-                   "it became the default)." +
+                   "4-5 triangles per voxel crossed; no simplification)." +
                        std::string(simplifiedByDefault ? "" : " The default."));
 }
 
