@@ -30,7 +30,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// --simplify-layers, --layer-tolerance and --full-resolution-layers into the layer options.
+/// --simplify-layers, --layer-tolerance and --full-resolution-layers into the layer options
+/// (none given: LayerSimplificationOptions{}, simplified within 0.05 × voxel).
 void parseLayerSimplification(const LayersArguments& args, LayerSimplificationOptions& options) {
   if (args.fullResolutionLayers && !args.layerTolerance.empty()) {
     throw InvalidInput("--layer-tolerance does not apply with --full-resolution-layers: '" +
@@ -41,8 +42,10 @@ void parseLayerSimplification(const LayersArguments& args, LayerSimplificationOp
         "--simplify-layers does not apply with --full-resolution-layers: both given; pass one of "
         "the two");
   }
-  options.enabled = args.simplifyLayers || !args.layerTolerance.empty();
+  if (args.fullResolutionLayers) options.enabled = false;
+  if (args.simplifyLayers) options.enabled = true;
   if (args.layerTolerance.empty()) return;
+  options.enabled = true;
   const double tolerance = parseLength(args.layerTolerance, "layer tolerance");
   if (!std::isfinite(tolerance) || tolerance <= 0.0) {
     throw InvalidInput(

@@ -39,8 +39,8 @@ struct LayersArguments {
   std::string memoryBudgetMb;
   std::string tessellationTolerance;  ///< CAD models only; empty: voxel/4
   std::string layerTolerance;         ///< layer simplification ε, mm; empty: 0.05 × voxel
-  bool simplifyLayers = false;        ///< layer simplification with the default ε
-  bool fullResolutionLayers = false;  ///< no layer simplification (the default, stated)
+  bool simplifyLayers = false;        ///< layer simplification with the default ε (the default)
+  bool fullResolutionLayers = false;  ///< no layer simplification
   bool capHoles = false;
   bool quiet = false;
   std::string output;

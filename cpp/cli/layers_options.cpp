@@ -42,11 +42,14 @@ void addTessellationOption(CLI::App& command, LayersArguments& args) {
 }
 
 void addLayerSimplificationOptions(CLI::App& command, LayersArguments& args) {
+  const bool simplifiedByDefault = LayerSimplificationOptions{}.enabled;
   command.add_flag("--simplify-layers", args.simplifyLayers,
                    "Simplify each layer surface by edge collapse within " +
                        formatDefault(kDefaultLayerToleranceVoxels) +
-                       " x voxel\nof the full-resolution surface (the rim on the part surface\n"
-                       "is kept as it is). Default: off.");
+                       " x voxel\nof the full-resolution surface, no edge longer than " +
+                       formatDefault(kDefaultLayerMaxEdgeVoxels) +
+                       " x voxel\n(the rim on the part surface is kept as it is). " +
+                       (simplifiedByDefault ? "The default." : "Default: off."));
   command
       .add_option("--layer-tolerance", args.layerTolerance,
                   "Simplify the layer surfaces (as --simplify-layers) within this\n"
@@ -54,7 +57,8 @@ void addLayerSimplificationOptions(CLI::App& command, LayersArguments& args) {
       ->type_name("MM");
   command.add_flag("--full-resolution-layers", args.fullResolutionLayers,
                    "Keep the layer surfaces as marching tetrahedra give them (about\n"
-                   "4-5 triangles per voxel crossed; no simplification). The default.");
+                   "4-5 triangles per voxel crossed; no simplification)." +
+                       std::string(simplifiedByDefault ? "" : " The default."));
 }
 
 namespace {

@@ -116,7 +116,7 @@ class TestCoverage(cs_testing.DocumentTestCase):
         self.assertEqual((job.BeadWidthMin, job.BeadWidthMax), (1.0, 1.0))
         self.assertTrue(job.MeasureCoverage)
         self.assertEqual(job.SchemaVersion, job_module.SCHEMA_VERSION)
-        self.assertEqual(job_module.SCHEMA_VERSION, 7)
+        self.assertEqual(job_module.SCHEMA_VERSION, 8)
 
     def test_schema_6_job_keeps_its_plan_without_gap_fill(self):
         job = self.job()
@@ -124,7 +124,7 @@ class TestCoverage(cs_testing.DocumentTestCase):
         job.SchemaVersion = 6
         job.Proxy.onDocumentRestored(job)
         self.assertFalse(job.FillGaps)  # planned before gap fill existed
-        self.assertEqual(job.SchemaVersion, 7)
+        self.assertEqual(job.SchemaVersion, job_module.SCHEMA_VERSION)
         api.run(job, progress=False)
         self.assertFalse(native.plan_summary(job.PlanJson)["parameters"]["fill_gaps"])
 

@@ -2,6 +2,7 @@
 thickness, recompute reruns only what changed, parameter changes update the children, cancel
 mid-run leaves the document consistent."""
 
+import json
 import os
 import sys
 
@@ -11,8 +12,8 @@ import numpy as np  # noqa: E402
 
 import FreeCAD  # noqa: E402
 import cs_testing  # noqa: E402
-from freecad.curvedslicer import api  # noqa: E402
-from freecad.curvedslicer.core import Cancelled  # noqa: E402
+from freecad.curvedslicer import api, defaults  # noqa: E402
+from freecad.curvedslicer.core import Cancelled, native  # noqa: E402
 
 
 def mesh_points(feature):
@@ -123,6 +124,29 @@ class TestJob(cs_testing.DocumentTestCase):
         self.doc.recompute()
         self.assertEqual(job.RunCount, 3)
         self.assertEqual(job.LayerCount, 4)
+
+    def test_simplified_and_full_resolution_layers(self):
+        box = self.box(20, 16, 10)
+        job = api.make_job(self.doc, box, layer_thickness=2.0, voxel_size=0.5)
+        self.assertEqual(job.SimplifyLayers, defaults.SIMPLIFY_LAYERS)
+        self.assertEqual(defaults.SIMPLIFY_LAYERS, native.LayerJobOptions().simplify_layers)
+        job.SimplifyLayers = True
+        api.run(job, progress=False)
+        simplified = [layer.Mesh.CountFacets for layer in api.layers(job)]
+        self.assertAlmostEqual(api.report(job)["inputs"]["layer_tolerance_mm"], 0.025)
+        self.assertAlmostEqual(json.loads(job.PlanJson)["parameters"]["layer_tolerance_mm"],
+                               0.025)
+        job.SimplifyLayers = False
+        api.run(job, progress=False)
+        self.assertEqual(job.RunCount, 2)  # a layer input: rerun
+        full = [layer.Mesh.CountFacets for layer in api.layers(job)]
+        self.assertEqual(len(full), len(simplified))
+        for k, (a, b) in enumerate(zip(simplified, full), start=1):
+            self.assertLess(3 * a, b, "layer %d: %d simplified, %d full" % (k, a, b))
+        self.assertIsNone(api.report(job)["inputs"]["layer_tolerance_mm"])
+        self.assertNotIn("layer_tolerance_mm", json.loads(job.PlanJson)["parameters"])
+        for k, layer in enumerate(api.layers(job), start=1):
+            self.assertAlmostEqual(float(layer.Area), 20 * 16, delta=1.0)
 
     def test_cancel_mid_run_keeps_the_previous_layers(self):
         box = self.box(10, 10, 9)

@@ -23,7 +23,7 @@ DOCUMENTED_DEFAULTS = {
     "LayerJobOptions": {"voxel_size": 1.0, "layer_thickness": 1.5, "method": "anyangle",
                         "alignment": "pca", "memory_budget_bytes": 0.0, "cap_holes": False,
                         "clip_to_solid": True, "thickness_samples": 4096,
-                        "max_layers": 100000},
+                        "max_layers": 100000, "simplify_layers": False, "layer_tolerance": 0.0},
     "VoxelizeOptions": {"voxel_size": 1.0, "alignment": "pca", "padding": 2,
                         "bytes_per_cell": 16.0},
     "StartSurface": {"kind": "plane", "plane_at_model_bottom": True,

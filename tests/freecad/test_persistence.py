@@ -32,6 +32,7 @@ out = {
     "corner_angle": (FreeCAD.Units.Quantity(job.CornerAngle).getValueAs("deg").Value
                      if "CornerAngle" in job.PropertiesList else None),
     "path_count": job.PathCount,
+    "simplify_layers": getattr(job, "SimplifyLayers", None),
 }
 plan_before = job.PlanJson
 doc.recompute()
@@ -61,6 +62,7 @@ class TestPersistence(cs_testing.DocumentTestCase):
         self.assertEqual(out["digest"], job.InputsDigest)
         self.assertEqual(out["run_count"], 1)
         self.assertEqual(out["run_count_after_recompute"], 1)
+        self.assertEqual(out["simplify_layers"], job.SimplifyLayers)
 
     def test_job_of_an_older_schema_is_migrated_on_load(self):
         box = self.box(10, 10, 5)
@@ -87,6 +89,27 @@ class TestPersistence(cs_testing.DocumentTestCase):
         # The corner angle arrives as 30°, the value the fit used before it was a property.
         self.assertEqual(out["corner_angle"], 30.0)
         self.assertEqual(out["path_count"], paths)
+        self.assertTrue(out["plan_unchanged_by_recompute"])
+
+    def test_job_of_schema_7_keeps_its_full_resolution_layers(self):
+        box = self.box(10, 10, 5)
+        # Sliced as a Job of the time did: full-resolution layers (simplification was opt-in).
+        job = api.make_job(self.doc, box, layer_thickness=2.0, voxel_size=1.0,
+                           simplify_layers=False)
+        api.run(job, progress=False)
+        expected = [[o.Name, float(o.Height), o.Mesh.CountFacets, round(float(o.Area), 6)]
+                    for o in api.layers(job)]
+        job.removeProperty("SimplifyLayers")
+        job.SchemaVersion = 7
+        path = cs_testing.tmp_path("schema_7.FCStd")
+        self.doc.saveAs(path)
+        out = cs_testing.run_in_new_process(CHECK.replace("PATH", repr(path)))
+        self.assertNotIn("error", out, out)
+        self.assertEqual(out["schema"], SCHEMA_VERSION)
+        self.assertIs(out["simplify_layers"], False)
+        self.assertEqual(out["digest"], job.InputsDigest)  # same inputs: the layers stay
+        self.assertEqual(out["layers"], expected)
+        self.assertEqual(out["run_count_after_recompute"], 1)
         self.assertTrue(out["plan_unchanged_by_recompute"])
 
 

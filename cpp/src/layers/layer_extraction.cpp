@@ -296,7 +296,8 @@ std::vector<std::size_t> simplifyBatch(std::vector<LayerSurface>& layers,
     LayerSurface& layer = layers[q];
     before[q] = layer.mesh.triangleCount();
     if (simplify) {
-      SimplifiedSurface simplified = simplifyLayerSurface(layer.mesh, tolerance);
+      SimplifiedSurface simplified =
+          simplifyLayerSurface(layer.mesh, tolerance, kDefaultLayerMaxEdgeVoxels * voxelSize);
       keptFull[q] = simplified.keptFull ? 1 : 0;
       layer.mesh = std::move(simplified.mesh);
     }

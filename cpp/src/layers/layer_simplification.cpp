@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -61,11 +62,13 @@ struct Corner {
 
 class Decimator {
  public:
-  Decimator(const TriMesh& surface, double epsilon)
+  Decimator(const TriMesh& surface, double epsilon, double maxEdgeLength)
       : p_(surface.vertices),
         tris_(surface.triangles),
         centre_(surface.bounds().center()),
         epsilonSq_(epsilon * epsilon),
+        maxEdgeSq_(maxEdgeLength > 0.0 ? maxEdgeLength * maxEdgeLength
+                                       : std::numeric_limits<double>::infinity()),
         alive_(tris_.size(), 1),
         quadrics_(p_.size()),
         fixed_(p_.size(), 0),
@@ -95,6 +98,7 @@ class Decimator {
   std::vector<Vec3i> tris_;
   Vec3 centre_;  // quadrics are taken about this point (fewer digits lost)
   double epsilonSq_;
+  double maxEdgeSq_;  // longest edge a collapse may create, squared
   std::vector<char> alive_;
   std::vector<Quadric> quadrics_;
   std::vector<char> fixed_;    // border, non-manifold, or on a degenerate fan: never removed
@@ -228,6 +232,7 @@ bool Decimator::keepsTrianglesSound(int u, int v) const {
     const Vec3& b = p_[static_cast<std::size_t>(f[(corner.k + 1) % 3])];
     const Vec3& c2 = p_[static_cast<std::size_t>(f[(corner.k + 2) % 3])];
     const Vec3 normal = (b - to).cross(c2 - to);
+    if ((b - to).squaredNorm() > maxEdgeSq_ || (c2 - to).squaredNorm() > maxEdgeSq_) return false;
     const double longest =
         std::max({(b - to).squaredNorm(), (c2 - b).squaredNorm(), (to - c2).squaredNorm()});
     if (!(normal.squaredNorm() > kMinSine * kMinSine * longest * longest)) return false;
@@ -354,7 +359,8 @@ double resolveLayerTolerance(const LayerSimplificationOptions& options, double v
   return options.tolerance > 0.0 ? options.tolerance : kDefaultLayerToleranceVoxels * voxelSize;
 }
 
-SimplifiedSurface simplifyLayerSurface(const TriMesh& surface, double tolerance) {
+SimplifiedSurface simplifyLayerSurface(const TriMesh& surface, double tolerance,
+                                       double maxEdgeLength) {
   if (!(tolerance > 0.0) || !std::isfinite(tolerance)) {
     throw InvalidInput("layer tolerance must be positive: " + formatNumber(tolerance) +
                        " mm; pass a finite value such as 0.025");
@@ -362,7 +368,7 @@ SimplifiedSurface simplifyLayerSurface(const TriMesh& surface, double tolerance)
   SimplifiedSurface result;
   result.trianglesBefore = surface.triangleCount();
   result.verticesBefore = surface.vertexCount();
-  Decimator decimator(surface, tolerance);
+  Decimator decimator(surface, tolerance, maxEdgeLength);
   if (surface.empty() || !decimator.classifyVertices()) {
     result.mesh = surface;
     result.keptFull = !surface.empty();

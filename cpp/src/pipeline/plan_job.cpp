@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "curvedslicer/core/error.hpp"
+#include "curvedslicer/layers/layer_simplification.hpp"
 #include "curvedslicer/mesh/mesh_repair.hpp"
 #include "curvedslicer/paths/plan_size.hpp"
 #include "curvedslicer/pipeline/layer_output.hpp"
@@ -20,20 +21,21 @@ double secondsSince(Clock::time_point begin) {
   return std::chrono::duration<double>(Clock::now() - begin).count();
 }
 
-/// What the plan records of the job besides the planner's own parameters.
+/// What the plan records of the job besides the planner's own parameters; the layer
+/// simplification's tolerance as the layer job resolves it (absent at full resolution), so a plan
+/// on the layers of an earlier layer job records what `runPlanJob` would.
 void recordProvenance(Plan& plan, const PlanJobOptions& options) {
   plan.model = options.modelName;
   plan.start = options.startSpec;
   if (options.thinWall) return;  // a wall has no volume layers: thickness, voxel, field unset
-  plan.parameters.layerThickness = options.layerJob.layers.layerThickness;
-  plan.parameters.voxelSize = options.layerJob.voxelize.voxelSize;
-  plan.parameters.fieldMethod = std::string(toString(options.layerJob.geodesic.method));
-}
-
-/// The layer simplification's tolerance, once the layers are known (absent at full resolution).
-void recordLayerTolerance(Plan& plan, const PlanJobOptions& options, const LayerJobResult& layers) {
-  if (options.thinWall || !options.layerJob.layers.simplification.enabled) return;
-  plan.parameters.layerTolerance = layers.layers.stats.simplificationTolerance;
+  const LayerJobOptions& job = options.layerJob;
+  plan.parameters.layerThickness = job.layers.layerThickness;
+  plan.parameters.voxelSize = job.voxelize.voxelSize;
+  plan.parameters.fieldMethod = std::string(toString(job.geodesic.method));
+  if (job.layers.simplification.enabled) {
+    plan.parameters.layerTolerance =
+        resolveLayerTolerance(job.layers.simplification, job.voxelize.voxelSize);
+  }
 }
 
 /// Refuses a plan whose robot points would not fit the job's memory budget
@@ -134,7 +136,6 @@ PlanJobResult runPlanJob(const TriMesh& model, const PlanJobOptions& options, Pr
   result.layers.totalSeconds += planSeconds;
   result.layerFiles = layerFileNames(result.layers.layers, options.layerFormat);
   Plan& plan = result.planned.plan;
-  recordLayerTolerance(plan, options, result.layers);
   for (std::size_t k = 0; k < plan.layers.size() && k < result.layerFiles.size(); ++k) {
     plan.layers[k].surface = result.layerFiles[k];
   }

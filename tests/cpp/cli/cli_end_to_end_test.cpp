@@ -18,6 +18,7 @@
 
 #include "cli_test_support.hpp"
 #include "common/test_paths.hpp"
+#include "curvedslicer/layers/layer_simplification.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
 
 namespace curvedslicer {
@@ -261,6 +262,37 @@ TEST(CliEndToEndCases, CurvedBasePair) {
     if (layer.at("thickness_mm").at("samples").get<std::size_t>() == 0) continue;
     EXPECT_NEAR(layer.at("thickness_mm").at("mean").get<double>(), h, 0.5 * L)
         << "layer " << layer.at("index");
+  }
+}
+
+TEST(CliEndToEndCases, SimplifyAndFullResolutionFlagsAndTheDefault) {
+  const fs::path model = modelPath("simple_cylinder_closed_mid_res.stl");
+  const double L = voxelSizeFor(model);
+  const double h = std::stod(numberArg(5.0 * L));
+  const fs::path byDefault = freshTempDir("default");
+  const fs::path asked = freshTempDir("asked");
+  const fs::path full = freshTempDir("full");
+  ASSERT_EQ(runCli(layersArgs(model, L, h, byDefault, {"-q"})).exitCode, 0);
+  ASSERT_EQ(runCli(layersArgs(model, L, h, asked, {"-q", "--simplify-layers"})).exitCode, 0);
+  ASSERT_EQ(runCli(layersArgs(model, L, h, full, {"-q", "--full-resolution-layers"})).exitCode, 0);
+  const json simplified = expectConsistentOutput(asked, L, h, "ply");
+  const json fullResolution = expectConsistentOutput(full, L, h, "ply");
+  EXPECT_FALSE(simplified.at("inputs").at("full_resolution_layers").get<bool>());
+  EXPECT_DOUBLE_EQ(simplified.at("inputs").at("layer_tolerance_mm").get<double>(), 0.05 * L);
+  EXPECT_TRUE(fullResolution.at("inputs").at("full_resolution_layers").get<bool>());
+  EXPECT_TRUE(fullResolution.at("inputs").at("layer_tolerance_mm").is_null());
+  const json& s = simplified.at("layer_simplification");
+  const json& f = fullResolution.at("layer_simplification");
+  EXPECT_EQ(s.at("full_resolution_triangles"), f.at("triangles"));
+  EXPECT_EQ(f.at("full_resolution_triangles"), f.at("triangles"));
+  EXPECT_LT(s.at("triangles").get<std::size_t>(), f.at("triangles").get<std::size_t>() / 3);
+  // No flag: the layers of LayerSimplificationOptions{}, file for file.
+  const fs::path expected = LayerSimplificationOptions{}.enabled ? asked : full;
+  ASSERT_EQ(listFolder(byDefault), listFolder(expected));
+  for (const json& layer : simplified.at("layers")) {
+    const std::string file = layer.at("file");
+    EXPECT_EQ(testing::readWholeFile(byDefault / file), testing::readWholeFile(expected / file))
+        << file;
   }
 }
 

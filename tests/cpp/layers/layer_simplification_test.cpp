@@ -118,6 +118,28 @@ TEST(LayerSimplification, FlatSurfaceCollapsesToItsRim) {
   EXPECT_EQ(borderEdges(s.mesh), borderEdges(full));
 }
 
+TEST(LayerSimplification, FlatSurfaceKeepsEdgesWithinTheLengthLimit) {
+  // 40 mm square, 0.5 mm grid: without a limit it collapses to its rim (edges up to ~40 mm
+  // long); with a 1.5 mm limit no edge is longer, and it still loses most triangles.
+  const TriMesh full = makeHeightField(40.0, 80, [](double, double) { return 2.0; });
+  const double limit = 1.5;
+  const SimplifiedSurface s = simplifyLayerSurface(full, 1e-3, limit);
+  double longest = 0.0;
+  for (const Vec3i& f : s.mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      longest = std::max(longest, (s.mesh.vertices[static_cast<std::size_t>(f[k])] -
+                                   s.mesh.vertices[static_cast<std::size_t>(f[(k + 1) % 3])])
+                                      .norm());
+    }
+  }
+  EXPECT_LE(longest, limit);
+  EXPECT_LT(s.trianglesAfter, full.triangleCount() / 2);
+  EXPECT_NEAR(surfaceArea(s.mesh), 1600.0, 1e-9);
+  EXPECT_EQ(borderEdges(s.mesh), borderEdges(full));
+  const SimplifiedSurface unlimited = simplifyLayerSurface(full, 1e-3);
+  EXPECT_LT(unlimited.trianglesAfter, s.trianglesAfter);
+}
+
 TEST(LayerSimplification, TouchingFansAreWeldedAgainAndKeptInPlace) {
   // Two flat squares of 8 × 8 cells meeting at one corner: vertex (10, 10) is non-manifold.
   TriMesh full = makeHeightField(10.0, 8, [](double, double) { return 0.0; });

@@ -10,6 +10,7 @@
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/export/exporter.hpp"
 #include "curvedslicer/field/geodesic_field.hpp"
+#include "curvedslicer/layers/layer_simplification.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
 #include "curvedslicer/pipeline/option_parsing.hpp"
 #include "curvedslicer/pipeline/plan_job.hpp"
@@ -44,6 +45,9 @@ TEST(PlanJob, EqualsTheLayerJobFollowedByThePlannerWithProvenance) {
   plan.parameters.layerThickness = 20.0;
   plan.parameters.voxelSize = 5.0;
   plan.parameters.fieldMethod = "paper";
+  if (options.layerJob.layers.simplification.enabled) {
+    plan.parameters.layerTolerance = kDefaultLayerToleranceVoxels * 5.0;
+  }
   ASSERT_FALSE(plan.layers.empty());
   ASSERT_EQ(job.layerFiles.size(), layers.layers.surfaces.size());
   for (std::size_t k = 0; k < plan.layers.size(); ++k) {
@@ -65,7 +69,33 @@ TEST(PlanJob, PlanOnLayersRecordsTheSameProvenanceWithoutFileNames) {
   EXPECT_EQ(planned.plan.parameters.layerThickness, 20.0);
   EXPECT_EQ(planned.plan.parameters.voxelSize, 5.0);
   EXPECT_EQ(planned.plan.parameters.fieldMethod, "anyangle");
+  if (options.layerJob.layers.simplification.enabled) {
+    EXPECT_EQ(planned.plan.parameters.layerTolerance, kDefaultLayerToleranceVoxels * 5.0);
+  } else {
+    EXPECT_FALSE(planned.plan.parameters.layerTolerance.has_value());
+  }
   EXPECT_TRUE(planned.plan.layers.front().surface.empty());
+}
+
+TEST(PlanJob, FullResolutionLayersRecordNoLayerTolerance) {
+  const TriMesh model = readMesh(testing::modelPath("simple_box_closed_low_res.stl"));
+  PlanJobOptions options = coarseBoxOptions();
+  options.layerJob.layers.simplification.enabled = false;
+  const PlanJobResult job = runPlanJob(model, options);
+  EXPECT_FALSE(job.planned.plan.parameters.layerTolerance.has_value());
+  EXPECT_EQ(job.layers.layers.stats.simplifiedTriangles,
+            job.layers.layers.stats.fullResolutionTriangles);
+  options.layerJob.layers.simplification.tolerance = 0.5;
+  options.layerJob.layers.simplification.enabled = true;
+  const PlanJobResult simplified = runPlanJob(model, options);
+  EXPECT_EQ(simplified.planned.plan.parameters.layerTolerance, 0.5);
+  EXPECT_EQ(simplified.layers.layers.stats.simplificationTolerance, 0.5);
+  EXPECT_LT(simplified.layers.layers.stats.simplifiedTriangles,
+            simplified.layers.layers.stats.fullResolutionTriangles);
+  // A plan on the layers of an earlier layer job records the same tolerance.
+  const PlanResult onLayers =
+      planOnLayers(simplified.layers.layers.surfaces, simplified.layers.source, options);
+  EXPECT_EQ(onLayers.plan.parameters.layerTolerance, 0.5);
 }
 
 TEST(PlanJob, ValidationNamesTheBadOption) {

@@ -106,11 +106,13 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
              min_feature_width=None, bead_width_range=(defaults.BEAD_WIDTH_MIN,
                                                        defaults.BEAD_WIDTH_MAX),
              connect_insets=defaults.CONNECT_INSETS, measure_coverage=defaults.MEASURE_COVERAGE,
-             fill_gaps=defaults.FILL_GAPS):
+             fill_gaps=defaults.FILL_GAPS, simplify_layers=defaults.SIMPLIFY_LAYERS):
     """Creates a Job for `solid` in `doc` (no computation; call run() or doc.recompute()).
 
     start: see _set_start. voxel_size None = the preference (default 1 mm). method "AnyAngle" |
-    "Paper"; grid_alignment "PCA" | "Model"; memory_budget_mb 0 = 80 % of physical memory.
+    "Paper"; grid_alignment "PCA" | "Model"; memory_budget_mb 0 = 80 % of physical memory;
+    simplify_layers: layer surfaces simplified within 0.05 x voxel_size (False: the
+    marching-tetrahedra surfaces, about 4-5 triangles per voxel crossed).
     Paths: bead_spacing and point_spacing (mm), fit_tolerance (mm), surface_method "Accurate" |
     "Paper", initial_path "Boundary" | "Plane" (initial_plane = (point, normal)) | "Surface"
     (initial_surface = object or (object, [faces])); path_display "Polyline" | "BSpline";
@@ -161,6 +163,7 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
     obj.Method = method
     obj.GridAlignment = grid_alignment
     obj.CapHoles = cap_holes
+    obj.SimplifyLayers = bool(simplify_layers)
     obj.Deflection = deflection
     obj.MemoryBudget = memory_budget_mb
     obj.BeadSpacing = bead_spacing

@@ -14,6 +14,8 @@ _WALL = native.ThinWallOptions()
 _MOTION = native.MotionOptions()
 
 LAYER_THICKNESS = _LAYERS.layer_thickness  # mm
+# Issue 18: layer surfaces simplified within 0.05 x voxel size (False: full resolution)
+SIMPLIFY_LAYERS = _LAYERS.simplify_layers
 BEAD_SPACING = _PLANNER.bead_spacing  # mm, curved layers
 WALL_BEAD_SPACING = _WALL.bead_spacing  # mm, between the beads of a thin wall
 POINT_SPACING = _PLANNER.point_spacing  # mm

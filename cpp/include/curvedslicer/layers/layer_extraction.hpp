@@ -24,8 +24,8 @@
 //       of the surface) are moved to their closest point on the model surface, so the rim lies
 //       on it. Triangles with repeated vertices or zero area and unused vertices are removed.
 //    3b. Simplification (opt-in, `LayerOptions::simplification`): edge collapse within a
-//       distance ε of the full-resolution surface (default 0.05·L), the rim held fixed
-//       (layers/layer_simplification.hpp).
+//       distance ε of the full-resolution surface (default 0.05·L), edges at most 3·L, the rim
+//       held fixed (layers/layer_simplification.hpp).
 //    4. Statistics: area, connected components (triangles sharing an edge), and the thickness to
 //       the previous layer: distances from this layer's vertices (or a sample of them, see
 //       `LayerOptions::thicknessSamples`) to the previous layer's surface — for layer 1 to the

@@ -66,6 +66,11 @@ PROPERTIES = [
      "Tessellation chord error, mm; 0 = a quarter of the voxel size", 0.0),
     ("App::PropertyFloat", "MemoryBudget", "Layers",
      "Memory the layer job may use, MB; 0 = 80 % of physical memory", 0.0),
+    ("App::PropertyBool", "SimplifyLayers", "Layers",
+     "Simplify each layer surface by edge collapse within 0.05 x VoxelSize of the full-resolution "
+     "surface, the rim kept on the part (lighter layers and a faster plan); off keeps the "
+     "marching-tetrahedra surfaces (about 4-5 triangles per voxel crossed)",
+     defaults.SIMPLIFY_LAYERS),
     ("App::PropertyEnumeration", "PlanKind", "Model",
      "CurvedLayers: paths on curved layers grown from the start surface; ThinWall: one bead per "
      "layer on WallSurface from its lower edge (the paper's turbine base)", PLAN_KINDS),
@@ -288,6 +293,9 @@ class JobProxy:
         if "MinFeatureWidth" in added:
             # The core's default for the Job's own bead spacing.
             obj.MinFeatureWidth = 0.5 * paths.mm(obj.BeadSpacing)
+        if "SimplifyLayers" in added:
+            # Sliced before the option existed: its layers are full resolution.
+            obj.SimplifyLayers = False
         if "PartPlacement" in added:
             # Planned before the option existed: the part sat where the cell put it.
             obj.PartPlacement = "Cell"

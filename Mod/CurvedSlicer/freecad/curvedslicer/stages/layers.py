@@ -60,6 +60,7 @@ def layer_inputs(job):
         "method": {"AnyAngle": "anyangle", "Paper": "paper"}[job.Method],
         "alignment": {"PCA": "pca", "Model": "model"}[job.GridAlignment],
         "cap_holes": bool(job.CapHoles),
+        "simplify_layers": bool(job.SimplifyLayers),
         "model_name": job.Solid.Label,
     }
     mode = job.StartMode
@@ -114,9 +115,12 @@ def layer_inputs(job):
         start_digest += digest
     else:  # pragma: no cover - the enumeration has no other values
         raise InvalidInput("unknown StartMode: %s; use one of %s" % (mode, ", ".join(START_MODES)))
+    parts = [model["digest"], start_digest, kwargs["layer_thickness"], kwargs["voxel_size"],
+             kwargs["method"], kwargs["alignment"], kwargs["cap_holes"], deflection]
+    if job.SimplifyLayers:  # a Job from before simplification (False) keeps its digest
+        parts.append("simplify_layers")
     h = hashlib.sha256()
-    for part in (model["digest"], start_digest, kwargs["layer_thickness"], kwargs["voxel_size"],
-                 kwargs["method"], kwargs["alignment"], kwargs["cap_holes"], deflection):
+    for part in parts:
         h.update(repr(part).encode("utf-8"))
         h.update(b"\0")
     return model, kwargs, h.hexdigest()

@@ -227,6 +227,7 @@ def path_inputs(job):
             layer_job=native.LayerJobOptions(
                 layer_thickness=_mm(job.LayerThickness), voxel_size=_mm(job.VoxelSize),
                 method={"AnyAngle": "anyangle", "Paper": "paper"}[job.Method],
+                simplify_layers=bool(job.SimplifyLayers),  # the plan records its tolerance
                 memory_budget_bytes=_budget_bytes(job)),
             planner=native.PlannerOptions(**kwargs),
             model_name=job.Solid.Label if job.Solid else "",

@@ -172,6 +172,11 @@ class TaskPanelJob:
         self.cap_holes = QtGui.QCheckBox("Close holes of an open mesh")
         self.cap_holes.setChecked(job.CapHoles)
         f.addRow("", self.cap_holes)
+        self.simplify_layers = QtGui.QCheckBox("Simplify layer surfaces")
+        self.simplify_layers.setToolTip("Edge collapse within 0.05 x voxel size, the rim kept on "
+                                        "the part; off: full marching-tetrahedra resolution")
+        self.simplify_layers.setChecked(job.SimplifyLayers)
+        f.addRow("", self.simplify_layers)
         self.deflection = QuantityField(mm(job.Deflection), "mm", "tessellation deflection",
                                         0.0, 100.0, exclusive_minimum=False,
                                         example="0.1 mm (0 = auto)")
@@ -339,8 +344,8 @@ class TaskPanelJob:
         lowest = self.wall_edge.currentText() == "Lowest"
         self.wall_axis.setEnabled(lowest)
         self.wall_point.setEnabled(not lowest)
-        for w in (self.layer_thickness, self.method, self.alignment, self.cap_holes, self.memory,
-                  self.estimate_button):
+        for w in (self.layer_thickness, self.method, self.alignment, self.cap_holes,
+                  self.simplify_layers, self.memory, self.estimate_button):
             w.setEnabled(curved)
         if not curved:
             self.estimate_label.setText("no voxel grid: a thin wall is planned on its surface")
@@ -452,6 +457,7 @@ class TaskPanelJob:
             "Method": self.method.currentText(),
             "GridAlignment": self.alignment.currentText(),
             "CapHoles": self.cap_holes.isChecked(),
+            "SimplifyLayers": self.simplify_layers.isChecked(),
             "Deflection": self.deflection.value(),
             "MemoryBudget": self.memory.value(),
             "WallSurface": (self.wall_surface.value(), self.wall_surface.code(d)),
