@@ -272,6 +272,8 @@ void bindPlannerOptions(py::module_& m) {
       .value("corner_fill", member(&O::cornerFill),
              "dip the outer ring toward the layer's acute convex corners so its bead covers "
              "the corner's wedge")
+      .value("corner_fill_angle", member(&O::cornerFillAngle),
+             "degrees in (0, 180): corner fill takes boundary corners sharper than this")
       .value("corner_overdeposit", member(&O::cornerOverdeposit),
              "mm, how far a corner-fill bead's edge may pass the layer boundary; < 0: a "
              "quarter of the bead spacing")

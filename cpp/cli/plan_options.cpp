@@ -120,6 +120,10 @@ void addPlannerOptions(CLI::App& plan, OptionBindings<PlannerOptions>& b) {
   b.addFlag(plan, "--no-corner-fill", &PlannerOptions::cornerFill, false,
             "Keep the outer ring at half a bead from the edge in acute corners\n"
             "instead of dipping it toward the corner (the corner's wedge stays void).");
+  b.addAngle(plan, "--corner-fill-angle", &PlannerOptions::cornerFillAngle,
+             "corner fill angle (--corner-fill-angle)",
+             "Corner fill: fill corners of the layer boundary sharper than this,\n"
+             "degrees in (0, 180) (default: acute corners)");
   b.add(plan, "--corner-overdeposit",
         "Corner fill: how far a bead's edge may pass the layer boundary in\n"
         "mm (>= 0; default s/4).",

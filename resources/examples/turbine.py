@@ -42,6 +42,9 @@ BLADES = 6
 # down to 1 mm² get beads (tests/cpp/pipeline/turbine_coverage_test.cpp plans the same).
 BLADE_MIN_FEATURE_WIDTH = 1.0  # mm
 BLADE_MIN_GAP_AREA = 1.0  # mm²
+# Corner fill on every convex corner of the blade sections up to 150° (default: acute ones): the
+# hub-end corners (66-75°) and the small corners of the polygonal layer boundary (edge slivers).
+BLADE_CORNER_FILL_ANGLE = 150.0  # degrees
 
 
 def profile_curve():
@@ -168,7 +171,8 @@ def make_turbine_jobs(doc, voxel=1.0):
                           layer_thickness=1.5, voxel_size=voxel, bead_spacing=3.7,
                           point_spacing=2.0, tool_along_travel=False, name="BladesJob",
                           narrow_strips="Overlap", min_feature_width=BLADE_MIN_FEATURE_WIDTH,
-                          min_gap_area=BLADE_MIN_GAP_AREA)
+                          min_gap_area=BLADE_MIN_GAP_AREA,
+                          corner_fill_angle=BLADE_CORNER_FILL_ANGLE)
     # The blades' Job is placed on its own (resting on the table, without the base under it), so
     # the steep tilts of the overhanging blade tips bring the table to the torch on a few arc-off
     # moves: listed as warnings here, for the same reason as the base above.

@@ -28,9 +28,9 @@ void checkOptions(const CornerFillOptions& o) {
                        formatNumber(o.maxOverdeposit) + "; pass e.g. " +
                        formatNumber(0.25 * o.beadSpacing) + ", or a negative value for s/4");
   }
-  if (!(o.minTurn > 0.0 && o.minTurn < 180.0)) {
-    throw InvalidInput("corner fill turn must lie in (0, 180) degrees: " +
-                       formatNumber(o.minTurn) + "; pass e.g. 30");
+  if (!(o.maxCornerAngle > 0.0 && o.maxCornerAngle < 180.0)) {
+    throw InvalidInput("corner fill angle must lie in (0, 180) degrees: " +
+                       formatNumber(o.maxCornerAngle) + "; pass e.g. 85");
   }
   if (!std::isfinite(o.cornerArm)) {
     throw InvalidInput("corner fill arm must be a finite number of mm: " +
@@ -215,7 +215,7 @@ CornerFillResult fillRingCorners(const std::vector<CornerFillBead>& beads,
   const double s = options.beadSpacing;
   const double bound = options.maxOverdeposit < 0.0 ? 0.25 * s : options.maxOverdeposit;
   const double arm = options.cornerArm < 0.0 ? 0.25 * s : options.cornerArm;
-  const double minTurn = options.minTurn * kPi / 180.0;
+  const double minTurn = (180.0 - options.maxCornerAngle) * kPi / 180.0;
   CornerFillResult total;
   for (const CornerFillBead& bead : beads) {
     const CornerFillResult r = dipBead(bead, sample, s, bound, arm, minTurn);

@@ -96,6 +96,11 @@ void checkCoverageOptions(const PlannerOptions& o) {
                        formatNumber(o.beadSpacing * o.beadSpacing) +
                        " (the bead spacing squared, the default)");
   }
+  if (!(o.cornerFillAngle > 0.0 && o.cornerFillAngle < 180.0)) {
+    throw InvalidInput("corner fill angle (--corner-fill-angle, CornerFillAngle) must lie in "
+                       "(0, 180) degrees: " +
+                       formatNumber(o.cornerFillAngle) + "; pass e.g. 85 (acute corners)");
+  }
   if (!std::isfinite(o.cornerOverdeposit)) {
     throw InvalidInput(
         "corner fill overdeposit (--corner-overdeposit) must be a finite number of mm: " +
@@ -1162,6 +1167,7 @@ void LayerDrafter::fillOuterRingCorners(const SurfaceGeodesicResult& gdtc,
   CornerFillOptions o;
   o.beadSpacing = s_;
   o.maxOverdeposit = options_.cornerOverdeposit;
+  o.maxCornerAngle = options_.cornerFillAngle;
   timer().run(kIso, [&] { return fillRingCorners(rings, sample, o); });
 }
 

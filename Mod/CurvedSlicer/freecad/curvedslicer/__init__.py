@@ -20,8 +20,8 @@ SCHEMA_VERSION = 8  # 2: paths, plan JSON, poses, thin wall; 3: NarrowStrips; 4:
 # 6: bead coverage options (MinFeatureWidth, BeadWidthMin, BeadWidthMax, ConnectInsets,
 #    MeasureCoverage) and results (VoidShare, OverlapShare, ArcStarts, CoverageReport)
 # 7: FillGaps (gap fill between beads; a Job from before it keeps FillGaps = False)
-# 8: MinGapArea (gap fill's smallest patch; migrated: BeadSpacing²) and CornerFill (a Job from
-#    before it keeps CornerFill = False)
+# 8: MinGapArea (gap fill's smallest patch; migrated: BeadSpacing²), CornerFill (a Job from
+#    before it keeps CornerFill = False) and CornerFillAngle
 
 PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
 ICON_DIR = os.path.join(PACKAGE_DIR, "resources", "icons")

@@ -30,6 +30,7 @@ FILL_GAPS = _PLANNER.fill_gaps
 MIN_GAP_AREA = (_PLANNER.min_gap_area if _PLANNER.min_gap_area > 0
                 else BEAD_SPACING * BEAD_SPACING)
 CORNER_FILL = _PLANNER.corner_fill
+CORNER_FILL_ANGLE = _PLANNER.corner_fill_angle  # degrees
 MEASURE_COVERAGE = _PLANNER.measure_coverage
 
 # Motion (robot/motion.hpp MotionOptions; the Job's Robot properties, stages/poses.py)

@@ -10,8 +10,8 @@
 //
 // Method, per outer-ring bead (a polyline with per-point normals and widths):
 //   1. Corners: points where the chords to the points `cornerArm` of arc length before and after
-//      (projected into the point's tangent plane) turn by at least `minTurn`, the sharpest
-//      within cornerArm on either side; the corner angle is θ = π − turn, the outside of the
+//      (projected into the point's tangent plane) turn by more than 180° − `maxCornerAngle`
+//      (acute corners by default), the sharpest within cornerArm on either side; the corner angle is θ = π − turn, the outside of the
 //      turn o = u₁ − u₂ (normalised; u₁, u₂ the chord directions).
 //   2. Only a ring point at the outer ring's offset is moved (its edge distance within 25 % of
 //      w/2), and only at a convex corner of the boundary: moving it toward o must bring it nearer
@@ -47,7 +47,10 @@ namespace curvedslicer {
 struct CornerFillOptions {
   double beadSpacing = 3.7;     ///< s, mm (> 0): the bead width where a bead carries none
   double maxOverdeposit = -1.0;  ///< mm, largest distance a bead's edge passes the boundary; < 0: s/4
-  double minTurn = 30.0;        ///< degrees, in (0, 180): smallest turn of the ring at a corner
+  /// Degrees, in (0, 180): only corners sharper than this are filled (the ring turns by more
+  /// than 180° − this). Default 85°: acute corners; a right angle (wedge 0.74 mm² at s = 3.7)
+  /// keeps its plain ring.
+  double maxCornerAngle = 85.0;
   double cornerArm = -1.0;      ///< mm of arc length either side that measures a turn; < 0: s/4
 };
 
@@ -76,7 +79,7 @@ struct CornerFillResult {
 };
 
 /// Dips the outer rings `beads` into the layer's acute convex corners (see the file comment).
-/// @throws InvalidInput for a non-positive spacing, a negative bound, a turn outside (0, 180),
+/// @throws InvalidInput for a non-positive spacing, a non-finite bound, an angle outside (0, 180),
 ///         or a bead without one normal (and width, when given) per point.
 CornerFillResult fillRingCorners(const std::vector<CornerFillBead>& beads,
                                  const EdgeSampler& sample, const CornerFillOptions& options = {});

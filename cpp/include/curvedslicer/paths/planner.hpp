@@ -132,6 +132,9 @@ struct PlannerOptions {
   /// mm, how far a corner-fill bead's edge may pass the layer boundary (stock allowance);
   /// < 0 means s/4.
   double cornerOverdeposit = -1.0;
+  /// Degrees, in (0, 180): corner fill takes corners of the layer boundary sharper than this
+  /// (CornerFillOptions::maxCornerAngle; default: acute corners).
+  double cornerFillAngle = 85.0;
   /// Issue 15: measure every layer's coverage (paths/coverage.hpp) into PlanLayer::coverage.
   bool measureCoverage = true;
   /// Issue 15, thin regions (paths/thin_regions.hpp): mm/s, the weld speed a spot's dwell is

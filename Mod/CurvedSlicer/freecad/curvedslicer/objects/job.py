@@ -130,6 +130,9 @@ PROPERTIES = [
      "Dip the outer ring toward the layer's acute convex corners so its bead covers the corner "
      "(the bead's edge at most a quarter of BeadSpacing past the part's edge)",
      defaults.CORNER_FILL),
+    ("App::PropertyFloat", "CornerFillAngle", "Paths",
+     "Corner fill takes corners of the layer boundary sharper than this, degrees in (0, 180) "
+     "(default: acute corners)", defaults.CORNER_FILL_ANGLE),
     ("App::PropertyBool", "MeasureCoverage", "Paths",
      "Measure every layer's bead coverage (void and overlap shares, VoidShare / OverlapShare of "
      "the path layers)", defaults.MEASURE_COVERAGE),

@@ -99,6 +99,7 @@ def _coverage_options(job):
                            "bead spacing squared)" % (area, _mm(job.BeadSpacing) ** 2))
     options = {"min_feature_width": width, "width_min": low, "width_max": high,
                "min_gap_area": area, "corner_fill": bool(job.CornerFill),
+               "corner_fill_angle": float(job.CornerFillAngle),
                "connect_insets": bool(job.ConnectInsets),
                "fill_gaps": bool(job.FillGaps),
                "measure_coverage": bool(job.MeasureCoverage)}
@@ -116,7 +117,7 @@ def _coverage_options(job):
     if abs(area - _mm(job.BeadSpacing) ** 2) > 1e-9:  # a migrated Job keeps its digest
         part.append(("min_gap_area", area))
     if job.CornerFill:  # likewise for a Job from before corner fill
-        part.append("corner_fill")
+        part.append(("corner_fill", float(job.CornerFillAngle)))
     return options, part
 
 
