@@ -266,6 +266,17 @@ void bindPlannerOptions(py::module_& m) {
       .value("fill_gaps", member(&O::fillGaps),
              "give uncovered strips between beads (at least min_feature_width wide) a "
              "centre-line bead, and widen the beads beside narrower strips into them")
+      .value("min_gap_area", member(&O::minGapArea),
+             "mm², smallest uncovered patch that gets a fill bead (> 0); < 0: the bead spacing "
+             "squared")
+      .value("corner_fill", member(&O::cornerFill),
+             "dip the outer ring toward the layer's acute convex corners so its bead covers "
+             "the corner's wedge")
+      .value("corner_fill_angle", member(&O::cornerFillAngle),
+             "degrees in (0, 180): corner fill takes boundary corners sharper than this")
+      .value("corner_overdeposit", member(&O::cornerOverdeposit),
+             "mm, how far a corner-fill bead's edge may pass the layer boundary; < 0: a "
+             "quarter of the bead spacing")
       .value("measure_coverage", member(&O::measureCoverage),
              "measure every layer's bead coverage (void and overlap shares) into the plan");
   bindPathOrderFields(c);

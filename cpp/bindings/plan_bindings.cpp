@@ -295,6 +295,8 @@ py::dict planSummaryPy(const std::string& planJson) {
   }
   if (p.connectInsets) params["connect_insets"] = *p.connectInsets;
   if (p.fillGaps) params["fill_gaps"] = *p.fillGaps;
+  if (p.minGapArea) params["min_gap_area_mm2"] = *p.minGapArea;
+  if (p.cornerOverdeposit) params["corner_overdeposit_mm"] = *p.cornerOverdeposit;
   d["parameters"] = params;
   return d;
 }

@@ -104,6 +104,39 @@ void addPlannerOptions(CLI::App& plan, OptionBindings<PlannerOptions>& b) {
             "Leave uncovered strips between beads empty instead of giving\n"
             "each strip at least the minimum feature width wide a centre-line bead\n"
             "and widening the beads beside narrower strips into them.");
+  b.add(plan, "--min-gap-area",
+        "Gap fill: smallest uncovered patch that gets a fill bead, mm²\n"
+        "(> 0; default s²).",
+        "MM2", [](std::string_view text, PlannerOptions& o) {
+          const double a = parseLength(text, "minimum gap area (--min-gap-area)");
+          if (!(a > 0.0)) {
+            throw InvalidInput("minimum gap area (--min-gap-area) must be a positive number of "
+                               "mm²: " +
+                               std::string(text) +
+                               "; pass e.g. 4, or leave it out for the bead spacing squared");
+          }
+          o.minGapArea = a;
+        });
+  b.addFlag(plan, "--no-corner-fill", &PlannerOptions::cornerFill, false,
+            "Keep the outer ring at half a bead from the edge in acute corners\n"
+            "instead of dipping it toward the corner (the corner's wedge stays void).");
+  b.addAngle(plan, "--corner-fill-angle", &PlannerOptions::cornerFillAngle,
+             "corner fill angle (--corner-fill-angle)",
+             "Corner fill: fill corners of the layer boundary sharper than this,\n"
+             "degrees in (0, 180) (default: acute corners)");
+  b.add(plan, "--corner-overdeposit",
+        "Corner fill: how far a bead's edge may pass the layer boundary in\n"
+        "mm (>= 0; default s/4).",
+        "MM", [](std::string_view text, PlannerOptions& o) {
+          const double d = parseLength(text, "corner overdeposit (--corner-overdeposit)");
+          if (!(d >= 0.0)) {
+            throw InvalidInput(
+                "corner overdeposit (--corner-overdeposit) must be a non-negative number of mm: " +
+                std::string(text) + "; pass e.g. 0.9, or leave it out for a quarter of the bead "
+                "spacing");
+          }
+          o.cornerOverdeposit = d;
+        });
   b.addFlag(plan, "--no-coverage", &PlannerOptions::measureCoverage, false,
             "Do not measure the layers' bead coverage (void and overlap\n"
             "shares in plan.json, report.json and the summary).");

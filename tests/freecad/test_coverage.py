@@ -128,5 +128,21 @@ class TestCoverage(cs_testing.DocumentTestCase):
         api.run(job, progress=False)
         self.assertFalse(native.plan_summary(job.PlanJson)["parameters"]["fill_gaps"])
 
+    def test_schema_7_job_keeps_its_plan_without_corner_fill(self):
+        job = self.job()
+        self.assertTrue(job.CornerFill)  # the default
+        self.assertAlmostEqual(job.MinGapArea, 16.0)  # its bead spacing squared
+        job.removeProperty("CornerFill")
+        job.removeProperty("MinGapArea")
+        job.SchemaVersion = 7
+        job.Proxy.onDocumentRestored(job)
+        self.assertFalse(job.CornerFill)  # planned before corner fill existed
+        self.assertAlmostEqual(job.MinGapArea, 16.0)  # what gap fill used before the option
+        self.assertEqual(job.SchemaVersion, 8)
+        api.run(job, progress=False)
+        params = native.plan_summary(job.PlanJson)["parameters"]
+        self.assertAlmostEqual(params["min_gap_area_mm2"], 16.0)
+        self.assertLess(params["corner_overdeposit_mm"], 0.0)  # off
+
 
 cs_testing.main(__name__)

@@ -24,6 +24,7 @@
 #include "curvedslicer/paths/adaptive_width.hpp"
 #include "curvedslicer/paths/bead_widening.hpp"
 #include "curvedslicer/paths/connected_insets.hpp"
+#include "curvedslicer/paths/corner_fill.hpp"
 #include "curvedslicer/paths/coverage.hpp"
 #include "curvedslicer/paths/gap_fill.hpp"
 #include "curvedslicer/paths/iso_lines.hpp"
@@ -87,6 +88,24 @@ void checkCoverageOptions(const PlannerOptions& o) {
         " × s = " + formatNumber(o.widthMin * o.beadSpacing) + "–" +
         formatNumber(o.widthMax * o.beadSpacing) + " mm, s = " + formatNumber(o.beadSpacing) +
         " mm; choose a range with min <= 1 <= max, e.g. 0.7,1.3, or off");
+  }
+  if (!std::isfinite(o.minGapArea) || o.minGapArea == 0.0) {
+    throw InvalidInput("minimum gap area (--min-gap-area, MinGapArea) must be a positive number "
+                       "of mm²: " +
+                       formatNumber(o.minGapArea) + "; pass e.g. " +
+                       formatNumber(o.beadSpacing * o.beadSpacing) +
+                       " (the bead spacing squared, the default)");
+  }
+  if (!(o.cornerFillAngle > 0.0 && o.cornerFillAngle < 180.0)) {
+    throw InvalidInput("corner fill angle (--corner-fill-angle, CornerFillAngle) must lie in "
+                       "(0, 180) degrees: " +
+                       formatNumber(o.cornerFillAngle) + "; pass e.g. 85 (acute corners)");
+  }
+  if (!std::isfinite(o.cornerOverdeposit)) {
+    throw InvalidInput(
+        "corner fill overdeposit (--corner-overdeposit) must be a finite number of mm: " +
+        formatNumber(o.cornerOverdeposit) + "; pass e.g. " + formatNumber(0.25 * o.beadSpacing) +
+        " (a quarter of the bead spacing, the default)");
   }
 }
 
@@ -647,6 +666,8 @@ class LayerDrafter {
                    const SurfaceQuery& query, std::vector<RawBead>& beads, std::size_t& lost);
   void addGapFillBeads(const SurfaceGeodesicResult& gdtc, const SurfaceQuery& query,
                        std::vector<RawBead>& beads, std::size_t& dropped, PlanLayer& layer);
+  void fillOuterRingCorners(const SurfaceGeodesicResult& gdtc, const SurfaceQuery& query,
+                            std::vector<RawBead>& beads, const std::vector<int>& beadLevels);
   void widenBeadsIntoStrips(const SurfaceGeodesicResult& gdtc, const SurfaceQuery& query,
                             std::vector<RawBead>& beads, PlanLayer& layer);
   std::vector<double> fitFixedWidthLevels(const SurfaceGeodesicResult& gdtc,
@@ -736,6 +757,10 @@ class LayerPlanner {
         std::array<double, 2>{options.widthMin, options.widthMax};
     result.plan.parameters.connectInsets = options.connectInsets;
     result.plan.parameters.fillGaps = options.fillGaps;
+    result.plan.parameters.minGapArea = options.minGapArea < 0.0 ? s_ * s_ : options.minGapArea;
+    result.plan.parameters.cornerOverdeposit =
+        options.cornerFill ? (options.cornerOverdeposit < 0.0 ? 0.25 * s_ : options.cornerOverdeposit)
+                           : -1.0;
     if (!startSurface.empty()) support_.emplace(startSurface);
   }
 
@@ -855,6 +880,7 @@ void LayerDrafter::fitOnField(const SurfaceGeodesicResult& gdtc,
                                 fit);
   std::vector<int>& beadLevels = fit.beadLevels;
   beadLevels.resize(beads.size(), -1);
+  if (fromBoundary_ && options_.cornerFill) fillOuterRingCorners(gdtc, query, beads, beadLevels);
   if (fromBoundary_) {
     addThinRegionBeads(gdtc, fit.shortRings, fit.fitWouldDrop, query, beads, dropped, layer);
     if (options_.fillGaps) {
@@ -1095,6 +1121,7 @@ void LayerDrafter::addGapFillBeads(const SurfaceGeodesicResult& gdtc, const Surf
   GapFillOptions o;
   o.beadSpacing = s_;
   o.minGapWidth = options_.minFeatureWidth;
+  o.minGapArea = options_.minGapArea;
   o.widthMin = options_.widthMin;
   o.widthMax = options_.widthMax;
   const std::unique_ptr<GapFillPlanner> gaps = timer().run(kIso, [&] {
@@ -1116,6 +1143,32 @@ void LayerDrafter::addGapFillBeads(const SurfaceGeodesicResult& gdtc, const Surf
                              " patch(es) too narrow or too small stay uncovered (" +
                              formatNumber(fill.uncoveredArea - fill.filledArea) + " mm²)");
   }
+}
+
+/// Corner fill (paths/corner_fill.hpp) of the outer rings (level 0); the edge distance of a
+/// point is the GDTC from the boundary interpolated on its closest triangle.
+void LayerDrafter::fillOuterRingCorners(const SurfaceGeodesicResult& gdtc,
+                                        const SurfaceQuery& query, std::vector<RawBead>& beads,
+                                        const std::vector<int>& beadLevels) {
+  std::vector<CornerFillBead> rings;
+  for (std::size_t k = 0; k < beads.size() && k < beadLevels.size(); ++k) {
+    if (beadLevels[k] == 0) rings.push_back({&beads[k].line, &beads[k].normals, &beads[k].widths});
+  }
+  if (rings.empty()) return;
+  const EdgeSampler sample = [&](const Vec3& p) {
+    const ClosestPoint c = query.bvh.closestPoint(p);
+    const Vec3i& tri = gdtc.mesh.triangles[c.triangle];
+    const Vec3 w = barycentric(c.point, gdtc.mesh.vertices[tri[0]], gdtc.mesh.vertices[tri[1]],
+                               gdtc.mesh.vertices[tri[2]]);
+    const double d = w[0] * gdtc.distance[tri[0]] + w[1] * gdtc.distance[tri[1]] +
+                     w[2] * gdtc.distance[tri[2]];
+    return EdgeSample{c.point, query.normalAt(c), d};
+  };
+  CornerFillOptions o;
+  o.beadSpacing = s_;
+  o.maxOverdeposit = options_.cornerOverdeposit;
+  o.maxCornerAngle = options_.cornerFillAngle;
+  timer().run(kIso, [&] { return fillRingCorners(rings, sample, o); });
 }
 
 /// Splits the segments of `bead` longer than `longest` (mm) that end at a point with an

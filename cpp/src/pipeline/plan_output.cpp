@@ -87,6 +87,8 @@ Json plannerInputs(const PlanParameters& p) {
   }
   if (p.connectInsets) inputs["connect_insets"] = *p.connectInsets;
   if (p.fillGaps) inputs["fill_gaps"] = *p.fillGaps;
+  if (p.minGapArea) inputs["min_gap_area_mm2"] = *p.minGapArea;
+  if (p.cornerOverdeposit) inputs["corner_overdeposit_mm"] = *p.cornerOverdeposit;
   return inputs;
 }
 

@@ -411,6 +411,18 @@ void readCoverageParameters(const Reader& r, const Json& pj, PlanParameters& p) 
   if (pj.contains("fill_gaps")) {
     p.fillGaps = r.boolean(pj["fill_gaps"], "/parameters/fill_gaps");
   }
+  if (pj.contains("min_gap_area_mm2")) {
+    const double a = r.number(pj["min_gap_area_mm2"], "/parameters/min_gap_area_mm2");
+    if (!(a > 0.0)) {
+      r.fail("/parameters/min_gap_area_mm2",
+             "is " + abbreviateJson(pj["min_gap_area_mm2"]) + ": expected an area > 0 mm²");
+    }
+    p.minGapArea = a;
+  }
+  if (pj.contains("corner_overdeposit_mm")) {
+    p.cornerOverdeposit =
+        r.number(pj["corner_overdeposit_mm"], "/parameters/corner_overdeposit_mm");
+  }
 }
 
 PlanParameters readParameters(const Reader& r, const Json& pj, int version) {
@@ -422,7 +434,8 @@ PlanParameters readParameters(const Reader& r, const Json& pj, int version) {
   } else {
     r.expectKeys(pj, "/parameters", required,
                  {"narrow_strips", "corner_angle_deg", "min_feature_width_mm", "bead_width_range",
-                  "connect_insets", "fill_gaps", "layer_tolerance_mm"});
+                  "connect_insets", "fill_gaps", "min_gap_area_mm2", "corner_overdeposit_mm",
+                  "layer_tolerance_mm"});
   }
   PlanParameters p;
   p.layerThickness = r.nonNegative(pj["layer_thickness_mm"], "/parameters/layer_thickness_mm");
@@ -568,6 +581,16 @@ void appendParameters(std::string& out, const PlanParameters& p) {
     out += ",\n";
     appendKey(out, "    ", "fill_gaps");
     out += *p.fillGaps ? "true" : "false";
+  }
+  if (p.minGapArea) {
+    out += ",\n";
+    appendKey(out, "    ", "min_gap_area_mm2");
+    appendNumber(out, *p.minGapArea);
+  }
+  if (p.cornerOverdeposit) {
+    out += ",\n";
+    appendKey(out, "    ", "corner_overdeposit_mm");
+    appendNumber(out, *p.cornerOverdeposit);
   }
   if (p.layerTolerance) {
     out += ",\n";

@@ -18,6 +18,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "common/independent_coverage.hpp"
 #include "common/sanitized_build.hpp"
 #include "common/test_paths.hpp"
 #include "curvedslicer/geom/triangle_bvh.hpp"
@@ -30,95 +31,8 @@
 namespace curvedslicer {
 namespace {
 
-double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (p - (a + t * ab)).norm();
-}
-
-/// The segments of a layer's paths (closing segments of closed paths included) in a hash grid
-/// of cells `reach` wide, each segment in every cell its box grown by `reach` meets.
-class SegmentHash {
- public:
-  SegmentHash(const std::vector<PlanPath>& paths, double reach) : reach_(reach) {
-    for (const PlanPath& path : paths) {
-      const std::size_t n = path.points.size();
-      const std::size_t count = path.closed ? n : n - 1;
-      for (std::size_t i = 0; i < count; ++i) {
-        add(path.points[i].position, path.points[(i + 1) % n].position);
-      }
-    }
-  }
-  /// True if a segment's centre line is within `reach` of p.
-  bool covers(const Vec3& p) const {
-    const auto it = cells_.find(key(cellOf(p)));
-    if (it == cells_.end()) return false;
-    for (const std::size_t s : it->second) {
-      if (distanceToSegment(p, segments_[s].first, segments_[s].second) <= reach_) return true;
-    }
-    return false;
-  }
-
- private:
-  Eigen::Vector3i cellOf(const Vec3& p) const {
-    return Eigen::Vector3i(static_cast<int>(std::floor(p.x() / reach_)),
-                           static_cast<int>(std::floor(p.y() / reach_)),
-                           static_cast<int>(std::floor(p.z() / reach_)));
-  }
-  static std::int64_t key(const Eigen::Vector3i& c) {
-    return (static_cast<std::int64_t>(c.x() + 100000) * 200003 + (c.y() + 100000)) * 200003 +
-           (c.z() + 100000);
-  }
-  void add(const Vec3& a, const Vec3& b) {
-    segments_.emplace_back(a, b);
-    const Vec3 grow = Vec3::Constant(reach_);
-    const Eigen::Vector3i lo = cellOf(a.cwiseMin(b) - grow), hi = cellOf(a.cwiseMax(b) + grow);
-    for (int x = lo.x(); x <= hi.x(); ++x) {
-      for (int y = lo.y(); y <= hi.y(); ++y) {
-        for (int z = lo.z(); z <= hi.z(); ++z) {
-          cells_[key({x, y, z})].push_back(segments_.size() - 1);
-        }
-      }
-    }
-  }
-  double reach_;
-  std::vector<std::pair<Vec3, Vec3>> segments_;
-  std::unordered_map<std::int64_t, std::vector<std::size_t>> cells_;
-};
-
-struct Coverage {
-  double area = 0.0, voidArea = 0.0;
-  double voidShare() const { return area > 0.0 ? voidArea / area : 0.0; }
-};
-
-/// Void area of one layer: each triangle cut into m² sub-triangles (m = longest edge / 0.5 mm),
-/// each counted at its centroid.
-void addLayerCoverage(const TriMesh& mesh, const std::vector<PlanPath>& paths, double s,
-                      Coverage& c) {
-  const SegmentHash hash(paths, 0.5 * s);
-  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-    const Vec3& a = mesh.vertices[mesh.triangles[t][0]];
-    const Vec3& b = mesh.vertices[mesh.triangles[t][1]];
-    const Vec3& d = mesh.vertices[mesh.triangles[t][2]];
-    const double longest = std::max({(b - a).norm(), (d - b).norm(), (a - d).norm()});
-    const int m = std::max(1, static_cast<int>(std::ceil(longest / 0.5)));
-    const double sub = 0.5 * (b - a).cross(d - a).norm() / (m * m);
-    for (int i = 0; i < m; ++i) {
-      for (int j = 0; i + j < m; ++j) {
-        // The upright sub-triangle (i, j) and, where it exists, the inverted one beside it.
-        const Vec3 p = a + ((i + 1.0 / 3) * (b - a) + (j + 1.0 / 3) * (d - a)) / m;
-        c.area += sub;
-        if (!hash.covers(p)) c.voidArea += sub;
-        if (i + j + 1 < m) {
-          const Vec3 q = a + ((i + 2.0 / 3) * (b - a) + (j + 2.0 / 3) * (d - a)) / m;
-          c.area += sub;
-          if (!hash.covers(q)) c.voidArea += sub;
-        }
-      }
-    }
-  }
-}
+using testing::addLayerCoverage;
+using testing::Coverage;
 
 /// The bunny's layers at the settings (h 1.5, L 1), computed once for the suite.
 class ConnectedInsetsBunny : public ::testing::Test {

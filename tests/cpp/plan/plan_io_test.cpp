@@ -23,11 +23,13 @@ Plan makeSamplePlan() {
   plan.model = "resources/models/bunny \"closed\".stl";
   plan.start = "plane:bottom";
   plan.parameters = {1.5,           0.5,  3.7, 2.0, 0.05, "anyangle", "accurate", "boundary",
-                     "centre_bead", 22.5, {},  {},  {},   {},         {}};
+                     "centre_bead", 22.5, {},  {},  {},   {},         {},  {},  {}};
   plan.parameters.minFeatureWidth = 1.85;
   plan.parameters.beadWidthRange = std::array<double, 2>{0.7, 1.3};
   plan.parameters.connectInsets = true;
   plan.parameters.fillGaps = false;
+  plan.parameters.minGapArea = 2.25;
+  plan.parameters.cornerOverdeposit = 0.925;
   for (int l = 0; l < 2; ++l) {
     PlanLayer layer;
     layer.index = l;
@@ -128,6 +130,8 @@ TEST(PlanIo, JsonRoundTripIsByteIdentical) {
   EXPECT_EQ(read.parameters.beadWidthRange, (std::array<double, 2>{0.7, 1.3}));
   EXPECT_EQ(read.parameters.connectInsets, true);
   EXPECT_EQ(read.parameters.fillGaps, false);
+  EXPECT_EQ(read.parameters.minGapArea, 2.25);
+  EXPECT_EQ(read.parameters.cornerOverdeposit, 0.925);
 }
 
 /// A version-1 plan as `curvedslicer plan` wrote it before version 2 (no widths, no coverage).
@@ -224,6 +228,8 @@ TEST(PlanIo, Version2RejectsBadCoverageWidthAndDwell) {
                   "/parameters/connect_insets must be true or false");
   expectReadError(editedJson([](auto& d) { d["parameters"]["fill_gaps"] = "yes"; }),
                   "/parameters/fill_gaps must be true or false");
+  expectReadError(editedJson([](auto& d) { d["parameters"]["min_gap_area_mm2"] = -1; }),
+                  "/parameters/min_gap_area_mm2 is -1: expected an area > 0 mm²");
   // The writer refuses what the reader would refuse.
   Plan bad = makeSamplePlan();
   bad.layers[0].coverage.overlapShare = std::nan("");

@@ -22,6 +22,8 @@ SCHEMA_VERSION = 8  # 2: paths, plan JSON, poses, thin wall; 3: NarrowStrips; 4:
 # 7: FillGaps (gap fill between beads; a Job from before it keeps FillGaps = False)
 # 8: SimplifyLayers (layer simplification, default the core's; a Job from before gets False, the
 #    full-resolution layers it sliced, and keeps its digest)
+#    and MinGapArea (gap fill's smallest patch; migrated: BeadSpacing²), CornerFill (a Job from
+#    before it keeps CornerFill = False) and CornerFillAngle
 
 PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
 ICON_DIR = os.path.join(PACKAGE_DIR, "resources", "icons")

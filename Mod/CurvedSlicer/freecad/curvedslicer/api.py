@@ -106,7 +106,9 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
              min_feature_width=None, bead_width_range=(defaults.BEAD_WIDTH_MIN,
                                                        defaults.BEAD_WIDTH_MAX),
              connect_insets=defaults.CONNECT_INSETS, measure_coverage=defaults.MEASURE_COVERAGE,
-             fill_gaps=defaults.FILL_GAPS, simplify_layers=defaults.SIMPLIFY_LAYERS):
+             fill_gaps=defaults.FILL_GAPS, simplify_layers=defaults.SIMPLIFY_LAYERS,
+             min_gap_area=None, corner_fill=defaults.CORNER_FILL,
+             corner_fill_angle=defaults.CORNER_FILL_ANGLE):
     """Creates a Job for `solid` in `doc` (no computation; call run() or doc.recompute()).
 
     start: see _set_start. voxel_size None = the preference (default 1 mm). method "AnyAngle" |
@@ -122,7 +124,9 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
     Bead coverage (issue 15): min_feature_width (mm, None = half of bead_spacing),
     bead_width_range (min, max) fractions of bead_spacing ((1, 1) = fixed width), connect_insets
     (join consecutive rings into one arc-on path), fill_gaps (a centre-line bead in every
-    uncovered strip between beads at least min_feature_width wide), measure_coverage (void and overlap shares per
+    uncovered strip between beads at least min_feature_width wide), min_gap_area (mm², None =
+    bead_spacing squared: smaller uncovered patches get no fill bead), corner_fill (the outer
+    ring dips into convex corners sharper than corner_fill_angle degrees), measure_coverage (void and overlap shares per
     layer); their ranges are checked when the paths are planned (InvalidInput naming the Job
     property).
     tool_along_travel: torch x along the travel (True) or fixed while the positioner turns.
@@ -178,6 +182,9 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
                                           float(bead_width_range[1]))
     obj.ConnectInsets = bool(connect_insets)
     obj.FillGaps = bool(fill_gaps)
+    obj.MinGapArea = (float(bead_spacing) ** 2 if min_gap_area is None else float(min_gap_area))
+    obj.CornerFill = bool(corner_fill)
+    obj.CornerFillAngle = float(corner_fill_angle)
     obj.MeasureCoverage = bool(measure_coverage)
     obj.InitialPath = initial_path
     if initial_plane is not None:

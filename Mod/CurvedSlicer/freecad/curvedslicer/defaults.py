@@ -28,6 +28,11 @@ BEAD_WIDTH_MIN = _PLANNER.width_min  # fraction of the bead spacing
 BEAD_WIDTH_MAX = _PLANNER.width_max  # fraction of the bead spacing
 CONNECT_INSETS = _PLANNER.connect_insets
 FILL_GAPS = _PLANNER.fill_gaps
+# The core's "< 0 = the bead spacing squared" as a number for the Job, mm²
+MIN_GAP_AREA = (_PLANNER.min_gap_area if _PLANNER.min_gap_area > 0
+                else BEAD_SPACING * BEAD_SPACING)
+CORNER_FILL = _PLANNER.corner_fill
+CORNER_FILL_ANGLE = _PLANNER.corner_fill_angle  # degrees
 MEASURE_COVERAGE = _PLANNER.measure_coverage
 
 # Motion (robot/motion.hpp MotionOptions; the Job's Robot properties, stages/poses.py)

@@ -28,6 +28,9 @@
 // the normal of a point is the surface direction of increasing GDTC (the wall's growth
 // direction); V points to the nearest point of the previous bead (bead 1: of the edge).
 //
+//   4b. corner fill (Boundary only, `cornerFill`; "iso-lines"): paths/corner_fill.hpp — the
+//      outer ring dips into the layer's acute convex corners, its bead's edge at most
+//      `cornerOverdeposit` past the boundary;
 //   3b. thin regions (Boundary only; "iso-lines"): paths/thin_regions.hpp — a connected part of
 //      the layer that no ring reaches gets a bead on its centre line, a spot (2 points, dwell
 //      w / spotWeldSpeed) when it is a tiny island, or keeps its short ring; narrower than s: a
@@ -120,6 +123,18 @@ struct PlannerOptions {
   /// a bead on their centre line when at least minFeatureWidth wide (paths/gap_fill.hpp); the
   /// beads beside narrower strips between beads grow into them (paths/bead_widening.hpp).
   bool fillGaps = true;
+  /// Issue 15, gap fill: mm², smallest uncovered patch that gets a fill bead (smaller ones stay
+  /// empty; GapFillOptions::minGapArea); < 0 means s².
+  double minGapArea = -1.0;
+  /// Issue 15, corner fill (paths/corner_fill.hpp): at an acute convex corner of the layer
+  /// boundary the outer ring dips toward the corner so its bead covers the corner's wedge.
+  bool cornerFill = true;
+  /// mm, how far a corner-fill bead's edge may pass the layer boundary (stock allowance);
+  /// < 0 means s/4.
+  double cornerOverdeposit = -1.0;
+  /// Degrees, in (0, 180): corner fill takes corners of the layer boundary sharper than this
+  /// (CornerFillOptions::maxCornerAngle; default: acute corners).
+  double cornerFillAngle = 85.0;
   /// Issue 15: measure every layer's coverage (paths/coverage.hpp) into PlanLayer::coverage.
   bool measureCoverage = true;
   /// Issue 15, thin regions (paths/thin_regions.hpp): mm/s, the weld speed a spot's dwell is

@@ -105,6 +105,13 @@ struct PlanParameters {
   /// Issue 18: ε, mm, of the layer simplification the layer surfaces went through; absent for
   /// full-resolution layers, thin walls and plans written before it existed
   std::optional<double> layerTolerance;
+  /// Issue 15: mm², the smallest uncovered patch gap fill gave a bead (PlannerOptions::minGapArea
+  /// resolved, > 0); absent for thin walls and plans written before the option existed
+  std::optional<double> minGapArea;
+  /// Issue 15, corner fill: mm, how far a bead's edge may pass the layer boundary at a corner
+  /// (PlannerOptions::cornerOverdeposit resolved); < 0: corner fill was off; absent for thin
+  /// walls and plans written before corner fill existed (no corner fill)
+  std::optional<double> cornerOverdeposit;
 };
 
 struct Plan {

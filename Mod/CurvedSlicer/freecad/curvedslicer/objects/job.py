@@ -128,6 +128,16 @@ PROPERTIES = [
     ("App::PropertyBool", "FillGaps", "Paths",
      "Give uncovered strips between beads (at least MinFeatureWidth wide) a bead on their centre "
      "line, and widen the beads beside narrower strips into them", defaults.FILL_GAPS),
+    ("App::PropertyFloat", "MinGapArea", "Paths",
+     "Gap fill: the smallest uncovered patch that gets a fill bead, mm² > 0 (default the "
+     "default BeadSpacing squared); smaller patches stay empty", defaults.MIN_GAP_AREA),
+    ("App::PropertyBool", "CornerFill", "Paths",
+     "Dip the outer ring toward the layer's acute convex corners so its bead covers the corner "
+     "(the bead's edge at most a quarter of BeadSpacing past the part's edge)",
+     defaults.CORNER_FILL),
+    ("App::PropertyFloat", "CornerFillAngle", "Paths",
+     "Corner fill takes corners of the layer boundary sharper than this, degrees in (0, 180) "
+     "(default: acute corners)", defaults.CORNER_FILL_ANGLE),
     ("App::PropertyBool", "MeasureCoverage", "Paths",
      "Measure every layer's bead coverage (void and overlap shares, VoidShare / OverlapShare of "
      "the path layers)", defaults.MEASURE_COVERAGE),
@@ -290,6 +300,12 @@ class JobProxy:
         if "FillGaps" in added:
             # Planned before the option existed: strips between beads stayed empty.
             obj.FillGaps = False
+        if "MinGapArea" in added:
+            # The core's default for the Job's own bead spacing (what gap fill used before).
+            obj.MinGapArea = paths.mm(obj.BeadSpacing) ** 2
+        if "CornerFill" in added:
+            # Planned before the option existed: the outer rings kept off the corners.
+            obj.CornerFill = False
         if "MinFeatureWidth" in added:
             # The core's default for the Job's own bead spacing.
             obj.MinFeatureWidth = 0.5 * paths.mm(obj.BeadSpacing)

@@ -93,7 +93,13 @@ def _coverage_options(job):
                            "spacing or is empty: %g..%g; set 0 < BeadWidthMin <= 1 <= "
                            "BeadWidthMax, e.g. 0.7 and 1.3, or 1 and 1 for a fixed width"
                            % (low, high))
+    area = float(job.MinGapArea)
+    if not area > 0:
+        raise InvalidInput("MinGapArea must be a positive area: %g mm²; set it, e.g. %g (the "
+                           "bead spacing squared)" % (area, _mm(job.BeadSpacing) ** 2))
     options = {"min_feature_width": width, "width_min": low, "width_max": high,
+               "min_gap_area": area, "corner_fill": bool(job.CornerFill),
+               "corner_fill_angle": float(job.CornerFillAngle),
                "connect_insets": bool(job.ConnectInsets),
                "fill_gaps": bool(job.FillGaps),
                "measure_coverage": bool(job.MeasureCoverage)}
@@ -108,6 +114,10 @@ def _coverage_options(job):
         part.append("fill_gaps")
     if not job.MeasureCoverage:
         part.append("no_coverage")
+    if abs(area - _mm(job.BeadSpacing) ** 2) > 1e-9:  # a migrated Job keeps its digest
+        part.append(("min_gap_area", area))
+    if job.CornerFill:  # likewise for a Job from before corner fill
+        part.append(("corner_fill", float(job.CornerFillAngle)))
     return options, part
 
 
