@@ -5,8 +5,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
+#include "common/sanitized_build.hpp"
+#include "common/small_part.hpp"
 #include "common/test_paths.hpp"
 #include "curvedslicer/plan/plan_io.hpp"
 #include "curvedslicer/robot/cell.hpp"
@@ -106,21 +109,10 @@ TEST(ExportCommand, AnotherVendorsLanguageNeedsTheOptionOrExitsTwo) {
             std::string::npos);
 }
 
-// The README's curved example (custom base, cap holes, 1.5 mm layers, 3.7 mm beads; voxel 2 mm as
-// in ModelExports instead of the README's 0.5 mm, for time) planned by the command line, then
-// exported with each vendor's cell of resources/cells/: CSV and the cell's own language succeed
-// (exit 0: every point reachable within the joint limits, no collision, part within the working
-// volume; each of these stops an export with exit 2).
-TEST(ExportCommand, CurvedExampleExportsWithEachVendorsCell) {
-  const fs::path dir = freshTempDir();
-  const fs::path models = fs::path(CURVEDSLICER_SOURCE_DIR) / "resources" / "models";
-  ASSERT_EQ(runCli(dir, "plan '" + (models / "custom_base_geom_to_slice.obj").string() +
-                            "' --start 'mesh:" + (models / "custom_base_surface.obj").string() +
-                            "' --cap-holes --layer-thickness 1.5 --voxel 2 --bead-spacing 3.7 -q "
-                            "-o '" +
-                            (dir / "base").string() + "'"),
-            0)
-      << readFile((dir / "stderr.txt").string());
+/// Exports `dir`/base/plan.json with each vendor's cell of resources/cells/ to CSV and the cell's
+/// own language: each exits 0 (every point reachable within the joint limits, no collision, part
+/// within the working volume; each of these stops an export with exit 2) and writes its file.
+void expectExportsWithEachVendorsCell(const fs::path& dir) {
   const std::pair<const char*, const char*> cells[] = {
       {"motoman_hp20d_tilt_rotate.json", "jbi"},
       {"kuka_kr16_r1610_2_dkp400.json", "krl"},
@@ -143,6 +135,37 @@ TEST(ExportCommand, CurvedExampleExportsWithEachVendorsCell) {
       EXPECT_EQ(err.find("cell names no vendor"), std::string::npos) << err;
     }
   }
+}
+
+// The README's curved example (custom base, cap holes, 1.5 mm layers, 3.7 mm beads; voxel 2 mm as
+// in ModelExports instead of the README's 0.5 mm, for time) planned by the command line, then
+// exported with each vendor's cell of resources/cells/: CSV and the cell's own language succeed
+// (exit 0: every point reachable within the joint limits, no collision, part within the working
+// volume; each of these stops an export with exit 2).
+TEST(ExportCommand, CurvedExampleExportsWithEachVendorsCell) {
+  CURVEDSLICER_SKIP_IF_SANITIZED("ExportCommand.SmallPartExportsWithEachVendorsCell");
+  const fs::path dir = freshTempDir();
+  const fs::path models = fs::path(CURVEDSLICER_SOURCE_DIR) / "resources" / "models";
+  ASSERT_EQ(runCli(dir, "plan '" + (models / "custom_base_geom_to_slice.obj").string() +
+                            "' --start 'mesh:" + (models / "custom_base_surface.obj").string() +
+                            "' --cap-holes --layer-thickness 1.5 --voxel 2 --bead-spacing 3.7 -q "
+                            "-o '" +
+                            (dir / "base").string() + "'"),
+            0)
+      << readFile((dir / "stderr.txt").string());
+  expectExportsWithEachVendorsCell(dir);
+}
+
+/// The same on the small part of common/small_part.hpp (the sanitizer build runs this one).
+TEST(ExportCommand, SmallPartExportsWithEachVendorsCell) {
+  const fs::path dir = freshTempDir();
+  const SmallPartSettings s;
+  std::ostringstream plan;
+  plan << "plan '" << writeSmallPartStl() << "' --layer-thickness " << s.layerThickness
+       << " --voxel " << s.voxel << " --bead-spacing " << s.beadSpacing << " --point-spacing "
+       << s.pointSpacing << " -q -o '" << (dir / "base").string() << "'";
+  ASSERT_EQ(runCli(dir, plan.str()), 0) << readFile((dir / "stderr.txt").string());
+  expectExportsWithEachVendorsCell(dir);
 }
 
 TEST(ExportCommand, SplitsAJbiProgramIntoSiblingJobFiles) {

@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "common/sanitized_build.hpp"
+#include "common/small_part.hpp"
 #include "common/test_paths.hpp"
 #include "curvedslicer/export/exporter.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
@@ -153,6 +155,8 @@ void expectAxisSpeedsFromCsv(const MotionPlan& motion, const Cell& cell) {
 }
 
 TEST(ModelExports, CurvedExampleStatesOneConfigurationPerWeldAndKeepsAxisSpeeds) {
+  CURVEDSLICER_SKIP_IF_SANITIZED(
+      "ModelExports.SmallPartStatesOneConfigurationPerWeldAndKeepsAxisSpeeds");
   const Cell cell = defaultCell();
   const ModelMotion planned = planModelMotion(curvedExampleCase(), cell);
   const MotionPlan& motion = planned.motion;
@@ -166,12 +170,28 @@ TEST(ModelExports, CurvedExampleStatesOneConfigurationPerWeldAndKeepsAxisSpeeds)
 }
 
 TEST(ModelExports, CylinderStatesOneConfigurationPerWeldAndKeepsAxisSpeeds) {
+  CURVEDSLICER_SKIP_IF_SANITIZED(
+      "ModelExports.SmallPartStatesOneConfigurationPerWeldAndKeepsAxisSpeeds");
   const Cell cell = defaultCell();
   const ModelMotion planned = planModelMotion(cylinderCase(), cell);
   const MotionPlan& motion = planned.motion;
   // Over 100 rings and pieces, some rings joined into one weld (open welds over several rings).
   ASSERT_GT(motion.paths.size() + planned.insetLinks, 100u);
   ASSERT_GT(planned.insetLinks, 0u);
+  ASSERT_TRUE(plannerSetsConfigurations(motion));
+  expectConfigurationsPerWeld(motion, cell);
+  expectAxisSpeedsFromCsv(motion, cell);
+  expectKrlAndRapidReadBack(motion, cell);
+}
+
+/// The same on the small part of common/small_part.hpp (the sanitizer build runs this one).
+TEST(ModelExports, SmallPartStatesOneConfigurationPerWeldAndKeepsAxisSpeeds) {
+  const Cell cell = defaultCell();
+  const PlanJobResult job = planSmallPart();
+  const MotionPlan motion = planMotion(job.planned.plan, cell);
+  // Rings joined into open welds over several layers.
+  ASSERT_GT(job.planned.plan.layers.size(), 5u);
+  ASSERT_GT(job.planned.stats.insetLinks, 0u);
   ASSERT_TRUE(plannerSetsConfigurations(motion));
   expectConfigurationsPerWeld(motion, cell);
   expectAxisSpeedsFromCsv(motion, cell);

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "common/sanitized_build.hpp"
+#include "common/small_part.hpp"
 #include "common/test_paths.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/export/exporter.hpp"
@@ -364,6 +366,7 @@ MotionPlan planAcceptanceModel(const ModelCase& c, const Cell& cell, std::size_t
 }
 
 TEST(StrictReaders, CurvedExampleAndCylinderPassInEveryFormat) {
+  CURVEDSLICER_SKIP_IF_SANITIZED("StrictReaders.SmallPartPassesInEveryFormat");
   const Cell cell = defaultCell();
   std::size_t links = 0;
   const MotionPlan curved = planAcceptanceModel(curvedExampleCase(), cell, links);
@@ -372,6 +375,17 @@ TEST(StrictReaders, CurvedExampleAndCylinderPassInEveryFormat) {
   const MotionPlan cylinder = planAcceptanceModel(cylinderCase(), cell, links);
   ASSERT_GT(cylinder.paths.size() + links, 100u);
   expectStrictRoundTrip(cylinder, cell);
+}
+
+/// The same on the small part of common/small_part.hpp (the sanitizer build runs this one): a
+/// plan of several layers whose rings are joined into open welds.
+TEST(StrictReaders, SmallPartPassesInEveryFormat) {
+  const Cell cell = defaultCell();
+  const PlanJobResult job = planSmallPart();
+  const MotionPlan motion = planMotion(job.planned.plan, cell);
+  ASSERT_GT(job.planned.plan.layers.size(), 5u);
+  ASSERT_GT(job.planned.stats.insetLinks, 0u);
+  expectStrictRoundTrip(motion, cell);
 }
 
 }  // namespace

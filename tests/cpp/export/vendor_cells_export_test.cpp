@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "common/sanitized_build.hpp"
+#include "common/small_part.hpp"
 #include "common/test_paths.hpp"
 #include "curvedslicer/export/exporter.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
@@ -172,14 +174,23 @@ void expectEveryVendorExports(const Plan& plan, std::ostream* report = nullptr) 
 }
 
 TEST(VendorCellsExport, CurvedExampleWithEveryVendorCell) {
+  CURVEDSLICER_SKIP_IF_SANITIZED("VendorCellsExport.SmallPartWithEveryVendorCell");
   const Plan plan = planModelCase(curvedExampleCase()).planned.plan;
   ASSERT_GT(plan.layers.size(), 10u);
   expectEveryVendorExports(plan);
 }
 
 TEST(VendorCellsExport, CylinderWithEveryVendorCell) {
+  CURVEDSLICER_SKIP_IF_SANITIZED("VendorCellsExport.SmallPartWithEveryVendorCell");
   const Plan plan = planModelCase(cylinderCase()).planned.plan;
   ASSERT_GT(plan.layers.size(), 10u);
+  expectEveryVendorExports(plan);
+}
+
+/// The same on the small part of common/small_part.hpp (the sanitizer build runs this one).
+TEST(VendorCellsExport, SmallPartWithEveryVendorCell) {
+  const Plan plan = planSmallPart().planned.plan;
+  ASSERT_GT(plan.layers.size(), 5u);
   expectEveryVendorExports(plan);
 }
 

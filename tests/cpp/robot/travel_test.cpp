@@ -13,6 +13,7 @@
 #include <string>
 
 #include "common/sanitized_build.hpp"
+#include "common/small_part.hpp"
 #include "common/test_paths.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
@@ -271,9 +272,9 @@ void expectTravelStructure(const MotionPlan& motion, const Plan& plan, const Cel
 
 // ---- tests ----------------------------------------------------------------------------------
 
-TEST(Travel, CurvedExampleKeepsTheClearanceAndStartsAndEndsAtHome) {
-  const Plan& plan = curvedExamplePlan();
-  ASSERT_GT(plan.pathCount(), 10u);
+/// The default clearance kept by every travel move of `plan`'s motion (default options), the
+/// program starting and ending at home, no collision and no torch axis near a bead.
+void expectClearTravelFromHome(const Plan& plan) {
   const Cell cell = placedCell(plan);
   const MotionOptions options;
   const MotionPlan motion = planMotion(plan, cell, options);
@@ -290,8 +291,22 @@ TEST(Travel, CurvedExampleKeepsTheClearanceAndStartsAndEndsAtHome) {
   EXPECT_GE(smallestTorchGap(motion, cell.tool.envelope, 30.0), bead);
 }
 
+TEST(Travel, CurvedExampleKeepsTheClearanceAndStartsAndEndsAtHome) {
+  CURVEDSLICER_SKIP_IF_SANITIZED("Travel.SmallPartKeepsTheClearanceAndStartsAndEndsAtHome");
+  const Plan& plan = curvedExamplePlan();
+  ASSERT_GT(plan.pathCount(), 10u);
+  expectClearTravelFromHome(plan);
+}
+
+/// The same on the small part of common/small_part.hpp (the sanitizer build runs this one).
+TEST(Travel, SmallPartKeepsTheClearanceAndStartsAndEndsAtHome) {
+  const Plan plan = testing::planSmallPart().planned.plan;
+  ASSERT_GT(plan.pathCount(), 5u);  // a weld per layer: its rings joined by connected insets
+  expectClearTravelFromHome(plan);
+}
+
 TEST(Travel, CylinderKeepsTheClearanceAndStartsAndEndsAtHome) {
-  CURVEDSLICER_SKIP_IF_SANITIZED("Travel.CurvedExampleKeepsTheClearanceAndStartsAndEndsAtHome");
+  CURVEDSLICER_SKIP_IF_SANITIZED("Travel.SmallPartKeepsTheClearanceAndStartsAndEndsAtHome");
   const Plan& plan = cylinderPlan();
   ASSERT_GT(plan.pathCount(), 10u);
   const Cell cell = placedCell(plan);
