@@ -170,10 +170,9 @@ def make_turbine_jobs(doc, voxel=1.0):
     blades = api.make_job(doc, parts["Blades"], start=parts["BaseOuterSurface"],
                           layer_thickness=1.5, voxel_size=voxel, bead_spacing=3.7,
                           point_spacing=2.0, tool_along_travel=False, name="BladesJob",
-                          narrow_strips="Overlap")
-    # Not yet applied to the Job (tests/freecad/test_turbine.py's void-disc alignment check falls
-    # to 179 of 200 with them): BLADE_MIN_FEATURE_WIDTH, BLADE_MIN_GAP_AREA and
-    # BLADE_CORNER_FILL_ANGLE are what tests/cpp/pipeline/turbine_coverage_test.cpp plans.
+                          narrow_strips="Overlap", min_feature_width=BLADE_MIN_FEATURE_WIDTH,
+                          min_gap_area=BLADE_MIN_GAP_AREA, corner_fill=True,
+                          corner_fill_angle=BLADE_CORNER_FILL_ANGLE)
     # The blades' Job is placed on its own (resting on the table, without the base under it), so
     # the steep tilts of the overhanging blade tips bring the table to the torch on a few arc-off
     # moves: listed as warnings here, for the same reason as the base above.

@@ -91,8 +91,10 @@ class TestTurbine(cs_testing.DocumentTestCase):
 
     def check_void_markers_on_curved_layers(self, blades):
         """The uncovered-region discs on the curved blade layers: one per void the plan lists,
-        VOID_LIFT from its centre, at least 90 % of them in the tangent plane of their layer (the
-        normal within 25° of the nearest facet's, either side)."""
+        VOID_LIFT from its centre, each in the tangent plane of its layer (the normal within 25° of
+        the nearest facet's, either side) wherever the layer is smooth under the disc; on a fold
+        (the facets within the disc's radius turn by more than 50° between them) the disc can only
+        follow the surface's mean, so those are counted apart, and they must stay a minority."""
         import numpy as np
 
         from freecad.curvedslicer.stages import voids
@@ -104,7 +106,7 @@ class TestTurbine(cs_testing.DocumentTestCase):
         self.assertEqual(sorted(m.LayerIndex for m in markers),
                          sorted(k for k, v in report.items() if v))
         surfaces = {layer.LayerIndex: layer for layer in api.layers(blades)}
-        checked = aligned = 0
+        checked = aligned = folds = 0
         for marker in markers:
             faces = marker.Shape.Faces
             self.assertEqual(len(faces), len(report[marker.LayerIndex]))
@@ -120,16 +122,24 @@ class TestTurbine(cs_testing.DocumentTestCase):
                 centre = np.array(void["centre_mm"])
                 self.assertAlmostEqual((face.CenterOfMass - FreeCAD.Vector(*centre)).Length,
                                        voids.VOID_LIFT, delta=1e-6)
-                nearest = normals[int(np.argmin(np.linalg.norm(centroids - centre, axis=1)))]
+                distance = np.linalg.norm(centroids - centre, axis=1)
+                nearest = normals[int(np.argmin(distance))]
                 normal = face.normalAt(0, 0)
-                aligned += abs(float(np.dot(tuple(normal), nearest))) > math.cos(math.radians(25))
                 checked += 1
+                # A fold: two facets under the disc (within its radius, at least 1 mm) whose
+                # normals differ by more than 50°, so no plane is within 25° of both.
+                under = normals[distance <= max(math.sqrt(void["area_mm2"] / math.pi), 1.0)]
+                if len(under) > 1 and float(np.min(under @ under.T)) < math.cos(math.radians(50)):
+                    folds += 1
+                    continue
+                aligned += abs(float(np.dot(tuple(normal), nearest))) > math.cos(math.radians(25))
         # A disc's normal is the surface's averaged over its radius: where a void lies on a fold
         # (the slivers where the outer layers graze the blades' tops) the nearest facet differs.
-        print("void discs within 25 degrees of the nearest facet's normal: %d of %d"
-              % (aligned, checked))
-        self.assertGreater(checked, 0)
-        self.assertGreaterEqual(aligned, 0.9 * checked)
+        print("void discs within 25 degrees of the nearest facet's normal: %d of %d off folds"
+              " (%d on folds)" % (aligned, checked - folds, folds))
+        self.assertGreater(checked - folds, 0)
+        self.assertEqual(aligned, checked - folds)
+        self.assertLess(folds, 0.5 * checked)
         api.show_voids(blades, False)
 
 
