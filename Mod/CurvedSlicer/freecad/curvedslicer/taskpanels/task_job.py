@@ -263,6 +263,21 @@ class TaskPanelJob:
                                   "beads at least the minimum feature width wide")
         self.fill_gaps.setChecked(job.FillGaps)
         c.addRow(self.fill_gaps)
+        self.min_gap_area = spin(float(job.MinGapArea), 0.01, 1e6, 2, " mm²", 1.0)
+        self.min_gap_area.setToolTip("Gap fill: the smallest uncovered patch that gets a fill "
+                                     "bead; smaller patches stay empty (default: bead spacing "
+                                     "squared)")
+        c.addRow("Min. gap area", self.min_gap_area)
+        self.corner_fill = QtGui.QCheckBox("Fill corners")
+        self.corner_fill.setToolTip("The outer ring dips toward convex corners sharper than the "
+                                    "corner-fill angle, its bead's edge at most a quarter of the "
+                                    "bead spacing past the part's edge")
+        self.corner_fill.setChecked(job.CornerFill)
+        c.addRow(self.corner_fill)
+        self.corner_fill_angle = spin(float(job.CornerFillAngle), 1.0, 179.0, 1, "°", 5.0)
+        self.corner_fill_angle.setToolTip("Corner fill takes corners of the layer boundary "
+                                          "sharper than this (default 85°: acute corners)")
+        c.addRow("Corner-fill angle", self.corner_fill_angle)
         self.measure_coverage = QtGui.QCheckBox("Measure coverage")
         self.measure_coverage.setToolTip("Void and overlap share of every layer (the path "
                                          "layers' VoidShare / OverlapShare)")
@@ -479,6 +494,9 @@ class TaskPanelJob:
             "BeadWidthMax": self.bead_width_max.value(),
             "ConnectInsets": self.connect_insets.isChecked(),
             "FillGaps": self.fill_gaps.isChecked(),
+            "MinGapArea": self.min_gap_area.value(),
+            "CornerFill": self.corner_fill.isChecked(),
+            "CornerFillAngle": self.corner_fill_angle.value(),
             "MeasureCoverage": self.measure_coverage.isChecked(),
             "PathDisplay": self.path_display.currentText(),
             "CellFile": self.cell_file.text(),
