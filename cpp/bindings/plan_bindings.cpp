@@ -297,6 +297,7 @@ py::dict planSummaryPy(const std::string& planJson) {
   if (p.fillGaps) params["fill_gaps"] = *p.fillGaps;
   if (p.minGapArea) params["min_gap_area_mm2"] = *p.minGapArea;
   if (p.cornerOverdeposit) params["corner_overdeposit_mm"] = *p.cornerOverdeposit;
+  if (p.cornerFillAngle) params["corner_fill_angle_deg"] = *p.cornerFillAngle;
   d["parameters"] = params;
   return d;
 }

@@ -143,6 +143,7 @@ class TestCoverage(cs_testing.DocumentTestCase):
         params = native.plan_summary(job.PlanJson)["parameters"]
         self.assertAlmostEqual(params["min_gap_area_mm2"], 16.0)
         self.assertLess(params["corner_overdeposit_mm"], 0.0)  # off
+        self.assertNotIn("corner_fill_angle_deg", params)
 
 
 cs_testing.main(__name__)

@@ -90,16 +90,17 @@ void checkCoverageOptions(const PlannerOptions& o) {
         " mm; choose a range with min <= 1 <= max, e.g. 0.7,1.3, or off");
   }
   if (!std::isfinite(o.minGapArea) || o.minGapArea == 0.0) {
-    throw InvalidInput("minimum gap area (--min-gap-area, MinGapArea) must be a positive number "
-                       "of mm²: " +
-                       formatNumber(o.minGapArea) + "; pass e.g. " +
-                       formatNumber(o.beadSpacing * o.beadSpacing) +
-                       " (the bead spacing squared, the default)");
+    throw InvalidInput(
+        "minimum gap area (--min-gap-area, MinGapArea) must be a positive number "
+        "of mm²: " +
+        formatNumber(o.minGapArea) + "; pass e.g. " + formatNumber(o.beadSpacing * o.beadSpacing) +
+        " (the bead spacing squared, the default)");
   }
   if (!(o.cornerFillAngle > 0.0 && o.cornerFillAngle < 180.0)) {
-    throw InvalidInput("corner fill angle (--corner-fill-angle, CornerFillAngle) must lie in "
-                       "(0, 180) degrees: " +
-                       formatNumber(o.cornerFillAngle) + "; pass e.g. 85 (acute corners)");
+    throw InvalidInput(
+        "corner fill angle (--corner-fill-angle, CornerFillAngle) must lie in "
+        "(0, 180) degrees: " +
+        formatNumber(o.cornerFillAngle) + "; pass e.g. 85 (acute corners)");
   }
   if (!std::isfinite(o.cornerOverdeposit)) {
     throw InvalidInput(
@@ -759,8 +760,10 @@ class LayerPlanner {
     result.plan.parameters.fillGaps = options.fillGaps;
     result.plan.parameters.minGapArea = options.minGapArea < 0.0 ? s_ * s_ : options.minGapArea;
     result.plan.parameters.cornerOverdeposit =
-        options.cornerFill ? (options.cornerOverdeposit < 0.0 ? 0.25 * s_ : options.cornerOverdeposit)
-                           : -1.0;
+        options.cornerFill
+            ? (options.cornerOverdeposit < 0.0 ? 0.25 * s_ : options.cornerOverdeposit)
+            : -1.0;
+    if (options.cornerFill) result.plan.parameters.cornerFillAngle = options.cornerFillAngle;
     if (!startSurface.empty()) support_.emplace(startSurface);
   }
 
@@ -1160,8 +1163,8 @@ void LayerDrafter::fillOuterRingCorners(const SurfaceGeodesicResult& gdtc,
     const Vec3i& tri = gdtc.mesh.triangles[c.triangle];
     const Vec3 w = barycentric(c.point, gdtc.mesh.vertices[tri[0]], gdtc.mesh.vertices[tri[1]],
                                gdtc.mesh.vertices[tri[2]]);
-    const double d = w[0] * gdtc.distance[tri[0]] + w[1] * gdtc.distance[tri[1]] +
-                     w[2] * gdtc.distance[tri[2]];
+    const double d =
+        w[0] * gdtc.distance[tri[0]] + w[1] * gdtc.distance[tri[1]] + w[2] * gdtc.distance[tri[2]];
     return EdgeSample{c.point, query.normalAt(c), d};
   };
   CornerFillOptions o;

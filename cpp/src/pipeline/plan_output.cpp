@@ -89,6 +89,7 @@ Json plannerInputs(const PlanParameters& p) {
   if (p.fillGaps) inputs["fill_gaps"] = *p.fillGaps;
   if (p.minGapArea) inputs["min_gap_area_mm2"] = *p.minGapArea;
   if (p.cornerOverdeposit) inputs["corner_overdeposit_mm"] = *p.cornerOverdeposit;
+  if (p.cornerFillAngle) inputs["corner_fill_angle_deg"] = *p.cornerFillAngle;
   return inputs;
 }
 

@@ -423,6 +423,15 @@ void readCoverageParameters(const Reader& r, const Json& pj, PlanParameters& p) 
     p.cornerOverdeposit =
         r.number(pj["corner_overdeposit_mm"], "/parameters/corner_overdeposit_mm");
   }
+  if (pj.contains("corner_fill_angle_deg")) {
+    const double a = r.number(pj["corner_fill_angle_deg"], "/parameters/corner_fill_angle_deg");
+    if (!(a > 0.0 && a < 180.0)) {
+      r.fail("/parameters/corner_fill_angle_deg", "is " +
+                                                      abbreviateJson(pj["corner_fill_angle_deg"]) +
+                                                      ": expected an angle in (0, 180) degrees");
+    }
+    p.cornerFillAngle = a;
+  }
 }
 
 PlanParameters readParameters(const Reader& r, const Json& pj, int version) {
@@ -435,7 +444,7 @@ PlanParameters readParameters(const Reader& r, const Json& pj, int version) {
     r.expectKeys(pj, "/parameters", required,
                  {"narrow_strips", "corner_angle_deg", "min_feature_width_mm", "bead_width_range",
                   "connect_insets", "fill_gaps", "min_gap_area_mm2", "corner_overdeposit_mm",
-                  "layer_tolerance_mm"});
+                  "corner_fill_angle_deg", "layer_tolerance_mm"});
   }
   PlanParameters p;
   p.layerThickness = r.nonNegative(pj["layer_thickness_mm"], "/parameters/layer_thickness_mm");
@@ -591,6 +600,11 @@ void appendParameters(std::string& out, const PlanParameters& p) {
     out += ",\n";
     appendKey(out, "    ", "corner_overdeposit_mm");
     appendNumber(out, *p.cornerOverdeposit);
+  }
+  if (p.cornerFillAngle) {
+    out += ",\n";
+    appendKey(out, "    ", "corner_fill_angle_deg");
+    appendNumber(out, *p.cornerFillAngle);
   }
   if (p.layerTolerance) {
     out += ",\n";

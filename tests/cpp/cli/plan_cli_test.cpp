@@ -173,7 +173,7 @@ TEST(PlanCliCases, CoverageOptionsAreRecordedAndSummarised) {
   Args args = base;
   for (const char* a : {"--min-feature-width", "4", "--bead-width-range", "0.8,1.25",
                         "--no-connect-insets", "--no-gap-fill", "--min-gap-area", "20",
-                        "--corner-overdeposit", "1.5", "-o"}) {
+                        "--corner-overdeposit", "1.5", "--corner-fill-angle", "120", "-o"}) {
     args.push_back(a);
   }
   args.push_back(out.string());
@@ -188,6 +188,7 @@ TEST(PlanCliCases, CoverageOptionsAreRecordedAndSummarised) {
   EXPECT_EQ(plan.parameters.fillGaps, false);
   EXPECT_EQ(plan.parameters.minGapArea, 20.0);
   EXPECT_EQ(plan.parameters.cornerOverdeposit, 1.5);
+  EXPECT_EQ(plan.parameters.cornerFillAngle, 120.0);
   for (const PlanLayer& layer : plan.layers) {
     EXPECT_TRUE(layer.coverage.measured) << layer.index;
     EXPECT_EQ(layer.coverage.arcStarts, layer.paths.size());
@@ -205,8 +206,9 @@ TEST(PlanCliCases, CoverageOptionsAreRecordedAndSummarised) {
   EXPECT_EQ(unmeasured.parameters.beadWidthRange, (std::array<double, 2>{1.0, 1.0}));
   EXPECT_EQ(unmeasured.parameters.connectInsets, true);
   EXPECT_EQ(unmeasured.parameters.fillGaps, true);
-  EXPECT_EQ(unmeasured.parameters.minGapArea, 144.0);      // the default, s²
+  EXPECT_EQ(unmeasured.parameters.minGapArea, 144.0);       // the default, s²
   EXPECT_EQ(unmeasured.parameters.cornerOverdeposit, 3.0);  // the default, s/4
+  EXPECT_EQ(unmeasured.parameters.cornerFillAngle, 85.0);   // the default: acute corners
   for (const PlanLayer& layer : unmeasured.layers) EXPECT_FALSE(layer.coverage.measured);
 }
 
@@ -272,8 +274,9 @@ TEST(PlanCliCases, BadInputsExitWithTheirMessage) {
               "minimum feature width (--min-feature-width) must be a positive number of mm: -1");
   expectError(with({"--min-gap-area", "0"}),
               "minimum gap area (--min-gap-area) must be a positive number of mm²: 0");
-  expectError(with({"--corner-overdeposit", "-0.5"}),
-              "corner overdeposit (--corner-overdeposit) must be a non-negative number of mm: -0.5");
+  expectError(
+      with({"--corner-overdeposit", "-0.5"}),
+      "corner overdeposit (--corner-overdeposit) must be a non-negative number of mm: -0.5");
   expectError({"--thin-wall", "lowest", "--bead-spacing", "2"},
               "thin-wall surface has no boundary edge");
   expectError({"--thin-wall", "upwards", "--bead-spacing", "2"}, "unknown thin-wall edge");

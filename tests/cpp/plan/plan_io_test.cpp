@@ -22,14 +22,15 @@ Plan makeSamplePlan() {
   Plan plan;
   plan.model = "resources/models/bunny \"closed\".stl";
   plan.start = "plane:bottom";
-  plan.parameters = {1.5,           0.5,  3.7, 2.0, 0.05, "anyangle", "accurate", "boundary",
-                     "centre_bead", 22.5, {},  {},  {},   {},         {},  {},  {}};
+  plan.parameters = {1.5,  0.5, 3.7, 2.0, 0.05, "anyangle", "accurate", "boundary", "centre_bead",
+                     22.5, {},  {},  {},  {},   {},         {},         {}};
   plan.parameters.minFeatureWidth = 1.85;
   plan.parameters.beadWidthRange = std::array<double, 2>{0.7, 1.3};
   plan.parameters.connectInsets = true;
   plan.parameters.fillGaps = false;
   plan.parameters.minGapArea = 2.25;
   plan.parameters.cornerOverdeposit = 0.925;
+  plan.parameters.cornerFillAngle = 85.0;
   for (int l = 0; l < 2; ++l) {
     PlanLayer layer;
     layer.index = l;
@@ -132,6 +133,7 @@ TEST(PlanIo, JsonRoundTripIsByteIdentical) {
   EXPECT_EQ(read.parameters.fillGaps, false);
   EXPECT_EQ(read.parameters.minGapArea, 2.25);
   EXPECT_EQ(read.parameters.cornerOverdeposit, 0.925);
+  EXPECT_EQ(read.parameters.cornerFillAngle, 85.0);
 }
 
 /// A version-1 plan as `curvedslicer plan` wrote it before version 2 (no widths, no coverage).

@@ -112,6 +112,10 @@ struct PlanParameters {
   /// (PlannerOptions::cornerOverdeposit resolved); < 0: corner fill was off; absent for thin
   /// walls and plans written before corner fill existed (no corner fill)
   std::optional<double> cornerOverdeposit;
+  /// Issue 15, corner fill: degrees, the corners of the layer boundary sharper than this were
+  /// filled (PlannerOptions::cornerFillAngle); absent when corner fill was off, for thin walls and
+  /// plans written before the option existed
+  std::optional<double> cornerFillAngle;
 };
 
 struct Plan {
