@@ -110,10 +110,10 @@ void addPlannerOptions(CLI::App& plan, OptionBindings<PlannerOptions>& b) {
         "MM2", [](std::string_view text, PlannerOptions& o) {
           const double a = parseLength(text, "minimum gap area (--min-gap-area)");
           if (!(a > 0.0)) {
-            throw InvalidInput("minimum gap area (--min-gap-area) must be a positive number of "
-                               "mm²: " +
-                               std::string(text) +
-                               "; pass e.g. 4, or leave it out for the bead spacing squared");
+            throw InvalidInput(
+                "minimum gap area (--min-gap-area) must be a positive number of "
+                "mm²: " +
+                std::string(text) + "; pass e.g. 4, or leave it out for the bead spacing squared");
           }
           o.minGapArea = a;
         });
@@ -132,7 +132,8 @@ void addPlannerOptions(CLI::App& plan, OptionBindings<PlannerOptions>& b) {
           if (!(d >= 0.0)) {
             throw InvalidInput(
                 "corner overdeposit (--corner-overdeposit) must be a non-negative number of mm: " +
-                std::string(text) + "; pass e.g. 0.9, or leave it out for a quarter of the bead "
+                std::string(text) +
+                "; pass e.g. 0.9, or leave it out for a quarter of the bead "
                 "spacing");
           }
           o.cornerOverdeposit = d;

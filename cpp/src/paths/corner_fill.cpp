@@ -33,9 +33,9 @@ void checkOptions(const CornerFillOptions& o) {
                        formatNumber(o.maxCornerAngle) + "; pass e.g. 85");
   }
   if (!std::isfinite(o.cornerArm)) {
-    throw InvalidInput("corner fill arm must be a finite number of mm: " +
-                       formatNumber(o.cornerArm) + "; pass e.g. " +
-                       formatNumber(0.25 * o.beadSpacing) + ", or a negative value for s/4");
+    throw InvalidInput(
+        "corner fill arm must be a finite number of mm: " + formatNumber(o.cornerArm) +
+        "; pass e.g. " + formatNumber(0.25 * o.beadSpacing) + ", or a negative value for s/4");
   }
 }
 
@@ -81,7 +81,9 @@ long armPoint(const Polyline& line, std::size_t i, int step, double arm) {
   return -1;
 }
 
-Vec3 tangential(const Vec3& v, const Vec3& normal) { return v - v.dot(normal) * normal; }
+Vec3 tangential(const Vec3& v, const Vec3& normal) {
+  return v - v.dot(normal) * normal;
+}
 
 /// A corner of a ring: its point, turn (radians) and the outside of the turn.
 struct Corner {
@@ -90,8 +92,8 @@ struct Corner {
   Vec3 outside = Vec3::Zero();
 };
 
-std::vector<Corner> findCorners(const Polyline& line, const std::vector<Vec3>& normals,
-                                double arm, double minTurn) {
+std::vector<Corner> findCorners(const Polyline& line, const std::vector<Vec3>& normals, double arm,
+                                double minTurn) {
   std::vector<Corner> candidates;
   for (std::size_t i = 0; i < line.points.size(); ++i) {
     const long a = armPoint(line, i, -1, arm);

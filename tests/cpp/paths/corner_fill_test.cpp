@@ -158,7 +158,8 @@ TEST(CornerFill, BoundStopsTheDipInASharpCorner) {
   EXPECT_NEAR(r.largestDip, 0.25 * kS / std::sin(0.5 * a), 1e-9);
   for (const Vec3& p : ring.points) EXPECT_GE(triangle.edgeDistance(p), kH - 0.25 * kS - 1e-9);
   const double after = voidArea(triangle, ring);
-  EXPECT_LT(after, before - wedgeVoid(triangle.angleAt(1), kH) - wedgeVoid(triangle.angleAt(2), kH));
+  EXPECT_LT(after,
+            before - wedgeVoid(triangle.angleAt(1), kH) - wedgeVoid(triangle.angleAt(2), kH));
   EXPECT_GT(after, 0.1);  // the 40° tip beyond the bound stays
 }
 
@@ -167,7 +168,8 @@ TEST(CornerFill, SmoothRingAndConcaveTurnsStay) {
   Polyline circle;
   circle.closed = true;
   for (int k = 0; k < 64; ++k) {
-    circle.points.push_back(Vec3(10 * std::cos(2 * kPi * k / 64), 10 * std::sin(2 * kPi * k / 64), 0));
+    circle.points.push_back(
+        Vec3(10 * std::cos(2 * kPi * k / 64), 10 * std::sin(2 * kPi * k / 64), 0));
   }
   std::vector<Vec3> normals(circle.points.size(), Vec3::UnitZ());
   const EdgeSampler disc = [](const Vec3& p) {

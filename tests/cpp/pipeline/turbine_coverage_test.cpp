@@ -1,9 +1,10 @@
 // Issue 15 acceptance on the turbine example's blades (resources/examples/turbine.py): planned at
 // the example's settings (h 1.5, L 1, s 3.7, narrow strips Overlap, minimum feature width 1 mm,
-// minimum gap area 1 mm², corner fill up to 150° corners; gap fill on, the default) from the tessellations in
-// tests/data/turbine/, the total void share is at most 1.5 %, by the plan's own coverage numbers
-// (paths/coverage.hpp, area-weighted over the layers) and by an independent recomputation from
-// the layer meshes and plan points (common/independent_coverage.hpp, bead widths honoured).
+// minimum gap area 1 mm², corner fill up to 150° corners; gap fill on, the default) from the
+// tessellations in tests/data/turbine/, the total void share is at most 1.5 %, by the plan's own
+// coverage numbers (paths/coverage.hpp, area-weighted over the layers) and by an independent
+// recomputation from the layer meshes and plan points (common/independent_coverage.hpp, bead widths
+// honoured).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -32,8 +33,8 @@ TEST(TurbineCoverage, BladesAtTheExamplesSettingsAtMostOneAndAHalfPercentVoid) {
   options.layerJob.start.mesh = readMesh(turbineData("base_surface.stl"));
   options.planner.beadSpacing = 3.7;
   options.planner.narrowStrips = NarrowStripMode::Overlap;
-  options.planner.minFeatureWidth = 1.0;  // turbine.py BLADE_MIN_FEATURE_WIDTH
-  options.planner.minGapArea = 1.0;       // turbine.py BLADE_MIN_GAP_AREA
+  options.planner.minFeatureWidth = 1.0;    // turbine.py BLADE_MIN_FEATURE_WIDTH
+  options.planner.minGapArea = 1.0;         // turbine.py BLADE_MIN_GAP_AREA
   options.planner.cornerFillAngle = 150.0;  // turbine.py BLADE_CORNER_FILL_ANGLE
   const PlanJobResult job = runPlanJob(blades, options);
   const Plan& plan = job.planned.plan;

@@ -25,8 +25,8 @@ Plan makeTinyPlan() {
   Plan plan;
   plan.model = "model.stl";
   plan.start = "plane:bottom";
-  plan.parameters = {1.5, 0.5, 3.7, 2.0, 0.05, "anyangle", "accurate", "boundary",
-                     "",  {},  {},  {},  {},   {},         {},  {},  {}};
+  plan.parameters = {1.5, 0.5, 3.7, 2.0, 0.05, "anyangle", "accurate", "boundary", "",
+                     {},  {},  {},  {},  {},   {},         {},         {}};
   PlanLayer layer;
   layer.index = 0;
   layer.height = 1.5;

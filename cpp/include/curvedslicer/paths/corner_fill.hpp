@@ -11,8 +11,9 @@
 // Method, per outer-ring bead (a polyline with per-point normals and widths):
 //   1. Corners: points where the chords to the points `cornerArm` of arc length before and after
 //      (projected into the point's tangent plane) turn by more than 180° − `maxCornerAngle`
-//      (acute corners by default), the sharpest within cornerArm on either side; the corner angle is θ = π − turn, the outside of the
-//      turn o = u₁ − u₂ (normalised; u₁, u₂ the chord directions).
+//      (acute corners by default), the sharpest within cornerArm on either side; the corner angle
+//      is θ = π − turn, the outside of the turn o = u₁ − u₂ (normalised; u₁, u₂ the chord
+//      directions).
 //   2. Only a ring point at the outer ring's offset is moved (its edge distance within 25 % of
 //      w/2), and only at a convex corner of the boundary: moving it toward o must bring it nearer
 //      the edge (by at least half of δ·sin(θ/2), what a straight-edged corner gives).
@@ -45,13 +46,14 @@
 namespace curvedslicer {
 
 struct CornerFillOptions {
-  double beadSpacing = 3.7;     ///< s, mm (> 0): the bead width where a bead carries none
-  double maxOverdeposit = -1.0;  ///< mm, largest distance a bead's edge passes the boundary; < 0: s/4
+  double beadSpacing = 3.7;  ///< s, mm (> 0): the bead width where a bead carries none
+  double maxOverdeposit =
+      -1.0;  ///< mm, largest distance a bead's edge passes the boundary; < 0: s/4
   /// Degrees, in (0, 180): only corners sharper than this are filled (the ring turns by more
   /// than 180° − this). Default 85°: acute corners; a right angle (wedge 0.74 mm² at s = 3.7)
   /// keeps its plain ring.
   double maxCornerAngle = 85.0;
-  double cornerArm = -1.0;      ///< mm of arc length either side that measures a turn; < 0: s/4
+  double cornerArm = -1.0;  ///< mm of arc length either side that measures a turn; < 0: s/4
 };
 
 /// A point of the layer surface near a queried point: the closest point, its unit normal, and
@@ -67,8 +69,8 @@ using EdgeSampler = std::function<EdgeSample(const Vec3&)>;
 
 /// One outer-ring bead to dip into corners (changed in place).
 struct CornerFillBead {
-  Polyline* line = nullptr;              ///< part frame, mm; not owned
-  std::vector<Vec3>* normals = nullptr;  ///< one per point; not owned
+  Polyline* line = nullptr;               ///< part frame, mm; not owned
+  std::vector<Vec3>* normals = nullptr;   ///< one per point; not owned
   std::vector<double>* widths = nullptr;  ///< mm per point, or empty (= s); may be null (= s)
 };
 
