@@ -123,7 +123,7 @@ void addPlannerOptions(CLI::App& plan, OptionBindings<PlannerOptions>& b) {
   b.addAngle(plan, "--corner-fill-angle", &PlannerOptions::cornerFillAngle,
              "corner fill angle (--corner-fill-angle)",
              "Corner fill: fill corners of the layer boundary sharper than this,\n"
-             "degrees in (0, 180) (default: acute corners)");
+             "degrees in (0, 180); the default takes acute corners");
   b.add(plan, "--corner-overdeposit",
         "Corner fill: how far a bead's edge may pass the layer boundary in\n"
         "mm (>= 0; default s/4).",
