@@ -557,21 +557,20 @@ void appendParameters(std::string& out, const PlanParameters& p) {
   out += ",\n";
   appendKey(out, "    ", "initial_curve");
   appendString(out, p.initialCurve, "initial curve");
+  // An optional parameter: written after a comma when present, absent otherwise.
+  const auto appendOptionalNumber = [&out](const char* key, const std::optional<double>& value) {
+    if (!value) return;
+    out += ",\n";
+    appendKey(out, "    ", key);
+    appendNumber(out, *value);
+  };
   if (!p.narrowStrips.empty()) {
     out += ",\n";
     appendKey(out, "    ", "narrow_strips");
     appendString(out, p.narrowStrips, "narrow strips");
   }
-  if (p.cornerAngle) {
-    out += ",\n";
-    appendKey(out, "    ", "corner_angle_deg");
-    appendNumber(out, *p.cornerAngle);
-  }
-  if (p.minFeatureWidth) {
-    out += ",\n";
-    appendKey(out, "    ", "min_feature_width_mm");
-    appendNumber(out, *p.minFeatureWidth);
-  }
+  appendOptionalNumber("corner_angle_deg", p.cornerAngle);
+  appendOptionalNumber("min_feature_width_mm", p.minFeatureWidth);
   if (p.beadWidthRange) {
     out += ",\n";
     appendKey(out, "    ", "bead_width_range");
@@ -591,26 +590,10 @@ void appendParameters(std::string& out, const PlanParameters& p) {
     appendKey(out, "    ", "fill_gaps");
     out += *p.fillGaps ? "true" : "false";
   }
-  if (p.minGapArea) {
-    out += ",\n";
-    appendKey(out, "    ", "min_gap_area_mm2");
-    appendNumber(out, *p.minGapArea);
-  }
-  if (p.cornerOverdeposit) {
-    out += ",\n";
-    appendKey(out, "    ", "corner_overdeposit_mm");
-    appendNumber(out, *p.cornerOverdeposit);
-  }
-  if (p.cornerFillAngle) {
-    out += ",\n";
-    appendKey(out, "    ", "corner_fill_angle_deg");
-    appendNumber(out, *p.cornerFillAngle);
-  }
-  if (p.layerTolerance) {
-    out += ",\n";
-    appendKey(out, "    ", "layer_tolerance_mm");
-    appendNumber(out, *p.layerTolerance);
-  }
+  appendOptionalNumber("min_gap_area_mm2", p.minGapArea);
+  appendOptionalNumber("corner_overdeposit_mm", p.cornerOverdeposit);
+  appendOptionalNumber("corner_fill_angle_deg", p.cornerFillAngle);
+  appendOptionalNumber("layer_tolerance_mm", p.layerTolerance);
   out += "\n  },\n";
 }
 
