@@ -18,6 +18,7 @@ packages=(
   libocct-data-exchange-dev
   freecad-python3 xvfb xauth
   clang libomp-dev  # tests/fuzz: libFuzzer (libclang-common-14-dev, pulled by clang-14), OpenMP
+  ccache  # a second build compiles only what changed (scripts/compiler_launcher.sh)
 )
 
 missing=()
@@ -47,6 +48,9 @@ fi
 
 build="${CURVEDSLICER_BUILD_DIR:-$repo/build}"
 jobs="$(nproc 2>/dev/null || echo 2)"
-cmake -S "$repo" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release
+source "$repo/scripts/compiler_launcher.sh"
+cmake -S "$repo" -B "$build" -G Ninja "${launcher[@]}" -DCMAKE_BUILD_TYPE=Release
+build_start=$(date +%s)
 cmake --build "$build" -j "$jobs"
-echo "setup.sh: Release build ready in $build (command line: $build/cpp/curvedslicer)"
+echo "setup.sh: Release build ready in $build in $(($(date +%s) - build_start)) s (command line:" \
+  "$build/cpp/curvedslicer)"

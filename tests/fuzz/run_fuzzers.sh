@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (clang, ASan + UBSan) in build-fuzz/ and runs each for SECONDS
-# (default 60) on a copy of its seed corpus, one after the other. Exits non-zero if the build
+# (default 60) on a copy of its seed corpus, one per core at a time. Exits non-zero if the build
 # fails or any fuzzer finds a crash (the reproducer is left in build-fuzz/artifacts/).
 # Usage: tests/fuzz/run_fuzzers.sh [SECONDS]   (CURVEDSLICER_FUZZ_BUILD_DIR overrides the folder;
 # CURVEDSLICER_FUZZ_NICE=10 runs them at lower priority.)
@@ -22,20 +22,47 @@ cmake --build "$build" -j "$(nproc 2>/dev/null || echo 2)" --target fuzz_mesh_io
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 mkdir -p "$build/artifacts"
-status=0
-for reader in mesh_io plan_io cell; do
-  corpus="$build/corpus/$reader"
+
+# run_one READER: one fuzzer for $seconds on a copy of its seed corpus; its log in build-fuzz/.
+run_one() {
+  local reader="$1" corpus="$build/corpus/$1" dict=()
   mkdir -p "$corpus"
   cp -n "$repo/tests/fuzz/corpus/$reader/"* "$corpus/" 2>/dev/null || true
-  dict=()
   [[ -f "$repo/tests/fuzz/$reader.dict" ]] && dict=("-dict=$repo/tests/fuzz/$reader.dict")
-  echo "=== fuzz_$reader: ${seconds} s ==="
-  if ! OMP_NUM_THREADS=1 nice -n "$niceness" "$build/tests/fuzz/fuzz_$reader" "$corpus" \
-      "${dict[@]}" -max_total_time="$seconds" -max_len=8192 -rss_limit_mb=2048 -timeout=10 \
-      -print_final_stats=1 -artifact_prefix="$build/artifacts/$reader-" 2>"$build/fuzz_$reader.log"; then
+  OMP_NUM_THREADS=1 nice -n "$niceness" "$build/tests/fuzz/fuzz_$reader" "$corpus" \
+    "${dict[@]}" -max_total_time="$seconds" -max_len=8192 -rss_limit_mb=2048 -timeout=10 \
+    -print_final_stats=1 -artifact_prefix="$build/artifacts/$reader-" 2>"$build/fuzz_$reader.log"
+}
+
+# Each fuzzer is one process on one core: as many run at once as there are cores
+# (CURVEDSLICER_FUZZ_JOBS overrides), each still for the full $seconds.
+slots="${CURVEDSLICER_FUZZ_JOBS:-$(nproc 2>/dev/null || echo 2)}"
+readers=(mesh_io plan_io cell)
+declare -A pid_of=()
+status=0
+report() {  # report READER EXIT-CODE
+  echo "=== fuzz_$1: ${seconds} s, exit $2 ==="
+  if (($2 != 0)); then
     status=1
-    tail -n 40 "$build/fuzz_$reader.log"
+    tail -n 40 "$build/fuzz_$1.log"
   fi
-  grep -E "^stat::number_of_executed_units|^Done|^#[0-9]+ *DONE" "$build/fuzz_$reader.log" || true
+  grep -E "^stat::number_of_executed_units|^Done|^#[0-9]+ *DONE" "$build/fuzz_$1.log" || true
+}
+for reader in "${readers[@]}"; do
+  while ((${#pid_of[@]} >= slots)); do
+    wait -n || true
+    for r in "${!pid_of[@]}"; do
+      if ! kill -0 "${pid_of[$r]}" 2>/dev/null; then
+        rc=0; wait "${pid_of[$r]}" || rc=$?
+        report "$r" "$rc"; unset "pid_of[$r]"
+      fi
+    done
+  done
+  run_one "$reader" &
+  pid_of[$reader]=$!
+done
+for r in "${!pid_of[@]}"; do
+  rc=0; wait "${pid_of[$r]}" || rc=$?
+  report "$r" "$rc"
 done
 exit "$status"
