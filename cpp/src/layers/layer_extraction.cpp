@@ -405,9 +405,10 @@ void extractInBatches(std::vector<float>& values, const VoxelGrid& grid, const T
     // ---- clipping layers ----
     std::vector<LayerSurface> layers(size);
     std::vector<ClipStats> clipStats(size);
-    runChunked(size, batch.sub(0.5, 0.65), "clipping layers", [&](std::size_t q) {
+    // `first` by an init-capture: clang before 16 cannot capture a structured binding.
+    runChunked(size, batch.sub(0.5, 0.65), "clipping layers", [&, level0 = first](std::size_t q) {
       LayerSurface& layer = layers[q];
-      layer.index = first + static_cast<int>(q);
+      layer.index = level0 + static_cast<int>(q);
       layer.level = static_cast<double>(layer.index) * h;
       if (options.clipToSolid) {
         layer.mesh = clipSurfaceToSolid(surfaces[q], modelBvh, grid, surfaceCells, clipStats[q]);
