@@ -17,7 +17,9 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_test_support.hpp"
+#include "common/sanitized_build.hpp"
 #include "common/test_paths.hpp"
+#include "common/text_assertions.hpp"
 #include "curvedslicer/layers/layer_simplification.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
 
@@ -33,18 +35,13 @@ using testing::modelPath;
 using testing::runCli;
 using Args = std::vector<std::string>;
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
+// The build's own flag (common/sanitized_build.hpp), not a compiler's macro: clang does not
+// define __SANITIZE_ADDRESS__.
+constexpr bool kSanitized = testing::sanitizedBuild();
 /// Cells on the longest side of a model's box: ~120 as in a real run, fewer under ASan (slow).
 constexpr double kCellsOnLongestSide = kSanitized ? 48.0 : 120.0;
 
-::testing::AssertionResult contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
-}
+using testing::contains;
 
 std::string numberArg(double value) {
   std::ostringstream s;

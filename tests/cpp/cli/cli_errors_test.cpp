@@ -13,6 +13,7 @@
 #include "cli_test_support.hpp"
 #include "common/shapes.hpp"
 #include "common/test_paths.hpp"
+#include "common/text_assertions.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
 #include "curvedslicer/mesh/mesh_repair.hpp"
 #include "curvedslicer/voxel/voxelize.hpp"
@@ -33,10 +34,7 @@ constexpr int kInvalidInput = 2;
 constexpr int kIoError = 3;
 constexpr int kResourceLimit = 4;
 
-::testing::AssertionResult contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
-}
+using testing::contains;
 
 /// A folder with a 10 mm cube as binary STL (box.stl) and an empty output folder (out/).
 struct Workspace {

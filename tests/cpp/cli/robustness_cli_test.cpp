@@ -19,6 +19,7 @@
 #include "cli_test_support.hpp"
 #include "common/shapes.hpp"
 #include "common/test_paths.hpp"
+#include "common/text_assertions.hpp"
 
 namespace curvedslicer {
 namespace {
@@ -28,10 +29,7 @@ using testing::CliRun;
 using testing::runCli;
 using Args = std::vector<std::string>;
 
-::testing::AssertionResult contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
-}
+using testing::contains;
 
 /// `a` and `b` as one triangle soup.
 TriMesh combined(const TriMesh& a, const TriMesh& b) {

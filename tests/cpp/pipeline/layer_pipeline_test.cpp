@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/shapes.hpp"
+#include "common/text_assertions.hpp"
 #include "curvedslicer/core/error.hpp"
 
 namespace curvedslicer {
@@ -18,10 +19,7 @@ namespace {
 using testing::makeBox;
 using Names = std::vector<std::string>;
 
-::testing::AssertionResult contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
-}
+using testing::contains;
 
 template <typename E, typename F>
 std::string messageOf(F&& f) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "common/text_assertions.hpp"
 #include "curvedslicer/core/error.hpp"
 
 namespace curvedslicer {
@@ -15,10 +16,7 @@ namespace {
 
 using Ids = std::vector<int>;
 
-::testing::AssertionResult contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
-}
+using testing::contains;
 
 template <typename F>
 std::string invalidInputMessage(F&& f) {

@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "common/sanitized_build.hpp"
 #include "common/test_paths.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/export/exporter.hpp"
@@ -19,12 +20,18 @@
 namespace curvedslicer {
 namespace {
 
+/// Grid, layers and beads of the coarse box: twice as coarse under the sanitizers, where the same
+/// stages run 10-20 times slower (the equality and provenance checks do not depend on the scale).
+constexpr double kScale = testing::sanitizedBuild() ? 2.0 : 1.0;
+constexpr double kLayerThickness = 20.0 * kScale;
+constexpr double kVoxelSize = 5.0 * kScale;
+
 /// The 200 mm box at a coarse resolution (a few seconds at most).
 PlanJobOptions coarseBoxOptions() {
   PlanJobOptions options;
-  options.layerJob.layers.layerThickness = 20.0;
-  options.layerJob.voxelize.voxelSize = 5.0;
-  options.planner.beadSpacing = 12.0;
+  options.layerJob.layers.layerThickness = kLayerThickness;
+  options.layerJob.voxelize.voxelSize = kVoxelSize;
+  options.planner.beadSpacing = 12.0 * kScale;
   options.modelName = "box.stl";
   options.startSpec = "plane:bottom";
   return options;
@@ -42,11 +49,11 @@ TEST(PlanJob, EqualsTheLayerJobFollowedByThePlannerWithProvenance) {
   Plan& plan = direct.plan;
   plan.model = "box.stl";
   plan.start = "plane:bottom";
-  plan.parameters.layerThickness = 20.0;
-  plan.parameters.voxelSize = 5.0;
+  plan.parameters.layerThickness = kLayerThickness;
+  plan.parameters.voxelSize = kVoxelSize;
   plan.parameters.fieldMethod = "paper";
   if (options.layerJob.layers.simplification.enabled) {
-    plan.parameters.layerTolerance = kDefaultLayerToleranceVoxels * 5.0;
+    plan.parameters.layerTolerance = kDefaultLayerToleranceVoxels * kVoxelSize;
   }
   ASSERT_FALSE(plan.layers.empty());
   ASSERT_EQ(job.layerFiles.size(), layers.layers.surfaces.size());
@@ -66,11 +73,11 @@ TEST(PlanJob, PlanOnLayersRecordsTheSameProvenanceWithoutFileNames) {
   const PlanResult planned = planOnLayers(layers.layers.surfaces, layers.source, options);
   EXPECT_EQ(planned.plan.model, "box.stl");
   EXPECT_EQ(planned.plan.start, "plane:bottom");
-  EXPECT_EQ(planned.plan.parameters.layerThickness, 20.0);
-  EXPECT_EQ(planned.plan.parameters.voxelSize, 5.0);
+  EXPECT_EQ(planned.plan.parameters.layerThickness, kLayerThickness);
+  EXPECT_EQ(planned.plan.parameters.voxelSize, kVoxelSize);
   EXPECT_EQ(planned.plan.parameters.fieldMethod, "anyangle");
   if (options.layerJob.layers.simplification.enabled) {
-    EXPECT_EQ(planned.plan.parameters.layerTolerance, kDefaultLayerToleranceVoxels * 5.0);
+    EXPECT_EQ(planned.plan.parameters.layerTolerance, kDefaultLayerToleranceVoxels * kVoxelSize);
   } else {
     EXPECT_FALSE(planned.plan.parameters.layerTolerance.has_value());
   }
