@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (clang, ASan + UBSan) in build-fuzz/ and runs each for SECONDS
-# (default 60) on a copy of its seed corpus, one per core at a time. Exits non-zero if the build
+# (default 60) on a copy of its seed corpus, all three side by side. Exits non-zero if the build
 # fails or any fuzzer finds a crash (the reproducer is left in build-fuzz/artifacts/).
 # Usage: tests/fuzz/run_fuzzers.sh [SECONDS]   (CURVEDSLICER_FUZZ_BUILD_DIR overrides the folder;
 # CURVEDSLICER_FUZZ_NICE=10 runs them at lower priority.)
@@ -34,10 +34,10 @@ run_one() {
     -print_final_stats=1 -artifact_prefix="$build/artifacts/$reader-" 2>"$build/fuzz_$reader.log"
 }
 
-# Each fuzzer is one process on one core: as many run at once as there are cores
-# (CURVEDSLICER_FUZZ_JOBS overrides), each still for the full $seconds.
-slots="${CURVEDSLICER_FUZZ_JOBS:-$(nproc 2>/dev/null || echo 2)}"
+# The fuzzers run side by side (CURVEDSLICER_FUZZ_JOBS at most at once, default all three), each
+# for the full $seconds of wall time: the run takes $seconds, not three times as long.
 readers=(mesh_io plan_io cell)
+slots="${CURVEDSLICER_FUZZ_JOBS:-${#readers[@]}}"
 declare -A pid_of=()
 status=0
 report() {  # report READER EXIT-CODE
