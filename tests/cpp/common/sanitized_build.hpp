@@ -26,4 +26,11 @@ constexpr bool sanitizedBuild() {
 #endif
 }
 
+/// Factor on the grid, layer and bead sizes of the tests' coarse whole-part runs (the 200 mm box
+/// at voxel 5 mm): under the sanitizers the same stages run 10-20 times slower, so there those
+/// runs take a twice coarser grid; what they check does not depend on the scale.
+constexpr double coarseningUnderSanitizers() {
+  return sanitizedBuild() ? 2.0 : 1.0;
+}
+
 }  // namespace curvedslicer::testing

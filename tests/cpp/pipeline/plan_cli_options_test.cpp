@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli/cli_test_support.hpp"
+#include "common/sanitized_build.hpp"
 #include "common/test_paths.hpp"
 #include "curvedslicer/paths/planner.hpp"
 #include "curvedslicer/plan/plan_io.hpp"
@@ -27,15 +28,19 @@ std::string g(double value) {
   return buffer;
 }
 
+/// Bead spacing of the coarse box (twice as coarse under the sanitizers, as its grid and layers).
+constexpr double kBoxBeadSpacing = 12.0 * testing::coarseningUnderSanitizers();
+
 std::vector<std::string> coarseBox(const fs::path& out) {
+  const double scale = testing::coarseningUnderSanitizers();
   return {"plan",
           testing::modelPath("simple_box_closed_low_res.stl").string(),
           "--layer-thickness",
-          "20",
+          g(20.0 * scale),
           "--voxel",
-          "5",
+          g(5.0 * scale),
           "--bead-spacing",
-          "12",
+          g(kBoxBeadSpacing),
           "-o",
           out.string(),
           "-q"};
@@ -63,7 +68,7 @@ TEST(PlanCliOptions, OptionsNotGivenAreThePlannerDefaults) {
   ASSERT_EQ(run.exitCode, 0) << run.err;
   const Plan plan = readPlanJson(dir / "out/plan.json");
   const PlannerOptions defaults;
-  EXPECT_EQ(plan.parameters.beadSpacing, 12.0);
+  EXPECT_EQ(plan.parameters.beadSpacing, kBoxBeadSpacing);
   EXPECT_EQ(plan.parameters.pointSpacing, defaults.pointSpacing);
   EXPECT_EQ(plan.parameters.fitTolerance, defaults.fitTolerance);
   EXPECT_EQ(plan.parameters.cornerAngle, defaults.cornerAngle);

@@ -20,9 +20,8 @@
 namespace curvedslicer {
 namespace {
 
-/// Grid, layers and beads of the coarse box: twice as coarse under the sanitizers, where the same
-/// stages run 10-20 times slower (the equality and provenance checks do not depend on the scale).
-constexpr double kScale = testing::sanitizedBuild() ? 2.0 : 1.0;
+/// Grid, layers and beads of the coarse box (twice as coarse under the sanitizers).
+constexpr double kScale = testing::coarseningUnderSanitizers();
 constexpr double kLayerThickness = 20.0 * kScale;
 constexpr double kVoxelSize = 5.0 * kScale;
 
