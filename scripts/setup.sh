@@ -19,6 +19,7 @@ packages=(
   freecad-python3 xvfb xauth
   clang libomp-dev  # tests/fuzz: libFuzzer (libclang-common-14-dev, pulled by clang-14), OpenMP
   ccache  # a second build compiles only what changed (scripts/compiler_launcher.sh)
+  rsync  # scripts/freecad11_leg.sh copies the tree into the FreeCAD 1.1 chroot
 )
 
 missing=()
