@@ -144,6 +144,8 @@ TEST(Cell, EachBadFieldHasItsOwnError) {
       {"/vendor", "motoman", "must be one of yaskawa, kuka, abb, fanuc"},
       {"/vendor", 7, "must be a string"},
       {"/robot/j3_relative_to_horizontal", "yes", "must be true or false"},
+      {"/robot/controller_frame/xyz_mm", Json::array({0, 505}), "array of 3"},
+      {"/robot/controller_frame/scale", 1, "is not a known field"},
       // controller section: LS / JBI blocks (s9-export2)
       {"/controller/ls/arc_start_schedule", nullptr, "is missing"},
       {"/controller/ls/weld_equipment", 3, "between 1 and 2"},
@@ -163,6 +165,32 @@ TEST(Cell, EachBadFieldHasItsOwnError) {
     }
     expectInvalid(j, {c.pointer, c.needle, "test.json"});
   }
+}
+
+// Files written before robot/controller_frame existed load with the vendor's controller frame,
+// named in a note.
+TEST(Cell, OldFilesGetTheVendorsControllerFrameWithANote) {
+  Json j = defaultJson();
+  j["robot"].erase("controller_frame");
+  const Cell yaskawa = parseCell(j.dump(), "old.json");
+  EXPECT_TRUE(yaskawa.robot.controllerFrame.isApprox(defaultCell().robot.controllerFrame));
+  EXPECT_NEAR(yaskawa.robot.controllerFrame.translation().z(), 505.0, 1e-12);
+  ASSERT_EQ(yaskawa.notes.size(), 1u);
+  EXPECT_NE(yaskawa.notes[0].find("robot/controller_frame not given: the yaskawa convention "
+                                  "taken: on joint 1's axis at the height of joint 2, 505 mm "
+                                  "above robot/base"),
+            std::string::npos)
+      << yaskawa.notes[0];
+  j["vendor"] = "kuka";
+  const Cell kuka = parseCell(j.dump(), "old.json");
+  EXPECT_TRUE(kuka.robot.controllerFrame.isApprox(Pose::Identity()));
+  EXPECT_NE(kuka.notes[0].find("the kuka convention taken: the robot base frame itself"),
+            std::string::npos)
+      << kuka.notes[0];
+  j["vendor"] = "fanuc";
+  EXPECT_NEAR(parseCell(j.dump()).robot.controllerFrame.translation().z(), 505.0, 1e-12);
+  // Written again, the field is spelled out and the cell reads without notes.
+  EXPECT_TRUE(parseCell(writeCellJson(yaskawa)).notes.empty());
 }
 
 /// The default cell written as version 1: without the version-2 fields.

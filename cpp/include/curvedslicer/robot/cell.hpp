@@ -93,6 +93,12 @@ struct RobotDescription {
   /// Encoder pulses per degree of each controller joint angle (pulse = round(deg · ppd));
   /// empty when not known — exporters must then write Cartesian robot positions.
   std::vector<double> pulsesPerDegree;
+  /// The controller's Cartesian robot frame in the robot base frame: the frame from which a
+  /// program's robot-frame positions are measured (JBI `POSTYPE BASE`, Fanuc world/UF 0). Yaskawa's
+  /// robot coordinates and Fanuc's world frame lie on joint 1's axis at the height of joint 2,
+  /// KUKA's and ABB's base frames at the robot's foot (defaultControllerFrame). JSON
+  /// robot/controller_frame; when absent the reader takes the vendor's default and notes it.
+  Pose controllerFrame = Pose::Identity();
 };
 
 /// The torch body for collision checks: a truncated cone on the tool z axis. It starts at the
@@ -301,6 +307,12 @@ void checkCellVendor(const Cell& cell, std::string_view format, bool allowForeig
 /// The vendor whose controller runs `format` (jbi → Yaskawa, krl → KUKA, rapid → ABB,
 /// ls → Fanuc); Unknown for the neutral formats (gcode, csv, json) and unknown names.
 RobotVendor vendorOfFormat(std::string_view format);
+
+/// The controller's Cartesian robot frame in the robot base frame by the vendor's convention:
+/// Yaskawa (robot coordinates) and Fanuc (world frame) on joint 1's axis at the height of
+/// joint 2, i.e. translated by (0, 0, c1); KUKA ($ROBROOT), ABB (base frame) and an unknown vendor
+/// at the robot base frame itself (identity). Sources: resources/cells/README.md.
+Pose defaultControllerFrame(RobotVendor vendor, const RobotKinematics& kinematics);
 
 /// Names used in the JSON form, for messages and exporters.
 std::string_view toString(RobotVendor vendor);
