@@ -264,13 +264,15 @@ inline std::vector<std::pair<std::string, std::string>> aggregateFields(const st
   return fields;
 }
 
-/// S (bit 0 back, bit 1 elbow down, bit 2 J5 < 0) and T (bit k: joint k+1 < 0).
+/// KUKA's S and T: S bit 0 = overhead area (wrist centre at negative x of the A1 frame: the
+/// "back" branch), bit 1 = A3 ≥ φ, the angle at which the arm is stretched (elbow up; 0 = elbow
+/// down), bit 2 = A5 < 0; T bit k = joint k+1 < 0.
 inline StatedConfiguration decodeStatusTurn(int s, int t, const std::string& line) {
   EXPECT_TRUE(s >= 0 && s < 8 && t >= 0 && t < 64) << line;
   StatedConfiguration c;
   c.text = "S " + std::to_string(s) + ",T " + std::to_string(t);
   c.branchMask = 3;
-  c.branch = s & 3;
+  c.branch = (s & 1) | ((s & 2) ? 0 : 2);
   c.negative[4] = (s & 4) != 0;
   for (int j = 0; j < 6; ++j) {
     const bool bit = (t >> j & 1) != 0;
