@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -316,6 +317,50 @@ Pose readControllerFrame(Field& r, RobotVendor vendor, const RobotKinematics& ki
   return frame;
 }
 
+/// robot/interference, optional in every version: linear inequalities between joint angles
+/// (Σ coefficients · joints ≤ max_deg); when absent none is assumed and a note says so.
+std::vector<JointInequality> readInterference(Field& r, std::string_view origin,
+                                              std::vector<std::string>& notes) {
+  std::vector<JointInequality> limits;
+  if (!r.has("interference")) {
+    notes.push_back(
+        "robot/interference not given: no joint interference limit assumed (only the joint "
+        "ranges); add robot/interference, [] when the robot has none (see "
+        "resources/cells/README.md)");
+    return limits;
+  }
+  const Json& list = r.require("interference", "give a list of joint inequalities");
+  if (!list.is_array()) {
+    r.fail("interference", "must be an array", abbreviateJson(list),
+           "give [{\"name\", \"coefficients\" (6 numbers), \"max_deg\"}, ...] or []");
+  }
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    Field f(list[i], r.childPath("interference") + "/" + std::to_string(i), origin);
+    if (!list[i].is_object()) {
+      f.fail("", "must be an object", abbreviateJson(list[i]),
+             "give name, coefficients (6 numbers) and max_deg");
+    }
+    JointInequality limit;
+    limit.name = f.string("name", "name the limit, e.g. \"L/U\"");
+    const auto c = f.numbers("coefficients", 6,
+                             "give one coefficient per joint: sum of coefficient x joint angle "
+                             "<= max_deg");
+    double size = 0.0;
+    for (int j = 0; j < 6; ++j) {
+      limit.coefficients[j] = c[j];
+      size += std::abs(c[j]);
+    }
+    if (!(size > 0.0)) {
+      f.fail("coefficients", "must not all be zero", "[0, 0, 0, 0, 0, 0]",
+             "give the joints the limit couples, e.g. [0, 1, 1, 0, 0, 0]");
+    }
+    limit.max = f.number("max_deg", "give the bound in degrees") * kDeg;
+    f.rejectUnknown();
+    limits.push_back(std::move(limit));
+  }
+  return limits;
+}
+
 RobotDescription readRobot(Field& top, std::string_view origin, RobotVendor vendor,
                            std::vector<std::string>& notes) {
   Field r = top.object("robot", "describe the robot");
@@ -325,6 +370,7 @@ RobotDescription readRobot(Field& top, std::string_view origin, RobotVendor vend
   robot.kinematics = readKinematics(r);
   robot.controllerFrame = readControllerFrame(r, vendor, robot.kinematics, notes);
   readJoints(r, robot, origin);
+  robot.interference = readInterference(r, origin, notes);
   robot.j3RelativeToHorizontal =
       r.boolean("j3_relative_to_horizontal", false,
                 "true when the controller's J3 is the forearm's angle to the horizontal (Fanuc)");
@@ -434,6 +480,10 @@ HomePose readHome(Field& top, int version, const Cell& cell, std::vector<std::st
                  formatNumber(lim.max / kDeg) + "] deg",
              formatNumber(q[i]), "give a home pose within the robot's joint limits");
     }
+  }
+  if (const JointInequality* limit = violatedInterference(cell.robot, home.robot)) {
+    h.fail("robot_joints_deg", "violates the robot's interference limit " + limit->name,
+           abbreviateJson(Json(q)), "give a home pose that satisfies robot/interference");
   }
   const auto a = h.numbers("positioner_deg", 2, "give [tilt, rotation] in degrees");
   home.a1 = a[0] * kDeg;
@@ -871,6 +921,26 @@ std::string_view toString(RobotVendor vendor) {
   return "unknown";
 }
 
+double interferenceExcess(const RobotDescription& robot, const JointVector& joints) {
+  double worst = -std::numeric_limits<double>::infinity();
+  for (const JointInequality& limit : robot.interference) {
+    double sum = 0.0;
+    for (int j = 0; j < 6; ++j) sum += limit.coefficients[j] * joints[j];
+    worst = std::max(worst, sum - limit.max);
+  }
+  return worst;
+}
+
+const JointInequality* violatedInterference(const RobotDescription& robot,
+                                            const JointVector& joints, double tolerance) {
+  for (const JointInequality& limit : robot.interference) {
+    double sum = 0.0;
+    for (int j = 0; j < 6; ++j) sum += limit.coefficients[j] * joints[j];
+    if (sum - limit.max > tolerance) return &limit;
+  }
+  return nullptr;
+}
+
 Pose defaultControllerFrame(RobotVendor vendor, const RobotKinematics& kinematics) {
   Pose frame = Pose::Identity();
   if (vendor == RobotVendor::Yaskawa || vendor == RobotVendor::Fanuc) {
@@ -986,6 +1056,14 @@ std::string writeCellJson(const Cell& cell) {
   if (!r.pulsesPerDegree.empty()) j["robot"]["pulses_per_degree"] = r.pulsesPerDegree;
   if (r.j3RelativeToHorizontal) j["robot"]["j3_relative_to_horizontal"] = true;
   j["robot"]["controller_frame"] = poseJson(r.controllerFrame);
+  Json interference = Json::array();
+  for (const JointInequality& limit : r.interference) {
+    Json c = Json::array();
+    for (double v : limit.coefficients) c.push_back(clean(v));
+    interference.push_back(
+        Json{{"name", limit.name}, {"coefficients", c}, {"max_deg", clean(limit.max / kDeg)}});
+  }
+  j["robot"]["interference"] = interference;
   const TorchEnvelope& env = cell.tool.envelope;
   j["tool"] = Json{{"name", cell.tool.name},
                    {"number", cell.tool.number},

@@ -192,6 +192,22 @@ TEST(JbiWriter, LateralTcpOffsetLiesAlongYaskawasFlangeX) {
   EXPECT_LT((tool.linear().col(2) - Vec3::UnitX()).norm(), 1e-5) << "tool z forward";
 }
 
+TEST(JbiWriter, RefusesAPointViolatingAnInterferenceLimit) {
+  Cell cell = defaultCell();
+  const MotionPlan motion = planMotion(makeSmallPlan(), cell);
+  cell.robot.interference.push_back({"L/U", {0, 1, 0, 0, 0, 0}, -30.0 * kDegT});  // home: L -20
+  try {
+    JbiWriter().write(motion, cell, {}, {});
+    ADD_FAILURE() << "written";
+  } catch (const InvalidInput& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("motion point 0"), std::string::npos) << m;
+    EXPECT_NE(m.find("violates the robot's interference limit L/U (robot/interference)"),
+              std::string::npos)
+        << m;
+  }
+}
+
 TEST(JbiWriter, PulseJobDecodesThroughForwardKinematicsOntoThePath) {
   Cell cell = defaultCell();
   cell.exportOptions.positionType = PositionType::Pulse;

@@ -293,6 +293,32 @@ TEST(VendorCells, InverseKinematicsReproducesRandomJointsWithinLimits) {
   }
 }
 
+// An interference limit (here L + U <= 30 deg on the HP20D) takes solutions out of the IK's
+// "within limits" although every joint lies within its range: inverse kinematics never offers
+// a violating solution as usable.
+TEST(VendorCells, InverseKinematicsNeverOffersASolutionViolatingAnInterferenceLimit) {
+  RobotDescription robot = readCell(cellsDir() / "motoman_hp20d_tilt_rotate.json").robot;
+  robot.interference.push_back({"L/U", {0, 1, 1, 0, 0, 0}, 30 * kDeg});
+  int violating = 0, kept = 0;
+  for (const JointVector& q : randomJoints(robot, 300, 27)) {
+    const IkResult ik = solveInverseKinematics(robot, computeFlangePose(robot, q), q[3]);
+    for (const IkSolution& s : ik.solutions) {
+      if (s.withinLimits) {
+        EXPECT_EQ(violatedInterference(robot, s.joints), nullptr);
+        ++kept;
+      }
+      bool same = true;
+      for (int j = 0; j < 6; ++j) same = same && std::abs(angleDifference(s.joints[j], q[j])) < 1e-7;
+      if (same && q[1] + q[2] > 30 * kDeg && std::abs(s.joints[2] - q[2]) < 1e-7) {
+        EXPECT_FALSE(s.withinLimits);
+        ++violating;
+      }
+    }
+  }
+  EXPECT_GT(violating, 20);
+  EXPECT_GT(kept, 100);
+}
+
 TEST(VendorCells, HomePosesAreWithinLimitsVerticalAndClearOfTheTable) {
   for (const VendorCell& c : kCells) {
     SCOPED_TRACE(c.file);
