@@ -142,7 +142,7 @@ TEST(Cell, EachBadFieldHasItsOwnError) {
       {"/home/robot_joints_deg", Json::array({0, 0, 0}), "array of 6"},
       {"/home/robot_joints_deg", Json::array({0, -20, -10, 0, -130, 0}), "joint 5 (B)"},
       {"/home/positioner_deg", Json::array({0}), "array of 2"},
-      {"/home/positioner_deg", Json::array({100, 0}), "tilt outside its limits"},
+      {"/home/positioner_deg", Json::array({150, 0}), "tilt outside its limits"},
       {"/home/joints_deg", Json::array({0}), "is not a known field"},
       {"/vendor", "motoman", "must be one of yaskawa, kuka, abb, fanuc"},
       {"/vendor", 7, "must be a string"},
@@ -219,8 +219,9 @@ TEST(Cell, InterferenceLimitsRoundTripAndGuardTheHome) {
   ASSERT_EQ(back.robot.interference.size(), 1u);
   EXPECT_EQ(back.robot.interference[0].name, "L/U");
   EXPECT_NEAR(back.robot.interference[0].max, 100.0 * M_PI / 180.0, 1e-12);
-  EXPECT_EQ(violatedInterference(back.robot, {0, 1.0, 0.8, 0, 0, 0}), nullptr);
-  EXPECT_NE(violatedInterference(back.robot, {0, 1.0, 0.8 + 1e-6, 0, 0, 0}), nullptr);
+  const double atLimit = 100.0 * M_PI / 180.0 - 1.0;  // L = 1 rad, U at the bound L + U = 100 deg
+  EXPECT_EQ(violatedInterference(back.robot, {0, 1.0, atLimit, 0, 0, 0}), nullptr);
+  EXPECT_NE(violatedInterference(back.robot, {0, 1.0, atLimit + 1e-6, 0, 0, 0}), nullptr);
   // The home (L = -20 deg) must satisfy them.
   Json j = defaultJson();
   j["robot"]["interference"] =
