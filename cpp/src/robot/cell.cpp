@@ -1163,17 +1163,15 @@ Cell defaultCell() {
   cell.tool.tcp = makePose(Vec3(0, 0, 400), Vec3::Zero());
   cell.tool.envelope = TorchEnvelope{15.0, 12.5, 25.0, 385.0};
   PositionerDescription& p = cell.positioner;
-  p.model = "Yaskawa MotoPos D500 two-axis tilt-rotate positioner";
+  p.model = "two-axis tilt-rotate positioner (Yaskawa D500B class)";
   p.base = makePose(Vec3(1100, 0, 0), Vec3::Zero());
   p.tiltAxisPoint = Vec3(0, 0, 380);
   p.tiltAxisDirection = Vec3::UnitX();
   p.rotationAxisPoint = Vec3(0, 0, 530);
   p.rotationAxisDirection = Vec3::UnitZ();
   p.tableToPart = Pose::Identity();
-  // MotoPos D500 (ros-industrial/motoman description): tilt ±135° at 80°/s, rotation ±200° at
-  // 160°/s, not endless.
-  p.tilt = PositionerAxis{JointLimit{-135 * kDeg, 135 * kDeg, 80 * kDeg}, false, 1994.3, 1};
-  p.rotation = PositionerAxis{JointLimit{-200 * kDeg, 200 * kDeg, 160 * kDeg}, false, 1376.7, 1};
+  p.tilt = PositionerAxis{JointLimit{-95 * kDeg, 95 * kDeg, 120 * kDeg}, false, 1994.3, 1};
+  p.rotation = PositionerAxis{JointLimit{-360 * kDeg, 360 * kDeg, 180 * kDeg}, true, 1376.7, 1};
   p.geometry = PositionerGeometry{300.0, 30.0, 350.0, 500.0};
   ProcessDescription& pr = cell.process;
   pr.weldSpeed = 8.0;

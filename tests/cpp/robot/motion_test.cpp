@@ -168,9 +168,7 @@ TEST(Motion, BranchPreferenceAtTheFirstPoint) {
 }
 
 TEST(Motion, TiltLimitGivesBestFeasiblePoseAndWarning) {
-  Cell cell = defaultCell();
-  cell.positioner.tilt.limit.min = -95 * kDeg;  // a tilt range that V below needs 5 deg more of
-  cell.positioner.tilt.limit.max = 95 * kDeg;
+  const Cell cell = defaultCell();  // tilt limits +-95 deg
   const Vec3 v(0, std::sin(100 * kDeg), -std::cos(100 * kDeg));
   // the table tilted 95 deg brings its disc under the vertical torch: collisions allowed here
   MotionOptions options;

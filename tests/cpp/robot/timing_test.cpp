@@ -144,7 +144,7 @@ TEST(Timing, OptionOffKeepsNominalTimes) {
   EXPECT_TRUE(nominal.speedReductions.empty());
   EXPECT_NEAR(nominal.total.arcTime, 3.9 / cell.process.weldSpeed, 1e-9);
   EXPECT_GT(limited.total.arcTime, nominal.total.arcTime);
-  // a2 turns 156 deg at the rotation's maximum speed at least
+  // a2 turns 156 deg at 180 deg/s at least
   EXPECT_GE(limited.total.arcTime,
             156 * kDeg / cell.positioner.rotation.limit.maxSpeed * (1 - 1e-9));
 }

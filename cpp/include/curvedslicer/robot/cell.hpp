@@ -314,7 +314,7 @@ void validateCell(const Cell& cell);
 /// written).
 std::string writeCellJson(const Cell& cell);
 
-/// The paper's cell: Yaskawa Motoman HP20D, a MotoPos D500 tilt-rotate positioner, straight torch;
+/// The paper's cell: Yaskawa Motoman HP20D, a D500B-class tilt-rotate positioner, straight torch;
 /// sources of the numbers in resources/cells/README.md. Equal to
 /// parseCell(resources/cells/motoman_hp20d_tilt_rotate.json).
 Cell defaultCell();
