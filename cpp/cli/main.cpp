@@ -1,5 +1,6 @@
 // The `curvedslicer` command line. Every subcommand registers itself in commands.hpp:
 //   curvedslicer layers MODEL --layer-thickness MM --voxel MM -o DIR [options]
+//   curvedslicer cell check CELL.json
 //   curvedslicer --version
 // See `curvedslicer <command> --help` and README.md.
 #include <cstdio>

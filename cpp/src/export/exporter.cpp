@@ -219,6 +219,17 @@ void checkJointLimits(const MotionPlan& motion, const Cell& cell) {
         throwLimit(p, i, "robot joint " + std::to_string(j + 1), p.joints[j], cell.robot.joints[j]);
       }
     }
+    if (const JointInequality* limit = violatedInterference(cell.robot, p.joints)) {
+      std::string joints;
+      for (int j = 0; j < 6; ++j) {
+        joints += (j ? ", " : "") + formatFixed(p.joints[j] * kRadToDeg, 3);
+      }
+      throw InvalidInput("motion point " + std::to_string(i) + " (layer " +
+                         std::to_string(p.layer) + ", path " + std::to_string(p.path) +
+                         ") violates the robot's interference limit " + limit->name +
+                         " (robot/interference): joints " + joints +
+                         " deg; re-plan the motion for this cell or change the part's place");
+    }
     if (!cell.positioner.tilt.limit.contains(p.a1)) {
       throwLimit(p, i, "the positioner tilt (a1)", p.a1, cell.positioner.tilt.limit);
     }

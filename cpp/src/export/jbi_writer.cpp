@@ -100,6 +100,9 @@ ExportFile writeJob(const MotionPlan& motion, const Cell& cell, const ExportOpti
     text.line("///POSTYPE BASE");
     text.line("///RECTAN");
   }
+  // BASE positions are in the controller's robot coordinates (on the S axis at the height of
+  // the L axis for Yaskawa), not in the model's robot base frame.
+  const Pose robotFrameInverse = cell.robot.controllerFrame.inverse();
   std::string lastRconf;
   for (std::size_t k = 0; k < n; ++k) {
     const MotionPoint& p = motion.points[range.begin + k];
@@ -120,7 +123,7 @@ ExportFile writeJob(const MotionPlan& motion, const Cell& cell, const ExportOpti
         appendInt(b, pulses[j]);
       }
     } else {
-      const XyzRpy c = toXyzRpy(p.toolInRobotBase);
+      const XyzRpy c = toXyzRpy(robotFrameInverse * p.toolInRobotBase);
       appendList(b, {c.x, c.y, c.z}, 3);
       b += ',';
       appendList(b, {c.roll, c.pitch, c.yaw}, 4);

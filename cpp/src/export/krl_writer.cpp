@@ -65,12 +65,14 @@ void appendExternal(std::string& b, const Cell& cell, const MotionPoint& p) {
   b += ",E3 0.0,E4 0.0,E5 0.0,E6 0.0}";
 }
 
-/// ",S s,T t" of an E6POS: S bit 0 = back (over the shoulder), bit 1 = elbow down, bit 2 = joint
-/// 5 negative; T bit k = joint k+1 negative; from the point's configuration (its weld's).
+/// ",S s,T t" of an E6POS after KUKA's definition: S bit 0 = the wrist centre behind A1's axis
+/// (overhead area: the IK's "back" branch), bit 1 = A3 at or above the angle φ at which the arm is
+/// stretched (the IK's elbow-up branch, the usual working pose; 0 for elbow down), bit 2 = A5
+/// negative; T bit k = joint k+1 negative; from the point's configuration (its weld's).
 void appendStatusTurn(std::string& b, const RobotConfiguration& c) {
   int s = 0, t = 0;
   if (c.branch & 1) s |= 1;
-  if (c.branch & 2) s |= 2;
+  if (!(c.branch & 2)) s |= 2;
   if (c.negative[4]) s |= 4;
   for (int j = 0; j < 6; ++j) {
     if (c.negative[j]) t |= 1 << j;

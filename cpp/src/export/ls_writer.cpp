@@ -103,7 +103,10 @@ void writeRobotPosition(ProgramText& text, const Cell& cell, const MotionPoint& 
     }
     return;
   }
-  const XyzRpy c = toXyzRpy(coordinated ? p.toolInTable : p.toolInWorld);
+  // Not coordinated: user frame 0 is Fanuc's world frame, the controller's robot frame (on J1's
+  // axis at the height of J2), not the cell's world frame.
+  const XyzRpy c = toXyzRpy(coordinated ? p.toolInTable
+                                        : cell.robot.controllerFrame.inverse() * p.toolInRobotBase);
   g += "\t\t";
   appendConfig(g, configuration);
   text.endLine();

@@ -3,9 +3,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -291,13 +293,84 @@ void readJoints(Field& r, RobotDescription& robot, std::string_view origin) {
   }
 }
 
-RobotDescription readRobot(Field& top, std::string_view origin) {
+/// robot/controller_frame, optional in every version: when absent, the vendor's convention
+/// (defaultControllerFrame) is taken and a note names it, since Cartesian program positions are
+/// measured from this frame.
+Pose readControllerFrame(Field& r, RobotVendor vendor, const RobotKinematics& kinematics,
+                         std::vector<std::string>& notes) {
+  if (r.has("controller_frame")) {
+    return readPose(r, "controller_frame",
+                    "give the controller's Cartesian robot frame in the robot base frame");
+  }
+  const Pose frame = defaultControllerFrame(vendor, kinematics);
+  const double height = frame.translation().z();
+  std::string taken =
+      vendor == RobotVendor::Unknown
+          ? "no vendor named, so the robot base frame itself taken"
+          : "the " + std::string(toString(vendor)) + " convention taken: " +
+                (height != 0.0 ? "on joint 1's axis at the height of joint 2, " +
+                                     formatNumber(height) + " mm above robot/base"
+                               : std::string("the robot base frame itself"));
+  notes.push_back("robot/controller_frame not given: " + taken +
+                  "; Cartesian robot positions in programs are measured from it; add "
+                  "robot/controller_frame to state it (see resources/cells/README.md)");
+  return frame;
+}
+
+/// robot/interference, optional in every version: linear inequalities between joint angles
+/// (Σ coefficients · joints ≤ max_deg); when absent none is assumed and a note says so.
+std::vector<JointInequality> readInterference(Field& r, std::string_view origin,
+                                              std::vector<std::string>& notes) {
+  std::vector<JointInequality> limits;
+  if (!r.has("interference")) {
+    notes.push_back(
+        "robot/interference not given: no joint interference limit assumed (only the joint "
+        "ranges); add robot/interference, [] when the robot has none (see "
+        "resources/cells/README.md)");
+    return limits;
+  }
+  const Json& list = r.require("interference", "give a list of joint inequalities");
+  if (!list.is_array()) {
+    r.fail("interference", "must be an array", abbreviateJson(list),
+           "give [{\"name\", \"coefficients\" (6 numbers), \"max_deg\"}, ...] or []");
+  }
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    Field f(list[i], r.childPath("interference") + "/" + std::to_string(i), origin);
+    if (!list[i].is_object()) {
+      f.fail("", "must be an object", abbreviateJson(list[i]),
+             "give name, coefficients (6 numbers) and max_deg");
+    }
+    JointInequality limit;
+    limit.name = f.string("name", "name the limit, e.g. \"L/U\"");
+    const auto c = f.numbers("coefficients", 6,
+                             "give one coefficient per joint: sum of coefficient x joint angle "
+                             "<= max_deg");
+    double size = 0.0;
+    for (int j = 0; j < 6; ++j) {
+      limit.coefficients[j] = c[j];
+      size += std::abs(c[j]);
+    }
+    if (!(size > 0.0)) {
+      f.fail("coefficients", "must not all be zero", "[0, 0, 0, 0, 0, 0]",
+             "give the joints the limit couples, e.g. [0, 1, 1, 0, 0, 0]");
+    }
+    limit.max = f.number("max_deg", "give the bound in degrees") * kDeg;
+    f.rejectUnknown();
+    limits.push_back(std::move(limit));
+  }
+  return limits;
+}
+
+RobotDescription readRobot(Field& top, std::string_view origin, RobotVendor vendor,
+                           std::vector<std::string>& notes) {
   Field r = top.object("robot", "describe the robot");
   RobotDescription robot;
   robot.model = r.string("model", "name the robot model");
   robot.base = readPose(r, "base", "give the robot base frame in world");
   robot.kinematics = readKinematics(r);
+  robot.controllerFrame = readControllerFrame(r, vendor, robot.kinematics, notes);
   readJoints(r, robot, origin);
+  robot.interference = readInterference(r, origin, notes);
   robot.j3RelativeToHorizontal =
       r.boolean("j3_relative_to_horizontal", false,
                 "true when the controller's J3 is the forearm's angle to the horizontal (Fanuc)");
@@ -407,6 +480,10 @@ HomePose readHome(Field& top, int version, const Cell& cell, std::vector<std::st
                  formatNumber(lim.max / kDeg) + "] deg",
              formatNumber(q[i]), "give a home pose within the robot's joint limits");
     }
+  }
+  if (const JointInequality* limit = violatedInterference(cell.robot, home.robot)) {
+    h.fail("robot_joints_deg", "violates the robot's interference limit " + limit->name,
+           abbreviateJson(Json(q)), "give a home pose that satisfies robot/interference");
   }
   const auto a = h.numbers("positioner_deg", 2, "give [tilt, rotation] in degrees");
   home.a1 = a[0] * kDeg;
@@ -787,7 +864,7 @@ Cell readCellDocument(const Json& root, std::string_view origin) {
   cell.vendor = readVendor(top, cell.notes);
   cell.description = top.string("description", "", "free text");
   cell.gravity = top.direction("gravity", "give gravity as a direction in world, e.g. [0, 0, -1]");
-  cell.robot = readRobot(top, origin);
+  cell.robot = readRobot(top, origin, cell.vendor, cell.notes);
   cell.tool = readTool(top, version, cell.notes);
   cell.positioner = readPositioner(top, version, cell.notes);
   cell.process = readProcess(top, origin);
@@ -842,6 +919,34 @@ std::string_view toString(RobotVendor vendor) {
       break;
   }
   return "unknown";
+}
+
+double interferenceExcess(const RobotDescription& robot, const JointVector& joints) {
+  double worst = -std::numeric_limits<double>::infinity();
+  for (const JointInequality& limit : robot.interference) {
+    double sum = 0.0;
+    for (int j = 0; j < 6; ++j) sum += limit.coefficients[j] * joints[j];
+    worst = std::max(worst, sum - limit.max);
+  }
+  return worst;
+}
+
+const JointInequality* violatedInterference(const RobotDescription& robot,
+                                            const JointVector& joints, double tolerance) {
+  for (const JointInequality& limit : robot.interference) {
+    double sum = 0.0;
+    for (int j = 0; j < 6; ++j) sum += limit.coefficients[j] * joints[j];
+    if (sum - limit.max > tolerance) return &limit;
+  }
+  return nullptr;
+}
+
+Pose defaultControllerFrame(RobotVendor vendor, const RobotKinematics& kinematics) {
+  Pose frame = Pose::Identity();
+  if (vendor == RobotVendor::Yaskawa || vendor == RobotVendor::Fanuc) {
+    frame.translation() = Vec3(0.0, 0.0, kinematics.c1);
+  }
+  return frame;
 }
 
 RobotVendor vendorOfFormat(std::string_view format) {
@@ -950,6 +1055,15 @@ std::string writeCellJson(const Cell& cell) {
                     {"joints", joints}};
   if (!r.pulsesPerDegree.empty()) j["robot"]["pulses_per_degree"] = r.pulsesPerDegree;
   if (r.j3RelativeToHorizontal) j["robot"]["j3_relative_to_horizontal"] = true;
+  j["robot"]["controller_frame"] = poseJson(r.controllerFrame);
+  Json interference = Json::array();
+  for (const JointInequality& limit : r.interference) {
+    Json c = Json::array();
+    for (double v : limit.coefficients) c.push_back(clean(v));
+    interference.push_back(
+        Json{{"name", limit.name}, {"coefficients", c}, {"max_deg", clean(limit.max / kDeg)}});
+  }
+  j["robot"]["interference"] = interference;
   const TorchEnvelope& env = cell.tool.envelope;
   j["tool"] = Json{{"name", cell.tool.name},
                    {"number", cell.tool.number},
@@ -1030,6 +1144,8 @@ Cell defaultCell() {
   r.model = "Yaskawa Motoman HP20D";
   r.base = Pose::Identity();
   r.kinematics = RobotKinematics{150.0, 140.0, 0.0, 505.0, 760.0, 795.0, 100.0};
+  // Yaskawa's robot coordinates: on the S axis at the height of the L axis.
+  r.controllerFrame = defaultControllerFrame(RobotVendor::Yaskawa, r.kinematics);
   const double limits[6][2] = {{-180, 180}, {-110, 155}, {-165, 255},
                                {-200, 200}, {-125, 125}, {-360, 360}};
   const double speeds[6] = {197, 197, 210, 410, 410, 610};
@@ -1037,9 +1153,11 @@ Cell defaultCell() {
     r.joints[i] = JointLimit{limits[i][0] * kDeg, limits[i][1] * kDeg, speeds[i] * kDeg};
   }
   // Controller angles: U positive = forearm up, B positive = wrist up, which turn about -y in the
-  // model (see docs/METHODS.md); R and T positive about the forearm / flange axis.
+  // model (see docs/METHODS.md); R and T positive about the forearm / flange axis. T's offset of
+  // 180° turns the model's flange (x down at the zero pose) into Yaskawa's flange frame (x up),
+  // in which the controller's tool files and the Rx, Ry, Rz of BASE positions are given.
   r.jointSigns = {1, 1, -1, -1, -1, -1};
-  r.jointOffsets = {0, 0, 0, 0, 0, 0};
+  r.jointOffsets = {0, 0, 0, 0, 0, 180 * kDeg};
   cell.tool.name = "straight WAAM torch, TCP 400 mm along the flange axis";
   cell.tool.number = 1;
   cell.tool.tcp = makePose(Vec3(0, 0, 400), Vec3::Zero());
@@ -1117,8 +1235,9 @@ Cell defaultCell() {
   // Fanuc ArcTool schedule 1 on weld equipment 1, 2000 lines per program; no arc wait input.
   cell.controller.ls = LsControllerSettings{1, 1, 1, 2000};
   cell.controller.jbi = JbiControllerSettings{0};
-  // Torch vertical, TCP at (648.7, 0, 995.1) mm in world: 100 mm outside the working volume's
-  // radius and 465 mm above the table top (checked by a test with the robot's FK).
+  // Torch vertical, TCP at (648.7, 0, 995.1) mm in world (490.1 mm above the robot coordinates'
+  // origin at the L axis): 100 mm outside the working volume's radius and 465 mm above the table
+  // top (checked by a test with the robot's FK).
   cell.home.robot = {0.0, -20 * kDeg, -10 * kDeg, 0.0, -100 * kDeg, 0.0};
   cell.home.a1 = 0.0;
   cell.home.a2 = 0.0;

@@ -640,6 +640,7 @@ IkSolution RobotKinematicsPass::chooseSolution(const IkResult& ik, const JointVe
         q[j] = unwrapNear(q[j], reference[j]);
         inside = inside && cell_.robot.joints[j].contains(q[j]);
       }
+      inside = inside && violatedInterference(cell_.robot, q) == nullptr;
     }
     double cost = 0.0;
     for (int j = 0; j < 6; ++j) cost += std::abs(q[j] - reference[j]);
@@ -650,6 +651,7 @@ IkSolution RobotKinematicsPass::chooseSolution(const IkResult& ik, const JointVe
         const JointLimit& lim = cell_.robot.joints[j];
         cost += 1e3 * std::max({0.0, lim.min - q[j], q[j] - lim.max});
       }
+      cost += 1e3 * std::max(0.0, interferenceExcess(cell_.robot, q));
     }
     if (pathConfiguration >= 0 && sol.configuration != pathConfiguration) cost += 1e3;
     if (cost < bestCost) {
@@ -685,6 +687,10 @@ void RobotKinematicsPass::recordFailures(const MotionPathSpan& span) {
                   " at " + fmt(m.joints[j] / kDeg, 1) + " deg (limits " + fmt(lim.min / kDeg, 1) +
                   " .. " + fmt(lim.max / kDeg, 1) + ")";
       }
+    }
+    if (const JointInequality* limit = violatedInterference(cell_.robot, m.joints)) {
+      joints += std::string(joints.empty() ? "" : ", ") + "interference limit " + limit->name +
+                " (robot/interference)";
     }
     failures_.push_back(pointName(m) + " is outside the joint limits: " + joints);
   }

@@ -101,6 +101,27 @@ ArmPoints computeArmPoints(const RobotDescription& robot, const JointVector& joi
   return points;
 }
 
+double elbowAngle(const RobotDescription& robot, const JointVector& joints) {
+  const ArmPoints a = computeArmPoints(robot, joints);
+  const Vec3 upper = a.shoulder - a.elbow, fore = a.wrist - a.elbow;
+  return std::atan2(upper.cross(fore).norm(), upper.dot(fore));
+}
+
+std::optional<JointVector> findFoldedPose(const RobotDescription& robot, double minElbowAngle) {
+  constexpr double kStep = kPi / 180.0;
+  const JointLimit& l2 = robot.joints[1];
+  const JointLimit& l3 = robot.joints[2];
+  for (double q2 = l2.min; q2 <= l2.max + 1e-12; q2 += kStep) {
+    for (double q3 = l3.min; q3 <= l3.max + 1e-12; q3 += kStep) {
+      const JointVector q{0.0, q2, q3, 0.0, 0.0, 0.0};
+      if (elbowAngle(robot, q) < minElbowAngle && violatedInterference(robot, q) == nullptr) {
+        return q;
+      }
+    }
+  }
+  return std::nullopt;
+}
+
 IkResult solveInverseKinematics(const RobotDescription& robot, const Pose& flange,
                                 double wristReference) {
   const RobotKinematics& k = robot.kinematics;
@@ -190,7 +211,8 @@ bool unwrapJoints(const RobotDescription& robot, JointVector& joints,
                   const JointVector& reference) {
   bool ok = true;
   for (int i = 0; i < 6; ++i) ok = unwrapInto(joints[i], robot.joints[i], reference[i]) && ok;
-  return ok;
+  // The interference limits couple joints the box above treats separately (e.g. L and U).
+  return ok && violatedInterference(robot, joints) == nullptr;
 }
 
 }  // namespace curvedslicer

@@ -353,6 +353,67 @@ TEST(ExportCommand, NotesOfAVersionOneCellArePrinted) {
   EXPECT_NE(err.find("note: cell version 1: default home pose assumed"), std::string::npos) << err;
 }
 
+fs::path bundledCell(const std::string& name) {
+  return fs::path(CURVEDSLICER_SOURCE_DIR) / "resources" / "cells" / name;
+}
+
+// `cell check` prints the frames a controller takes from the cell: for the KR 16 the robot base
+// and controller frame at the foot, the flange at all joints 0 (968 mm out, 1450 mm up) and the
+// joint, interference and positioner limits; its joint 3 range cannot fold the arm.
+TEST(CellCheckCommand, PrintsFramesReachLimitsAndSourcesOfACell) {
+  const fs::path dir = freshTempDir();
+  const fs::path kuka = bundledCell("kuka_kr16_r1610_2_dkp400.json");
+  ASSERT_EQ(runCli(dir, "cell check '" + kuka.string() + "'"), 0)
+      << readFile((dir / "stderr.txt").string());
+  const std::string out = readFile((dir / "stdout.txt").string());
+  for (const char* needle :
+       {"robot: KUKA KR 16 R1610-2", "(vendor kuka)",
+        "controller's robot frame in the base: xyz 0.0, 0.0, 0.0 mm, rpy 0.00, 0.00, 0.00 deg (the "
+        "vendor's convention)",
+        "reach: wrist centre up to 1612.", "joint 3: [-138.0, 175.0] deg",
+        "interference limits: none", "home: robot 0.0, -105.0, 90.0", "sources:",
+        "check: joints 2 and 3 cannot fold the arm within the limits"}) {
+    EXPECT_NE(out.find(needle), std::string::npos) << needle << "\n" << out;
+  }
+}
+
+// The HP20D's U range (-165/+255 deg, 420 deg) folds the forearm onto the upper arm; without an
+// interference limit the check exits 2 naming the fields. Its controller frame is 505 mm up and
+// the home TCP lies 490.1 mm above it.
+TEST(CellCheckCommand, RefusesAFoldingJointRangeWithoutAnInterferenceLimit) {
+  const fs::path dir = freshTempDir();
+  const fs::path hp20d = bundledCell("motoman_hp20d_tilt_rotate.json");
+  EXPECT_EQ(runCli(dir, "cell check '" + hp20d.string() + "'"), 2);
+  const std::string out = readFile((dir / "stdout.txt").string());
+  EXPECT_NE(out.find("controller's robot frame in the base: xyz 0.0, 0.0, 505.0 mm"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("in world, xyz 648.7, 0.0, 490.1 mm"), std::string::npos) << out;
+  const std::string err = readFile((dir / "stderr.txt").string());
+  EXPECT_NE(err.find("robot/joints/1 and robot/joints/2 (joints 2 and 3) allow a folded arm"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("no robot/interference limit excludes it"), std::string::npos) << err;
+  // With limits that keep the elbow open (U within -60 .. 150 deg), the check passes.
+  nlohmann::json cell = nlohmann::json::parse(readFile(hp20d.string()));
+  cell["robot"]["interference"] = nlohmann::json::parse(
+      R"([{"name": "U max", "coefficients": [0, 0, 1, 0, 0, 0], "max_deg": 150},
+          {"name": "U min", "coefficients": [0, 0, -1, 0, 0, 0], "max_deg": 60}])");
+  const fs::path limited = dir / "limited.json";
+  { std::ofstream(limited) << cell.dump(2); }
+  EXPECT_EQ(runCli(dir, "cell check '" + limited.string() + "'"), 0)
+      << readFile((dir / "stderr.txt").string());
+  EXPECT_NE(readFile((dir / "stdout.txt").string())
+                .find("interference limit U min: -1 J3 <= 60.0 deg"),
+            std::string::npos);
+  // An unreadable cell: exit 2 naming the field.
+  cell["robot"]["interference"] = 5;
+  { std::ofstream(limited) << cell.dump(2); }
+  EXPECT_EQ(runCli(dir, "cell check '" + limited.string() + "'"), 2);
+  EXPECT_NE(readFile((dir / "stderr.txt").string()).find("/robot/interference must be an array"),
+            std::string::npos);
+}
+
 TEST(ExportCommand, HelpGivesTheMotionDefaultsFromTheOptionsStruct) {
   const fs::path dir = freshTempDir();
   ASSERT_EQ(runCli(dir, "export --help"), 0);

@@ -231,6 +231,37 @@ inline Vec3 partPointFromRobotBase(const Cell& cell, const Pose& tcpInBase, doub
   return computePartInWorld(cell.positioner, a1, a2).inverse() * world.translation();
 }
 
+/// The controller's Cartesian robot frame in the robot base frame, written out here from the
+/// vendors' definitions independently of the writers: Yaskawa's robot coordinates and Fanuc's world
+/// frame lie on joint 1's axis at the height of joint 2 (the model's c1 above the base), KUKA's and
+/// ABB's base frames at the foot. A cell of a known vendor must state that frame
+/// (robot/controller_frame); a cell without vendor is taken at its word.
+inline Pose controllerRobotFrame(const Cell& cell) {
+  Pose frame = Pose::Identity();
+  switch (cell.vendor) {
+    case RobotVendor::Yaskawa:
+    case RobotVendor::Fanuc:
+      frame.translation() = Vec3(0, 0, cell.robot.kinematics.c1);
+      break;
+    case RobotVendor::Kuka:
+    case RobotVendor::Abb:
+      break;
+    case RobotVendor::Unknown:
+      return cell.robot.controllerFrame;
+  }
+  EXPECT_TRUE(cell.robot.controllerFrame.isApprox(frame, 1e-12))
+      << "the cell's robot/controller_frame is not its vendor's robot frame: z "
+      << cell.robot.controllerFrame.translation().z() << " mm instead of "
+      << frame.translation().z();
+  return frame;
+}
+
+/// Part-frame position of the TCP from a Cartesian position in the controller's robot frame.
+inline Vec3 partPointFromControllerFrame(const Cell& cell, const Pose& tcpInRobotFrame, double a1,
+                                         double a2) {
+  return partPointFromRobotBase(cell, controllerRobotFrame(cell) * tcpInRobotFrame, a1, a2);
+}
+
 /// Part-frame position of the TCP from robot joint angles in controller degrees (a joint target:
 /// the home pose) through forward kinematics, and the positioner angles.
 inline Vec3 partPointFromJointDegrees(const Cell& cell, const std::vector<double>& degrees,

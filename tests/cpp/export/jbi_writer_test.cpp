@@ -103,7 +103,7 @@ std::vector<DecodedMove> decodeMoves(const Program& program, const Cell& cell) {
       m.instruction = line;
       m.a1 = tiltFromPulses(cell, ev.at(0));
       m.a2 = rotationFromPulses(cell, ev.at(1));
-      Pose tcpInBase;
+      Pose tcpInBase;  // PULSE: in the robot base frame; BASE: in Yaskawa's robot coordinates
       if (job.cPosType == "PULSE") {
         JointVector joints{};
         for (int j = 0; j < 6; ++j) {
@@ -114,7 +114,9 @@ std::vector<DecodedMove> decodeMoves(const Program& program, const Cell& cell) {
         EXPECT_EQ(job.cPosType, "BASE");
         tcpInBase = poseFromXyzRpy(cv.at(0), cv.at(1), cv.at(2), cv.at(3), cv.at(4), cv.at(5));
       }
-      m.partPoint = partPointFromRobotBase(cell, tcpInBase, m.a1, m.a2);
+      m.partPoint = job.cPosType == "PULSE"
+                        ? partPointFromRobotBase(cell, tcpInBase, m.a1, m.a2)
+                        : partPointFromControllerFrame(cell, tcpInBase, m.a1, m.a2);
       moves.push_back(m);
     }
   }
@@ -142,6 +144,68 @@ TEST(JbiWriter, CartesianJobReadsBackOntoThePlannedPath) {
   expectOnPlannedPath(decodeMoves(program, placedCell(cell, motion)), motion);
   EXPECT_EQ(result.motionCount, motion.points.size());
   EXPECT_EQ(result.arcCount, 4u);
+}
+
+// Yaskawa's robot coordinates (POSTYPE BASE) have their origin on the S axis at the height of the
+// L axis, 505 mm above the floor for the HP20D. Its home (S, L, U, R, B, T = 0, -20, -10, 0, -100,
+// 0 deg, 400 mm straight torch) puts the TCP 648.7 mm in front of the S axis and 995.1 mm above
+// the floor: 490.1 mm in robot coordinates.
+TEST(JbiWriter, Hp20dHomeIsWrittenInRobotCoordinatesAtLAxisHeight) {
+  const Cell cell = defaultCell();
+  const MotionPlan motion = planMotion(makeSmallPlan(), cell);
+  ASSERT_EQ(motion.points.front().kind, MoveKind::Home);
+  const ExportResult result = JbiWriter().write(motion, cell, {}, {});
+  const JbiJob job = parseJbi(result.files.front().text);
+  ASSERT_EQ(job.cPosType, "BASE");
+  const std::vector<double>& home = job.c.at(0);
+  ASSERT_EQ(home.size(), 6u);
+  EXPECT_NEAR(home[0], 648.7, 0.05);
+  EXPECT_NEAR(home[1], 0.0, 1e-3);
+  EXPECT_NEAR(home[2], 490.1, 0.05);
+  const Pose tool = poseFromXyzRpy(home[0], home[1], home[2], home[3], home[4], home[5]);
+  EXPECT_LT((tool.linear().col(2) + Vec3::UnitZ()).norm(), 1e-5) << "torch pointing down";
+}
+
+// Yaskawa's flange frame (MotoSim's "flange" = ROS-Industrial tool0) at all joints 0: z forward
+// out of the flange, x up. A tool file with the TCP 50 mm along flange x and 400 mm along z puts
+// the TCP 400 mm in front of the flange centre (a1 + c3 + c4, 0, c1 + c2 + a2) = (1045, 0, 1405)
+// mm and 50 mm above it, 950 mm above the L axis; the tool frame is the flange frame.
+TEST(JbiWriter, LateralTcpOffsetLiesAlongYaskawasFlangeX) {
+  Cell cell = defaultCell();
+  cell.tool.tcp = makePose(Vec3(50.0, 0.0, 400.0), Vec3::Zero());
+  MotionPlan motion;
+  MotionPoint p;
+  p.kind = MoveKind::Home;
+  p.joints = {0, 0, 0, 0, 0, 0};
+  p.toolInRobotBase = computeFlangePose(cell.robot, p.joints) * cell.tool.tcp;
+  p.toolInWorld = cell.robot.base * p.toolInRobotBase;
+  motion.points.push_back(p);
+  const ExportResult result = JbiWriter().write(motion, cell, {}, {});
+  const JbiJob job = parseJbi(result.files.front().text);
+  const std::vector<double>& c = job.c.at(0);
+  ASSERT_EQ(c.size(), 6u);
+  EXPECT_NEAR(c[0], 1445.0, 1e-3);
+  EXPECT_NEAR(c[1], 0.0, 1e-3);
+  EXPECT_NEAR(c[2], 950.0, 1e-3);
+  const Pose tool = poseFromXyzRpy(c[0], c[1], c[2], c[3], c[4], c[5]);
+  EXPECT_LT((tool.linear().col(0) - Vec3::UnitZ()).norm(), 1e-5) << "tool x up";
+  EXPECT_LT((tool.linear().col(2) - Vec3::UnitX()).norm(), 1e-5) << "tool z forward";
+}
+
+TEST(JbiWriter, RefusesAPointViolatingAnInterferenceLimit) {
+  Cell cell = defaultCell();
+  const MotionPlan motion = planMotion(makeSmallPlan(), cell);
+  cell.robot.interference.push_back({"L/U", {0, 1, 0, 0, 0, 0}, -30.0 * kDegT});  // home: L -20
+  try {
+    JbiWriter().write(motion, cell, {}, {});
+    ADD_FAILURE() << "written";
+  } catch (const InvalidInput& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("motion point 0"), std::string::npos) << m;
+    EXPECT_NE(m.find("violates the robot's interference limit L/U (robot/interference)"),
+              std::string::npos)
+        << m;
+  }
 }
 
 TEST(JbiWriter, PulseJobDecodesThroughForwardKinematicsOntoThePath) {

@@ -143,7 +143,8 @@ inline StatedConfiguration decodeRconf(const std::vector<int>& f, const std::str
 }
 
 /// The part-frame point of C<c> + EC<ec> through the cell's kinematics: BASE positions are the TCP
-/// in the robot base frame (x y z mm, Rx Ry Rz deg), PULSE positions joint pulses (÷ pulses per
+/// in Yaskawa's robot coordinates (x y z mm, Rx Ry Rz deg; origin on the S axis at the height of
+/// the L axis, controllerRobotFrame), PULSE positions joint pulses (÷ pulses per
 /// degree, forward kinematics); EC pulses are the positioner's tilt and rotation.
 inline std::optional<Vec3> jbiPartPoint(const Cell& cell, const JbiJob& job, int c, int ec) {
   const auto ic = job.c.find(c);
@@ -158,7 +159,8 @@ inline std::optional<Vec3> jbiPartPoint(const Cell& cell, const JbiJob& job, int
   const double a1 = tiltFromPulses(cell, iec->second[0]);
   const double a2 = rotationFromPulses(cell, iec->second[1]);
   if (job.cPosType == "BASE") {
-    return partPointFromRobotBase(cell, poseFromXyzRpy(v[0], v[1], v[2], v[3], v[4], v[5]), a1, a2);
+    return partPointFromControllerFrame(cell, poseFromXyzRpy(v[0], v[1], v[2], v[3], v[4], v[5]),
+                                        a1, a2);
   }
   std::vector<double> degrees;
   for (int j = 0; j < 6; ++j) degrees.push_back(v[j] / cell.robot.pulsesPerDegree.at(j));
@@ -262,13 +264,15 @@ inline std::vector<std::pair<std::string, std::string>> aggregateFields(const st
   return fields;
 }
 
-/// S (bit 0 back, bit 1 elbow down, bit 2 J5 < 0) and T (bit k: joint k+1 < 0).
+/// KUKA's S and T: S bit 0 = overhead area (wrist centre at negative x of the A1 frame: the
+/// "back" branch), bit 1 = A3 ≥ φ, the angle at which the arm is stretched (elbow up; 0 = elbow
+/// down), bit 2 = A5 < 0; T bit k = joint k+1 < 0.
 inline StatedConfiguration decodeStatusTurn(int s, int t, const std::string& line) {
   EXPECT_TRUE(s >= 0 && s < 8 && t >= 0 && t < 64) << line;
   StatedConfiguration c;
   c.text = "S " + std::to_string(s) + ",T " + std::to_string(t);
   c.branchMask = 3;
-  c.branch = s & 3;
+  c.branch = (s & 1) | ((s & 2) ? 0 : 2);
   c.negative[4] = (s & 4) != 0;
   for (int j = 0; j < 6; ++j) {
     const bool bit = (t >> j & 1) != 0;
@@ -536,7 +540,8 @@ inline LsFile parseLsFile(const ExportFile& file, bool crlf) {
 
 /// The part-frame point a /POS register states, through the cell's kinematics: GP1 joints by
 /// the robot's forward kinematics, GP1 Cartesian in the table frame (UF = the cell's user frame,
-/// coordinated) or world (UF 0), GP2 J1 J2 as the positioner's tilt and rotation.
+/// coordinated) or Fanuc's world frame (UF 0: the controller's robot frame on J1's axis at the
+/// height of J2, controllerRobotFrame), GP2 J1 J2 as the positioner's tilt and rotation.
 inline Vec3 lsPartPoint(const Cell& cell, const LsPosition& p) {
   const double a1 = cell.positioner.tilt.sign * p.gp2.at("J1") * kDegT;
   const double a2 = cell.positioner.rotation.sign * p.gp2.at("J2") * kDegT;
@@ -547,7 +552,7 @@ inline Vec3 lsPartPoint(const Cell& cell, const LsPosition& p) {
   }
   const Pose tcp = poseFromXyzRpy(p.gp1.at("X"), p.gp1.at("Y"), p.gp1.at("Z"), p.gp1.at("W"),
                                   p.gp1.at("P"), p.gp1.at("R"));
-  if (p.uf == 0) return partPointFromWorld(cell, tcp.translation(), a1, a2);
+  if (p.uf == 0) return partPointFromControllerFrame(cell, tcp, a1, a2);
   EXPECT_EQ(p.uf, cell.exportOptions.userFrame) << "user frame";
   return partPointFromTable(cell, tcp, a1, a2);
 }

@@ -139,11 +139,21 @@ TEST(Cell, EachBadFieldHasItsOwnError) {
       {"/home/robot_joints_deg", Json::array({0, 0, 0}), "array of 6"},
       {"/home/robot_joints_deg", Json::array({0, -20, -10, 0, -130, 0}), "joint 5 (B)"},
       {"/home/positioner_deg", Json::array({0}), "array of 2"},
-      {"/home/positioner_deg", Json::array({100, 0}), "tilt outside its limits"},
+      {"/home/positioner_deg", Json::array({150, 0}), "tilt outside its limits"},
       {"/home/joints_deg", Json::array({0}), "is not a known field"},
       {"/vendor", "motoman", "must be one of yaskawa, kuka, abb, fanuc"},
       {"/vendor", 7, "must be a string"},
       {"/robot/j3_relative_to_horizontal", "yes", "must be true or false"},
+      {"/robot/controller_frame/xyz_mm", Json::array({0, 505}), "array of 3"},
+      {"/robot/controller_frame/scale", 1, "is not a known field"},
+      {"/robot/interference", Json::object(), "must be an array"},
+      {"/robot/interference",
+       Json::parse(R"([{"name": "L/U", "coefficients": [0, 0, 0, 0, 0, 0], "max_deg": 1}])"),
+       "must not all be zero"},
+      {"/robot/interference", Json::parse(R"([{"name": "L/U", "coefficients": [0, 1, 1]}])"),
+       "array of 6"},
+      {"/robot/interference",
+       Json::parse(R"([{"name": "L/U", "coefficients": [0, 1, 1, 0, 0, 0]}])"), "is missing"},
       // controller section: LS / JBI blocks (s9-export2)
       {"/controller/ls/arc_start_schedule", nullptr, "is missing"},
       {"/controller/ls/weld_equipment", 3, "between 1 and 2"},
@@ -163,6 +173,57 @@ TEST(Cell, EachBadFieldHasItsOwnError) {
     }
     expectInvalid(j, {c.pointer, c.needle, "test.json"});
   }
+}
+
+// Files written before robot/controller_frame and robot/interference existed load with the
+// vendor's controller frame and no interference limit, each named in a note.
+TEST(Cell, OldFilesGetTheVendorsControllerFrameAndNoInterferenceWithNotes) {
+  Json j = defaultJson();
+  j["robot"].erase("controller_frame");
+  j["robot"].erase("interference");
+  const Cell yaskawa = parseCell(j.dump(), "old.json");
+  EXPECT_TRUE(yaskawa.robot.controllerFrame.isApprox(defaultCell().robot.controllerFrame));
+  EXPECT_NEAR(yaskawa.robot.controllerFrame.translation().z(), 505.0, 1e-12);
+  EXPECT_TRUE(yaskawa.robot.interference.empty());
+  ASSERT_EQ(yaskawa.notes.size(), 2u);
+  EXPECT_NE(yaskawa.notes[0].find("robot/controller_frame not given: the yaskawa convention "
+                                  "taken: on joint 1's axis at the height of joint 2, 505 mm "
+                                  "above robot/base"),
+            std::string::npos)
+      << yaskawa.notes[0];
+  EXPECT_NE(yaskawa.notes[1].find("robot/interference not given: no joint interference limit "
+                                  "assumed"),
+            std::string::npos)
+      << yaskawa.notes[1];
+  j["vendor"] = "kuka";
+  const Cell kuka = parseCell(j.dump(), "old.json");
+  EXPECT_TRUE(kuka.robot.controllerFrame.isApprox(Pose::Identity()));
+  EXPECT_NE(kuka.notes[0].find("the kuka convention taken: the robot base frame itself"),
+            std::string::npos)
+      << kuka.notes[0];
+  j["vendor"] = "fanuc";
+  EXPECT_NEAR(parseCell(j.dump()).robot.controllerFrame.translation().z(), 505.0, 1e-12);
+  // Written again, both fields are spelled out and the cell reads without notes.
+  EXPECT_TRUE(parseCell(writeCellJson(yaskawa)).notes.empty());
+}
+
+TEST(Cell, InterferenceLimitsRoundTripAndGuardTheHome) {
+  Cell cell = defaultCell();
+  cell.robot.interference.push_back({"L/U", {0, 1, 1, 0, 0, 0}, 100.0 * M_PI / 180.0});
+  const std::string text = writeCellJson(cell);
+  const Cell back = parseCell(text);
+  EXPECT_EQ(writeCellJson(back), text);
+  ASSERT_EQ(back.robot.interference.size(), 1u);
+  EXPECT_EQ(back.robot.interference[0].name, "L/U");
+  EXPECT_NEAR(back.robot.interference[0].max, 100.0 * M_PI / 180.0, 1e-12);
+  const double atLimit = 100.0 * M_PI / 180.0 - 1.0;  // L = 1 rad, U at the bound L + U = 100 deg
+  EXPECT_EQ(violatedInterference(back.robot, {0, 1.0, atLimit, 0, 0, 0}), nullptr);
+  EXPECT_NE(violatedInterference(back.robot, {0, 1.0, atLimit + 1e-6, 0, 0, 0}), nullptr);
+  // The home (L = -20 deg) must satisfy them.
+  Json j = defaultJson();
+  j["robot"]["interference"] =
+      Json::parse(R"([{"name": "L/U", "coefficients": [0, 1, 0, 0, 0, 0], "max_deg": -30}])");
+  expectInvalid(j, {"/home/robot_joints_deg", "violates the robot's interference limit L/U"});
 }
 
 /// The default cell written as version 1: without the version-2 fields.

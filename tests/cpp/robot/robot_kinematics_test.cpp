@@ -37,10 +37,11 @@ RobotDescription offsetRobot() {
 TEST(RobotKinematics, ZeroPose) {
   const RobotDescription r = defaultCell().robot;
   const Pose flange = computeFlangePose(r, JointVector{});
-  // wrist centre (a1 + c3, 0, c1 + c2 + a2), flange c4 further along +x, flange z along +x
+  // wrist centre (a1 + c3, 0, c1 + c2 + a2), flange c4 further along +x, flange z along +x; the
+  // HP20D's T offset of 180 deg makes the flange Yaskawa's, x up at the controller's zero
   EXPECT_TRUE(flange.translation().isApprox(Vec3(150 + 795 + 100, 0, 505 + 760 + 140), 1e-12));
   EXPECT_TRUE(flange.linear().col(2).isApprox(Vec3::UnitX(), 1e-12));
-  EXPECT_TRUE(flange.linear().col(0).isApprox(-Vec3::UnitZ(), 1e-12));
+  EXPECT_TRUE(flange.linear().col(0).isApprox(Vec3::UnitZ(), 1e-12));
 }
 
 TEST(RobotKinematics, ArmPointsZeroPose) {

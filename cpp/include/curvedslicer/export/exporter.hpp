@@ -146,8 +146,9 @@ void validateExportOptions(const ExportOptions& options);
 ExportResult exportProgram(const MotionPlan& motion, const Cell& cell, ExportFormat format,
                            const ExportOptions& options = {}, const Progress& progress = {});
 
-/// Checks every point of `motion` against the cell's joint limits (robot joints and positioner
-/// axes, with 1e-9 rad slack); the robot and positioner must never be asked to cross a limit.
+/// Checks every point of `motion` against the cell's joint limits (robot joints, the robot's
+/// interference limits and positioner axes, with 1e-9 rad slack); the robot and positioner must
+/// never be asked to cross a limit.
 /// @throws InvalidInput naming the first offending point (layer, path, point), the joint, its
 ///         angle and the limit in degrees, and how far beyond it is.
 void checkJointLimits(const MotionPlan& motion, const Cell& cell);

@@ -5,7 +5,8 @@
 //   /JOB  //NAME n  //POS  ///NPOS C,0,EC,0,0,0  ///TOOL t
 //   robot positions C00000… : ///POSTYPE PULSE + ///PULSE (robot pulses from the cell's pulses
 //     per degree) or ///POSTYPE BASE + ///RECTAN + ///RCONF (x, y, z in mm and Rx, Ry, Rz in deg
-//     of the TCP in the robot base frame, R = Rz·Ry·Rx; RCONF = flip, elbow down, back, R/T/S
+//     of the TCP in the controller's robot frame `RobotDescription::controllerFrame`, for
+//     Yaskawa on the S axis at the height of the L axis; R = Rz·Ry·Rx; RCONF = flip, elbow down, back, R/T/S
 //     at or beyond 180°, repeated whenever it changes: within a weld the weld's configuration
 //     (MotionPathSpan::configuration, constant from ARCON to ARCOF), at arc-off points the one
 //     of the point's joints); station positions EC00000… always ///POSTYPE PULSE (tilt,

@@ -24,7 +24,8 @@
 // A,B,C (deg; A about z, B about y, C about x: KUKA's tool frame, x along the torch, the cell's
 // TCP frame turned -90 deg about its y as KUKA's flange is), S, T, E1..E6}, `$VEL.CP` (m/s; a
 // reduced weld speed rounded down) set when the speed changes, C_DIS only between weld points. S
-// and T (T bit k set when joint k+1 < 0; S bit 0 = back, bit 1 = elbow down, bit 2 = joint 5 < 0)
+// and T (T bit k set when joint k+1 < 0; S bit 0 = back (overhead area), bit 1 = elbow up (A3 at
+// or above the stretched-arm angle, KUKA's definition), bit 2 = joint 5 < 0)
 // come from the weld's configuration (MotionPathSpan::configuration, constant from the path start
 // to its end) and at arc-off points from the point's own joints.
 //

@@ -9,7 +9,8 @@
 // 'F|N U|D T|B, t1, t4, t6', X Y Z (mm), W P R (deg, R = Rz(R)·Ry(P)·Rx(W))} and GP2 {J1, J2
 // (deg)}; /END. Coordinated (the cell's default): linear moves carry COORD and GP1 positions are
 // the TCP in the positioner's table frame (UF = the cell's user frame, which must be the table
-// frame); otherwise UF 0 and world positions. CONFIG flip/up/top and the turn numbers of J1, J4,
+// frame); otherwise UF 0 and positions in Fanuc's world frame, the controller's robot frame
+// `RobotDescription::controllerFrame` (on J1's axis at the height of J2). CONFIG flip/up/top and the turn numbers of J1, J4,
 // J6 (floor((q + 180°) / 360°)) come from the weld's configuration (MotionPathSpan::configuration,
 // constant from the path start to its end) and at arc-off points from the point's joints.
 //

@@ -80,6 +80,17 @@ struct RobotKinematics {
   double c4 = 0.0;  ///< mm, wrist centre to flange (>= 0)
 };
 
+/// A linear inequality between controller joint angles that the joint box cannot express:
+/// Σ coefficients[i] · q[i] ≤ max (q and max in rad), e.g. Fanuc's J2/J3 interaction or
+/// Yaskawa's L/U interference (the forearm folding onto the upper arm). Inverse kinematics never
+/// offers a violating solution as within limits, the motion plan flags every violating point and
+/// exporters refuse one. JSON robot/interference: [{"name", "coefficients", "max_deg"}].
+struct JointInequality {
+  std::string name;                      ///< e.g. "J2/J3", for messages
+  std::array<double, 6> coefficients{};  ///< per controller joint, dimensionless, not all zero
+  double max = 0.0;                      ///< rad
+};
+
 struct RobotDescription {
   std::string model;             ///< e.g. "Yaskawa Motoman HP20D"
   Pose base = Pose::Identity();  ///< robot base frame in world
@@ -93,7 +104,24 @@ struct RobotDescription {
   /// Encoder pulses per degree of each controller joint angle (pulse = round(deg · ppd));
   /// empty when not known — exporters must then write Cartesian robot positions.
   std::vector<double> pulsesPerDegree;
+  /// The controller's Cartesian robot frame in the robot base frame: the frame from which a
+  /// program's robot-frame positions are measured (JBI `POSTYPE BASE`, Fanuc world/UF 0). Yaskawa's
+  /// robot coordinates and Fanuc's world frame lie on joint 1's axis at the height of joint 2,
+  /// KUKA's and ABB's base frames at the robot's foot (defaultControllerFrame). JSON
+  /// robot/controller_frame; when absent the reader takes the vendor's default and notes it.
+  Pose controllerFrame = Pose::Identity();
+  /// Joint interference limits beyond the joint box (JSON robot/interference; when absent the
+  /// reader assumes none and notes it).
+  std::vector<JointInequality> interference;
 };
+
+/// The largest amount (rad) by which `joints` (controller convention) exceed the robot's
+/// interference limits; 0 or less when all hold (-infinity without limits).
+double interferenceExcess(const RobotDescription& robot, const JointVector& joints);
+
+/// The first interference limit `joints` violate by more than `tolerance` (rad), or nullptr.
+const JointInequality* violatedInterference(const RobotDescription& robot, const JointVector& joints,
+                                            double tolerance = 1e-9);
 
 /// The torch body for collision checks: a truncated cone on the tool z axis. It starts at the
 /// nozzle, `stickout` behind the TCP (the wire tip; against tool z, i.e. up the torch), with
@@ -301,6 +329,12 @@ void checkCellVendor(const Cell& cell, std::string_view format, bool allowForeig
 /// The vendor whose controller runs `format` (jbi → Yaskawa, krl → KUKA, rapid → ABB,
 /// ls → Fanuc); Unknown for the neutral formats (gcode, csv, json) and unknown names.
 RobotVendor vendorOfFormat(std::string_view format);
+
+/// The controller's Cartesian robot frame in the robot base frame by the vendor's convention:
+/// Yaskawa (robot coordinates) and Fanuc (world frame) on joint 1's axis at the height of
+/// joint 2, i.e. translated by (0, 0, c1); KUKA ($ROBROOT), ABB (base frame) and an unknown vendor
+/// at the robot base frame itself (identity). Sources: resources/cells/README.md.
+Pose defaultControllerFrame(RobotVendor vendor, const RobotKinematics& kinematics);
 
 /// Names used in the JSON form, for messages and exporters.
 std::string_view toString(RobotVendor vendor);

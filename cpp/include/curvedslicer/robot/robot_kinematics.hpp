@@ -13,6 +13,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <vector>
 
 #include "curvedslicer/core/types.hpp"
@@ -38,11 +39,28 @@ struct ArmPoints {
 /// Joint points of the arm for controller joint angles (rad), robot base frame (mm).
 ArmPoints computeArmPoints(const RobotDescription& robot, const JointVector& joints);
 
+/// The angle at the elbow (rad) between the upper arm (joint 3 towards joint 2) and the forearm
+/// (joint 3 towards the wrist centre): π with the arm stretched, 0 with the forearm lying on the
+/// upper arm.
+double elbowAngle(const RobotDescription& robot, const JointVector& joints);
+
+/// Elbow angle below which the arm counts as folded (the forearm on the upper arm): 10°. The
+/// bundled KUKA and ABB arms, whose ranges come from the makers' descriptions, reach 17.9° and
+/// 20.2° at their joint 3 limits, so this catches only a range no arm can travel.
+inline constexpr double kFoldedElbowAngle = 0.17453292519943295;
+
+/// A joint vector within the joint ranges and the interference limits whose elbow angle is below
+/// `minElbowAngle`, searched on a 1° grid of joints 2 and 3 (the other joints 0); nullopt when
+/// there is none. Cost: up to about 10⁵ joint-point evaluations (milliseconds).
+std::optional<JointVector> findFoldedPose(const RobotDescription& robot,
+                                          double minElbowAngle = kFoldedElbowAngle);
+
 /// One inverse-kinematics solution.
 struct IkSolution {
   JointVector joints{};   ///< rad, controller convention, each in (-π, π] before unwrapping
   int configuration = 0;  ///< bits: 1 = back (over the shoulder), 2 = elbow down, 4 = wrist flip
-  bool withinLimits = false;   ///< all joints (possibly after ±2π) within RobotDescription limits
+  bool withinLimits = false;   ///< all joints (possibly after ±2π) within RobotDescription
+                               ///< limits and its interference limits
   bool wristSingular = false;  ///< |joint 5| ~ 0: only joint 4 + joint 6 determined
 };
 
@@ -60,7 +78,8 @@ IkResult solveInverseKinematics(const RobotDescription& robot, const Pose& flang
                                 double wristReference = 0.0);
 
 /// Moves each joint by multiples of 2π to the value nearest `reference` that lies within its
-/// limits (or nearest the range if none does); returns false if some joint is out of limits.
+/// limits (or nearest the range if none does); returns false if some joint is out of limits or
+/// the joints violate one of the robot's interference limits (RobotDescription::interference).
 bool unwrapJoints(const RobotDescription& robot, JointVector& joints, const JointVector& reference);
 
 }  // namespace curvedslicer
