@@ -85,16 +85,19 @@ void printSources(const std::string& path) {
 void printRobot(const Cell& cell) {
   const RobotDescription& r = cell.robot;
   const RobotKinematics& k = r.kinematics;
-  std::printf("robot: %s (vendor %s)\n", r.model.c_str(), std::string(toString(cell.vendor)).c_str());
+  std::printf("robot: %s (vendor %s)\n", r.model.c_str(),
+              std::string(toString(cell.vendor)).c_str());
   std::printf("  base in world: %s\n", xyzRpy(r.base).c_str());
   const Pose convention = defaultControllerFrame(cell.vendor, k);
-  std::printf("  controller's robot frame in the base: %s (%s)\n", xyzRpy(r.controllerFrame).c_str(),
-              r.controllerFrame.isApprox(convention, 1e-9) ? "the vendor's convention"
-                                                           : "differs from the vendor's convention");
+  std::printf(
+      "  controller's robot frame in the base: %s (%s)\n", xyzRpy(r.controllerFrame).c_str(),
+      r.controllerFrame.isApprox(convention, 1e-9) ? "the vendor's convention"
+                                                   : "differs from the vendor's convention");
   std::printf("  kinematics: a1 %.1f, a2 %.1f, b %.1f, c1 %.1f, c2 %.1f, c3 %.1f, c4 %.1f mm\n",
               k.a1, k.a2, k.b, k.c1, k.c2, k.c3, k.c4);
-  std::printf("  reach: wrist centre up to %.1f mm from joint 1's axis (a1 + c2 + sqrt(c3^2 + a2^2))\n",
-              k.a1 + k.c2 + std::hypot(k.c3, k.a2));
+  std::printf(
+      "  reach: wrist centre up to %.1f mm from joint 1's axis (a1 + c2 + sqrt(c3^2 + a2^2))\n",
+      k.a1 + k.c2 + std::hypot(k.c3, k.a2));
   const Pose zero = computeFlangePose(r, JointVector{});
   std::printf("  flange at all joints 0: %s in the controller's robot frame; z %s, x %s\n",
               xyzRpy(r.controllerFrame.inverse() * zero).c_str(),
@@ -108,12 +111,18 @@ void printRobot(const Cell& cell) {
   if (r.j3RelativeToHorizontal) std::printf("  joint 3 measured from the horizontal (Fanuc)\n");
   if (r.interference.empty()) std::printf("  interference limits: none\n");
   for (const JointInequality& limit : r.interference) {
+    // e.g. "-J2 - J3", "J2 + 0.5 J3"
     std::string sum;
     for (int j = 0; j < 6; ++j) {
-      if (limit.coefficients[j] == 0.0) continue;
+      const double c = limit.coefficients[j];
+      if (c == 0.0) continue;
+      const char* sign = c < 0.0 ? (sum.empty() ? "-" : " - ") : (sum.empty() ? "" : " + ");
       char buf[48];
-      std::snprintf(buf, sizeof buf, "%s%g J%d", sum.empty() ? "" : " + ", limit.coefficients[j],
-                    j + 1);
+      if (std::abs(c) == 1.0) {
+        std::snprintf(buf, sizeof buf, "%sJ%d", sign, j + 1);
+      } else {
+        std::snprintf(buf, sizeof buf, "%s%g J%d", sign, std::abs(c), j + 1);
+      }
       sum += buf;
     }
     std::printf("  interference limit %s: %s <= %.1f deg\n", limit.name.c_str(), sum.c_str(),
@@ -157,9 +166,11 @@ int runCellCheck(const CellCheckArguments& args) {
     if (const auto folded = findFoldedPose(cell.robot)) {
       return reportFailure(
           display, kExitInvalidInput,
-          args.cell + ": the ranges robot/joints/1 and robot/joints/2 (joints 2 and 3) allow a "
-                      "folded arm (elbow angle " +
-              std::to_string(static_cast<int>(std::round(elbowAngle(cell.robot, *folded) * kToDeg))) +
+          args.cell +
+              ": the ranges robot/joints/1 and robot/joints/2 (joints 2 and 3) allow a "
+              "folded arm (elbow angle " +
+              std::to_string(
+                  static_cast<int>(std::round(elbowAngle(cell.robot, *folded) * kToDeg))) +
               " deg at joints " + joints(*folded) +
               ") and no robot/interference limit excludes it; add the robot's interference limit "
               "(resources/cells/README.md, \"Interference limits\") or narrow joint 3's range");

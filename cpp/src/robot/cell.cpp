@@ -1146,7 +1146,10 @@ Cell defaultCell() {
   r.kinematics = RobotKinematics{150.0, 140.0, 0.0, 505.0, 760.0, 795.0, 100.0};
   // Yaskawa's robot coordinates: on the S axis at the height of the L axis.
   r.controllerFrame = defaultControllerFrame(RobotVendor::Yaskawa, r.kinematics);
-  const double limits[6][2] = {{-180, 180}, {-110, 155}, {-165, 255},
+  // U is limited relative to the L arm (-86/+160 deg, the GP25's range with the same arm
+  // lengths): the datasheet's -165/+255 deg is the forearm's angle to the ground, and that range
+  // relative to L would fold the forearm onto the upper arm (resources/cells/README.md).
+  const double limits[6][2] = {{-180, 180}, {-110, 155}, {-86, 160},
                                {-200, 200}, {-125, 125}, {-360, 360}};
   const double speeds[6] = {197, 197, 210, 410, 410, 610};
   for (int i = 0; i < 6; ++i) {

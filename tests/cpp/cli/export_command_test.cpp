@@ -371,19 +371,57 @@ TEST(CellCheckCommand, PrintsFramesReachLimitsAndSourcesOfACell) {
         "controller's robot frame in the base: xyz 0.0, 0.0, 0.0 mm, rpy 0.00, 0.00, 0.00 deg (the "
         "vendor's convention)",
         "reach: wrist centre up to 1612.", "joint 3: [-138.0, 175.0] deg",
-        "interference limits: none", "home: robot 0.0, -105.0, 90.0", "sources:",
-        "check: joints 2 and 3 cannot fold the arm within the limits"}) {
+        "interference limits: none", "home: robot 0.0, -105.0, 90.0",
+        "sources:", "check: joints 2 and 3 cannot fold the arm within the limits"}) {
     EXPECT_NE(out.find(needle), std::string::npos) << needle << "\n" << out;
   }
 }
 
-// The HP20D's U range (-165/+255 deg, 420 deg) folds the forearm onto the upper arm; without an
-// interference limit the check exits 2 naming the fields. Its controller frame is 505 mm up and
-// the home TCP lies 490.1 mm above it.
+// Every bundled cell passes the check: within its joint ranges and interference limits joints
+// 2 and 3 cannot fold the arm.
+TEST(CellCheckCommand, EveryBundledCellKeepsTheElbowOpen) {
+  const fs::path dir = freshTempDir();
+  for (const char* name :
+       {"motoman_hp20d_tilt_rotate.json", "kuka_kr16_r1610_2_dkp400.json",
+        "abb_irb1660id_irbp_a250.json", "fanuc_arcmate100ic_2axis_positioner.json"}) {
+    EXPECT_EQ(runCli(dir, "cell check '" + bundledCell(name).string() + "'"), 0)
+        << name << "\n"
+        << readFile((dir / "stderr.txt").string());
+    EXPECT_NE(readFile((dir / "stdout.txt").string())
+                  .find("check: joints 2 and 3 cannot fold the arm within the limits"),
+              std::string::npos)
+        << name;
+  }
+  // The M-10iA's J2/J3 bounds (J3 from the horizontal) and the HP20D's U range relative to L.
+  ASSERT_EQ(runCli(dir, "cell check '" +
+                            bundledCell("fanuc_arcmate100ic_2axis_positioner.json").string() + "'"),
+            0);
+  const std::string fanuc = readFile((dir / "stdout.txt").string());
+  EXPECT_NE(fanuc.find("interference limit J2/J3 fold below: -J2 - J3 <= 97.0 deg"),
+            std::string::npos)
+      << fanuc;
+  EXPECT_NE(fanuc.find("interference limit J2/J3 fold above: J2 + J3 <= 242.0 deg"),
+            std::string::npos)
+      << fanuc;
+  ASSERT_EQ(
+      runCli(dir, "cell check '" + bundledCell("motoman_hp20d_tilt_rotate.json").string() + "'"),
+      0);
+  EXPECT_NE(readFile((dir / "stdout.txt").string()).find("joint 3: [-86.0, 160.0] deg"),
+            std::string::npos);
+}
+
+// The HP20D's data-sheet U range (-165/+255 deg, the forearm's angle to the ground) taken as the
+// joint's range relative to L folds the forearm onto the upper arm; without an interference limit
+// the check exits 2 naming the fields. The controller frame is 505 mm up and the home TCP lies
+// 490.1 mm above it.
 TEST(CellCheckCommand, RefusesAFoldingJointRangeWithoutAnInterferenceLimit) {
   const fs::path dir = freshTempDir();
   const fs::path hp20d = bundledCell("motoman_hp20d_tilt_rotate.json");
-  EXPECT_EQ(runCli(dir, "cell check '" + hp20d.string() + "'"), 2);
+  nlohmann::json cell = nlohmann::json::parse(readFile(hp20d.string()));
+  cell["robot"]["joints"][2]["limits_deg"] = nlohmann::json::array({-165, 255});
+  const fs::path datasheet = dir / "datasheet_u.json";
+  { std::ofstream(datasheet) << cell.dump(2); }
+  EXPECT_EQ(runCli(dir, "cell check '" + datasheet.string() + "'"), 2);
   const std::string out = readFile((dir / "stdout.txt").string());
   EXPECT_NE(out.find("controller's robot frame in the base: xyz 0.0, 0.0, 505.0 mm"),
             std::string::npos)
@@ -395,7 +433,6 @@ TEST(CellCheckCommand, RefusesAFoldingJointRangeWithoutAnInterferenceLimit) {
       << err;
   EXPECT_NE(err.find("no robot/interference limit excludes it"), std::string::npos) << err;
   // With limits that keep the elbow open (U within -60 .. 150 deg), the check passes.
-  nlohmann::json cell = nlohmann::json::parse(readFile(hp20d.string()));
   cell["robot"]["interference"] = nlohmann::json::parse(
       R"([{"name": "U max", "coefficients": [0, 0, 1, 0, 0, 0], "max_deg": 150},
           {"name": "U min", "coefficients": [0, 0, -1, 0, 0, 0], "max_deg": 60}])");
@@ -403,9 +440,9 @@ TEST(CellCheckCommand, RefusesAFoldingJointRangeWithoutAnInterferenceLimit) {
   { std::ofstream(limited) << cell.dump(2); }
   EXPECT_EQ(runCli(dir, "cell check '" + limited.string() + "'"), 0)
       << readFile((dir / "stderr.txt").string());
-  EXPECT_NE(readFile((dir / "stdout.txt").string())
-                .find("interference limit U min: -1 J3 <= 60.0 deg"),
-            std::string::npos);
+  EXPECT_NE(
+      readFile((dir / "stdout.txt").string()).find("interference limit U min: -J3 <= 60.0 deg"),
+      std::string::npos);
   // An unreadable cell: exit 2 naming the field.
   cell["robot"]["interference"] = 5;
   { std::ofstream(limited) << cell.dump(2); }
