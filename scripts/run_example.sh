@@ -66,7 +66,7 @@ print("  base:        %d paths 1.65 mm apart (paper: %d; profile %.1f mm)"
       % (s["base_paths"], s["paper_base_paths"], s["base_profile_length_mm"]))
 print("  blades:      %d curved layers of 1.5 mm (paper: %d), %d paths at 3.7 mm"
       % (s["blade_layers"], s["paper_blade_layers"], s["blade_paths"]))
-print("  coverage:    blades %.2f %% void, %.2f %% overlap, %d arc starts (issue 15 target: "
+print("  coverage:    blades %.2f %% void, %.2f %% overlap, %d arc starts (target: "
       "void <= 1.5 %%)" % (s["blade_void_percent"], s["blade_overlap_percent"],
                            s["blade_arc_starts"]))
 print("  program:     %s (%d files, %d motions)"

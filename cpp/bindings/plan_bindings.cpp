@@ -1,5 +1,5 @@
-// Python bindings of plan JSON, robot cell, motion planning and program export (issue 5, round
-// two): thin conversions only. The planners are in job_bindings.cpp.
+// Python bindings of plan JSON, robot cell, motion planning and program export: thin
+// conversions only. The planners are in job_bindings.cpp.
 //
 // Plans cross the boundary as their versioned JSON text (plan/plan_io.hpp), cells as the JSON
 // text readCell/parseCell read (robot/cell.hpp), so the workbench stores both verbatim in the

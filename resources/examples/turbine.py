@@ -34,7 +34,7 @@ BLADE_THICKNESS = 10.0
 BLADE_HEIGHT = 29.5  # outward extent of a blade from the base surface (section centre), mm
 TWIST_DEG = 38.0
 BLADES = 6
-# Blade layers' thin-feature settings (issue 15; resources/examples/README.md, "Coverage of the
+# Blade layers' thin-feature settings (resources/examples/README.md, "Coverage of the
 # blades"): near each blade tip the layer cuts a neck 1-1.8 mm wide between the section and the
 # tip, narrower than the default minimum feature width s/2 = 1.85 mm and in patches smaller than
 # gap fill's default minimum s² = 13.7 mm². WAAM blades are machined afterwards, so a narrow bead

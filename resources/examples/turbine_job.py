@@ -85,7 +85,7 @@ def main():
         "paper_blade_layers": PAPER_BLADE_LAYERS,
         "blade_paths": blades.PathCount,
         "blade_layers_with_paths": blades.PlanLayerCount,
-        # The plan's bead coverage of the blade layers (issue 15), area-weighted, percent.
+        # The plan's bead coverage of the blade layers, area-weighted, percent.
         "blade_void_percent": round(blades.VoidShare, 2),
         "blade_overlap_percent": round(blades.OverlapShare, 2),
         "blade_arc_starts": blades.ArcStarts,

@@ -1,4 +1,4 @@
-// Writes the large thin-walled part of the scale benchmark (issue 18, item 4): an open-top box
+// Writes the large thin-walled part of the scale benchmark: an open-top box
 // shell, by default 600 × 400 × 300 mm with 8 mm walls (floor and four side walls), as a closed
 // binary STL through the project's mesh writer. `large_part_bench.sh` then runs the command line's
 // `layers` and `plan` jobs on it under /usr/bin/time and summarises report.json; see README.md,

@@ -1,5 +1,5 @@
 #!/bin/sh
-# The scale benchmark (issue 18, item 4): one `curvedslicer layers` or `plan` run on the large
+# The scale benchmark: one `curvedslicer layers` or `plan` run on the large
 # thin-walled part that `large_part_bench` generates (600 x 400 x 300 mm open-top box, 8 mm walls),
 # under /usr/bin/time -v, then a summary from report.json: grid, time and peak memory per stage,
 # bytes per bounding-box cell, layers, triangles, points, and the load average before and after.

@@ -1,4 +1,4 @@
-// Deposition-plan benchmark (issue 3): all paths of bunny_closed_low_res.stl at L = 0.5 mm,
+// Deposition-plan benchmark: all paths of bunny_closed_low_res.stl at L = 0.5 mm,
 // h = 1.5 mm, s = 3.7 mm — time per planner stage (initial curves, surface geodesic, iso-lines,
 // fit, order, deposition) after the layer job. One iteration (the job takes minutes); the layer
 // job itself is timed as a counter too.

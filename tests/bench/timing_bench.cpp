@@ -1,4 +1,4 @@
-// Time parameterisation throughput (robot/timing.hpp, issue 14): parameteriseTime on the motion
+// Time parameterisation throughput (robot/timing.hpp): parameteriseTime on the motion
 // of a turbine-base-like cone plan (closed circles up a cone's side, 4000 points per circle) in
 // the default cell, and the whole planMotion (positioner angles with the near-singular band,
 // inverse kinematics with the tool roll, time parameterisation) for comparison.

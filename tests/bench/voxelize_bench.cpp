@@ -1,4 +1,4 @@
-// Voxelization throughput (issue 2 target: >= 300 M grid cells/s) on bunny_closed_low_res.stl at
+// Voxelization throughput (target: >= 300 M grid cells/s) on bunny_closed_low_res.stl at
 // L = 0.5 mm and 0.25 mm, PCA grid as the pipeline uses it.
 //
 // One benchmark per voxel size: `voxelize(mesh, {.voxelSize = L})` timed by wall clock (manual

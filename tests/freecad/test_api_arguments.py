@@ -1,5 +1,5 @@
 """Every macro-API argument is checked with the core's message before anything is stored or
-computed (issue 13): a negative length is reported as given (a length property would store it as
+computed: a negative length is reported as given (a length property would store it as
 0), a name string instead of the solid says what to pass, a bad enumeration lists the choices,
 export's date cannot inject a header line, and path='' gets a message of its own."""
 

@@ -1,4 +1,4 @@
-"""Headless tests of the Job's bead-coverage options and results (issue 15): MinFeatureWidth,
+"""Headless tests of the Job's bead-coverage options and results: MinFeatureWidth,
 BeadWidthMin / BeadWidthMax, ConnectInsets and MeasureCoverage default to the core's
 PlannerOptions and reach the plan; the plan's coverage shows on the Job (VoidShare, OverlapShare,
 ArcStarts, CoverageReport) and on each path layer; bad values are refused naming the property;

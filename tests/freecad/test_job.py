@@ -47,7 +47,7 @@ class TestJob(cs_testing.DocumentTestCase):
         job = api.make_job(self.doc, box, start=(box, ["Face1"]), layer_thickness=3.0,
                            voxel_size=0.5)
         # Layers are the point here; the torch of the default cell really reaches the table for
-        # parts whose first layers are welded with the table steeply tilted (issue 14's check).
+        # parts whose first layers are welded with the table steeply tilted (the collision check).
         job.AllowCollisions = True
         api.run(job, progress=False)
         self.assertEqual(job.StartMode, "Faces")
@@ -67,7 +67,7 @@ class TestJob(cs_testing.DocumentTestCase):
         job = api.make_job(self.doc, box, start=("plane", (0, 0, 0), (1, 0, 1)),
                            layer_thickness=4.0, voxel_size=1.0)
         # Layers are the point here; the torch of the default cell really reaches the table for
-        # parts whose first layers are welded with the table steeply tilted (issue 14's check).
+        # parts whose first layers are welded with the table steeply tilted (the collision check).
         job.AllowCollisions = True
         api.run(job, progress=False)
         self.assertEqual(job.StartMode, "Plane")
@@ -84,7 +84,7 @@ class TestJob(cs_testing.DocumentTestCase):
         job = api.make_job(self.doc, cylinder, start=(cylinder, ["Face1"]), layer_thickness=2.0,
                            voxel_size=0.5, deflection=0.01)
         # Layers are the point here; the torch of the default cell really reaches the table for
-        # parts whose first layers are welded with the table steeply tilted (issue 14's check).
+        # parts whose first layers are welded with the table steeply tilted (the collision check).
         job.AllowCollisions = True
         api.run(job, progress=False)
         self.assertIn(job.LayerCount, (4, 5))

@@ -100,7 +100,7 @@ class TestOptionsClasses(cs_testing.DocumentTestCase):
         surface = native.InitialCurve(kind="surface", surface=box_arrays()[:2])
         self.assertIn("surface=mesh(8 vertices, 12 triangles)", repr(surface))
         self.assertIn("corner_angle = 30.0", native.PlannerOptions.__doc__)
-        # "exact" names the default any-angle method (issue 18's reference for approximations).
+        # "exact" names the default any-angle method (the reference for approximations).
         self.assertEqual(native.LayerJobOptions(method="exact").method, "anyangle")
 
     def test_unknown_keyword_and_positional_arguments_are_rejected(self):

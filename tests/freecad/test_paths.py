@@ -187,7 +187,7 @@ class TestPoses(PathTestCase):
             self.assertAlmostEqual(a2, math.degrees(motion["a2"][index]), places=9)
             v = FreeCAD.Vector(*motion["deposition"][index].tolist())
             turned = part.Placement.Rotation.multVec(v)
-            # on gravity within the 3 degrees the smooth positioner may leave (issue 14)
+            # on gravity within the 3 degrees the smooth positioner may leave
             self.assertLess(turned.getAngle(FreeCAD.Vector(0, 0, -1)), math.radians(3.0) + 1e-9)
             self.assertLess((job.PoseDeposition - turned).Length, 1e-9)
             # The deposited direction is not vertical in the part frame: the tilt does the work.

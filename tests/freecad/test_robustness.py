@@ -1,4 +1,4 @@
-"""Hostile files through the workbench API do not take FreeCAD down (issue 13): a 100,000-deep
+"""Hostile files through the workbench API do not take FreeCAD down: a 100,000-deep
 cell.json and a cell with a number beyond the double range are InvalidInput naming the file; an
 export onto a FIFO is an IoError that leaves the FIFO in place."""
 

@@ -1,4 +1,4 @@
-"""Headless tests of the uncovered-region markers (issue 15 item 1, stages/voids.py): after a run,
+"""Headless tests of the uncovered-region markers (stages/voids.py): after a run,
 api.show_voids draws one feature per plan layer with voids holding one disc per void of the plan's
 coverage, at the void's centre (lifted VOID_LIFT along the layer normal) with the void's area; the
 markers hide and reappear with the toggle, follow the layer isolated by show_layer, are redrawn

@@ -1,5 +1,5 @@
-"""GUI test under xvfb-run (freecad script): the part sits on the positioner table at the pose
-(issue 14). A 30 x 20 x 12 mm box, layered from a side face (so the table tilts), is run and
+"""GUI test under xvfb-run (freecad script): the part sits on the positioner table at the pose.
+A 30 x 20 x 12 mm box, layered from a side face (so the table tilts), is run and
 stepped to three motion points; at each, the part
 shown (PosePart) is placed by the part placement (stages/pose_placement.py: the table's frame at
 the pose times table_to_part): its lowest point lies on the table's top face and its footprint
@@ -78,7 +78,7 @@ def run():
     # (The default Rest derives it from the beads, to within the paths' accuracy: test_motion_options.)
     job.PartPlacement = "Cell"
     # The box lies on its side with layers growing sideways: the torch really reaches the table
-    # while the first layers are welded (issue 14's check); this test is about the display.
+    # while the first layers are welded (the collision check); this test is about the display.
     job.AllowCollisions = True
     api.run(job)
     process_events()

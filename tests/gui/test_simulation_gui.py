@@ -1,5 +1,5 @@
-"""GUI test under xvfb-run (freecad script): seeing the result and the pose simulation (issue 17
-items 5 and 6) on a 30 x 20 x 12 mm box layered flat from its bottom face (the positioner
+"""GUI test under xvfb-run (freecad script): seeing the result and the pose simulation on a
+30 x 20 x 12 mm box layered flat from its bottom face (the positioner
 angles stay constant over a layer: what moves is the torch along the path).
 
 - After a run from the GUI the solid is hidden, the layers and paths are shown and the cell is

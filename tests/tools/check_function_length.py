@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Check that no function body in the C++ sources is longer than a limit (issue 12).
+"""Check that no function body in the C++ sources is longer than a limit.
 
 Finds every function body in *.cpp / *.hpp under cpp/src, cpp/include, cpp/cli and
 cpp/bindings and lists those longer than --max lines (default 120), counted from the line with

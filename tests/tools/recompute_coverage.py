@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Independent check of the plan's bead coverage (issue 15): plans a model with the command line,
+"""Independent check of the plan's bead coverage: plans a model with the command line,
 then recomputes every layer's void share from the layer surface (its PLY file) and the plan's
 points by Monte-Carlo sampling with brute-force distances, and compares with plan.json.
 

@@ -62,7 +62,7 @@ void checkCornerAngle(double degrees) {
   }
 }
 
-/// Issue 15's options: a minimum feature width > 0 (or < 0 for s/2), a width range that
+/// The bead coverage options: a minimum feature width > 0 (or < 0 for s/2), a width range that
 /// contains the bead spacing.
 void checkCoverageOptions(const PlannerOptions& o) {
   if (!std::isfinite(o.minFeatureWidth) || o.minFeatureWidth == 0.0) {
@@ -408,7 +408,7 @@ void reportNarrowStrips(const NarrowStripResult& strips, std::vector<std::string
   }
 }
 
-/// The options of the thin-region beads (issue 15 item 2).
+/// The options of the thin-region beads.
 void validateThinRegionOptions(const PlannerOptions& o) {
   if (!std::isfinite(o.minFeatureWidth) || o.minFeatureWidth == 0.0) {
     throw InvalidInput("minimum feature width must be a positive number of mm: " +
@@ -513,7 +513,7 @@ class LayerTail {
     }
   }
 
-  // ---- connected insets (volume layers, issue 15 item 4) ----
+  // ---- connected insets (volume layers) ----
   /// After `order`: joins consecutive rings of the layer into one path each
   /// (paths/connected_insets.hpp) and makes the torch, the seams and the travel follow the
   /// joined paths. `beadLevels`: the level of every bead `order` was given (−1: not a ring).
@@ -657,7 +657,7 @@ class LayerDrafter {
                              std::vector<std::vector<Polyline>>& levelLines, PlanLayer& layer);
   void noteMissingBeads(const std::vector<double>& values, double maxDistance,
                         const std::vector<RawBead>& beads, std::size_t dropped, PlanLayer& layer);
-  // thin regions (issue 15 item 2)
+  // thin regions
   void addThinRegionBeads(const SurfaceGeodesicResult& gdtc,
                           const std::vector<Polyline>& shortRings,
                           const std::vector<Polyline>& fitWouldDrop, const SurfaceQuery& query,
@@ -992,7 +992,7 @@ void LayerDrafter::noteMissingBeads(const std::vector<double>& values, double ma
   }
 }
 
-// ---- thin regions (issue 15 item 2) ----
+// ---- thin regions ----
 
 /// "at x,y,z mm, W mm wide, E mm long, A mm²" for a region's note.
 std::string describeRegion(const ThinRegion& r) {
@@ -1278,7 +1278,7 @@ void LayerDrafter::widenBeadsIntoStrips(const SurfaceGeodesicResult& gdtc,
                            formatNumber(widening.largestWidth) + " mm wide");
 }
 
-// ---- adaptive bead width (issue 15; paths/adaptive_width.hpp) ----
+// ---- adaptive bead width (paths/adaptive_width.hpp) ----
 
 /// The region of the vertex of `mesh` nearest to `p` (initial curves run through the inserted
 /// mesh's vertices, so the nearest one is on the curve).

@@ -321,7 +321,7 @@ void planPositionerAngles(const Plan& plan, const Cell& cell, const Vec3& gravit
   }
 }
 
-// ---- weld process per point (issue 15) ----------------------------------------------------
+// ---- weld process per point ----------------------------------------------------
 
 /// The plan's bead width at a motion point (0: the plan's bead spacing); inserted points and
 /// the closing move of a closed path take the plan point they follow / repeat.

@@ -1,4 +1,4 @@
-// The command line on hostile input (issue 13): outputs onto devices and FIFOs exit with code 3
+// The command line on hostile input: outputs onto devices and FIFOs exit with code 3
 // and leave the node as it was; a grid beyond the cell limit exits with code 4 before anything is
 // allocated; two overlapping closed cubes give their union, reported in report.json.
 #include <gtest/gtest.h>

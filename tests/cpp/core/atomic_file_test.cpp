@@ -1,4 +1,4 @@
-// Atomic output files never replace anything but a regular file (issue 13): devices, FIFOs,
+// Atomic output files never replace anything but a regular file: devices, FIFOs,
 // sockets and folders are refused with an IoError naming the path and left as they were; a
 // symbolic link to a regular file is written through (the link stays, its target is replaced).
 #include "curvedslicer/core/atomic_file.hpp"

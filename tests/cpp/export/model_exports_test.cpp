@@ -1,4 +1,4 @@
-// The acceptance models of issue 14, planned end to end (runPlanJob, planMotion with the default
+// The acceptance models of the motion planner, planned end to end (runPlanJob, planMotion with the default
 // cell) and exported to JBI, KRL, RAPID and LS: read back by the strict readers, the stated robot
 // configuration (RCONF, S/T, confdata, CONFIG) is constant within every weld and is the planned
 // solution's, up to joints within kBoundaryBand of a boundary. The plans are coarser than the
@@ -7,7 +7,7 @@
 // the configuration rules do not depend on the resolution.
 // The same motions exported to CSV are read back as a process engineer would check them: every
 // robot joint's and both positioner axes' speed, recomputed from the exported per-point angles and
-// times, stays within the cell's max_speed_deg_s (issue 14).
+// times, stays within the cell's max_speed_deg_s.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -50,7 +50,7 @@ ModelMotion planModelMotion(const ModelCase& c, const Cell& cell) {
   return {planMotion(job.planned.plan, cell), job.planned.stats.insetLinks};
 }
 
-/// True once planMotion fills MotionPathSpan::configuration (H3 of issue 14).
+/// True once planMotion fills MotionPathSpan::configuration (one configuration per weld).
 bool plannerSetsConfigurations(const MotionPlan& motion) {
   for (const MotionPathSpan& span : motion.paths) {
     if (span.configuration != RobotConfiguration{}) return true;

@@ -1,4 +1,4 @@
-// Issue 16 acceptance with each vendor's own cell: the four cells of resources/cells/ each move the
+// Each vendor's own cell: the four cells of resources/cells/ each move the
 // curved example and the cylinder (planned coarse, as model_exports_test.cpp plans them) and
 // export that vendor's language (yaskawa → JBI, kuka → KRL, abb → RAPID, fanuc → LS) and G-code.
 // Every file is read back by the strict readers WITH THAT CELL: one move per motion point, one weld

@@ -1,4 +1,4 @@
-// The mesh reader on absurd coordinates (issue 13): 1e308 is finite but no part, and its box
+// The mesh reader on absurd coordinates: 1e308 is finite but no part, and its box
 // overflows; it is refused at the reader with the vertex and the file, not reported later as
 // "the model has no vertices". parseMesh reads in-memory data as readMesh reads a file.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Adaptive bead width (issue 15, item 3): ring widths per region against closed form, and a
+// Adaptive bead width: ring widths per region against closed form, and a
 // rectangle 23 mm wide (not a whole number of 3.7 mm beads) filled without void or overlap.
 #include <algorithm>
 #include <cmath>

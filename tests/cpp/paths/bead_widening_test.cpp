@@ -1,4 +1,4 @@
-// Bead widening (paths/bead_widening.hpp, issue 15): two straight beads facing each other across a
+// Bead widening (paths/bead_widening.hpp): two straight beads facing each other across a
 // strip narrower than a fill bead each grow into it on their facing side only, by half the
 // strip; growth stops at the extension limit and the widest bead; slivers and short stretches
 // are left; bad input is named. Through the planner: a

@@ -1,4 +1,4 @@
-// Contour-parallel paths from a layer's boundary (issue 3 acceptance): a rectangular layer and a
+// Contour-parallel paths from a layer's boundary: a rectangular layer and a
 // layer with a hole. No self-intersection, neighbouring paths never closer than 0.95·s — including
 // a path against itself (points more than π·s/2 apart along it, so the opposite side of a thin
 // loop counts but the neighbours on a tight curve do not) and paths of the same level —, the strip

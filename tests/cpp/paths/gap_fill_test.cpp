@@ -1,4 +1,4 @@
-// Gap fill (paths/gap_fill.hpp, issue 15) on a flat rectangle with its exact distance to the
+// Gap fill (paths/gap_fill.hpp) on a flat rectangle with its exact distance to the
 // boundary as GDTC and one closed ring at s/2 inward as the layer's bead: the uncovered strip in
 // the middle, 2.6 mm = 0.70·s wide, gets one bead on its centre line whose round ends reach the
 // strip's ends; a strip narrower than the minimum gap width stays; adaptive width gives the bead

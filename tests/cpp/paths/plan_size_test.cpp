@@ -1,4 +1,4 @@
-// The plan's size is estimated from the layer area before planning (issue 13): paths of spacing s
+// The plan's size is estimated from the layer area before planning: paths of spacing s
 // over an area A are A/s long, with a robot point every p; a run that would not fit the memory
 // budget is refused with the point spacing that fits.
 #include "curvedslicer/paths/plan_size.hpp"

@@ -293,7 +293,7 @@ TEST(Planner, RejectsCornerAngleOutsideHalfTurn) {
 
 TEST(Planner, RejectsSpacingWiderThanEveryLayer) {
   // A 3 mm wide strip reaches 1.5 mm from its edge; s = 8 needs 4 for a ring, and the strip is
-  // narrower than the minimum feature width 0.5·s = 4 for a centre bead (issue 15).
+  // narrower than the minimum feature width 0.5·s = 4 for a centre bead.
   const std::vector<LayerSurface> layers = {
       makeLayer(1, 1.5, makeFlatPatch(0, 30, 0, 3, 1.5, 60, 6)),
       makeLayer(2, 3.0, makeFlatPatch(0, 30, 0, 3, 3.0, 60, 6))};
@@ -305,7 +305,7 @@ TEST(Planner, RejectsSpacingWiderThanEveryLayer) {
 
 TEST(Planner, NamesLayerWithoutRoomForABead) {
   // Layer 2 is a 1.2 mm strip: no room for s = 3.7, and narrower than the minimum feature width
-  // 0.5·s = 1.85 for a centre bead (issue 15); layer 1 is fine.
+  // 0.5·s = 1.85 for a centre bead; layer 1 is fine.
   const std::vector<LayerSurface> layers = {
       makeLayer(1, 1.5, makeFlatPatch(0, 30, 0, 20, 1.5, 30, 20)),
       makeLayer(2, 3.0, makeFlatPatch(0, 30, 0, 1.2, 3.0, 60, 4))};

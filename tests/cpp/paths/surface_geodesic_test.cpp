@@ -1,5 +1,5 @@
 // GDTC on analytic surfaces: equidistant iso-line paths on a cylinder, a spherical cap, a cone and
-// a plane (issue 3 acceptance), curve insertion, the paper method's error, bad input.
+// a plane, curve insertion, the paper method's error, bad input.
 #include "curvedslicer/paths/surface_geodesic.hpp"
 
 #include <gtest/gtest.h>

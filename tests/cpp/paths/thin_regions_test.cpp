@@ -1,4 +1,4 @@
-// Thin features and small islands (paths/thin_regions.hpp, issue 15 item 2) through the planner on
+// Thin features and small islands (paths/thin_regions.hpp) through the planner on
 // flat layers with known answers: a strip narrower than one bead gets one bead on its centre line
 // (y = half its width) and a shortfall note; a tiny disc gets a spot with the dwell rule; a disc
 // whose ring at s/2 is shorter than the fragment length keeps that ring; a strip narrower than

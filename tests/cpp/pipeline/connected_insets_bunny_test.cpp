@@ -1,4 +1,4 @@
-// Issue 15 acceptance for connected insets, on the bundled bunny at the issue's settings
+// Connected insets on the bundled bunny at the coverage targets' settings
 // (h 1.5, L 1, s 3.7): joining consecutive rings cuts the arc starts (number of paths) by at least
 // 30 % with no loss of coverage (void share, measured here independently of the planner: the share
 // of layer area farther than s/2 from every path's centre line, on a barycentric sample grid of
@@ -111,7 +111,7 @@ TEST_F(ConnectedInsetsBunny, FewerArcStartsSameCoverageLinksInside) {
   EXPECT_LE(own.voidShare, 0.015);
 }
 
-// The bunny's void acceptance with adaptive bead width on (issue 15: 0.7·s to 1.3·s), by the
+// The bunny's void acceptance with adaptive bead width on (0.7·s to 1.3·s), by the
 // plan's own coverage numbers, which measure each bead with its own per-point width.
 TEST_F(ConnectedInsetsBunny, AdaptiveWidthAtMostOneAndAHalfPercentVoid) {
   CURVEDSLICER_SKIP_IF_SANITIZED("AdaptiveWidth.* and GapFill.*");

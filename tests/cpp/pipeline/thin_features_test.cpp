@@ -1,4 +1,4 @@
-// Issue 15 item 2 acceptance on the bundled branches model (h 1.5, L 1, s 3.7, fixed width): every
+// Thin features on the bundled branches model (h 1.5, L 1, s 3.7, fixed width): every
 // layer with area gets paths (before: 150 of 152 had none, each branch's cross-section reaching
 // about 1.3 mm from its rim, less than s/2), and the total void share, measured by the plan's own
 // coverage numbers (paths/coverage.hpp, area-weighted over the layers), is at most 10 %; with

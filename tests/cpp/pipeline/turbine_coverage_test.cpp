@@ -1,4 +1,4 @@
-// Issue 15 acceptance on the turbine example's blades (resources/examples/turbine.py): planned at
+// Bead coverage of the turbine example's blades (resources/examples/turbine.py): planned at
 // the example's settings (h 1.5, L 1, s 3.7, narrow strips Overlap, minimum feature width 1 mm,
 // minimum gap area 1 mm², corner fill up to 150° corners; gap fill on, the default) from the
 // tessellations in tests/data/turbine/, the total void share is at most 1.5 %, by the plan's own

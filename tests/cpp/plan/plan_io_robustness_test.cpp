@@ -1,4 +1,4 @@
-// The plan.json reader on hostile files (issue 13): deep nesting, numbers beyond the double range,
+// The plan.json reader on hostile files: deep nesting, numbers beyond the double range,
 // negative lengths, huge values echoed in messages. Each is an InvalidInput naming the file and
 // the place, never a crash; through the command line each exits with code 2.
 #include <cstddef>

@@ -1,4 +1,4 @@
-// Bead model (issue 15): bilinear interpolation against closed form, the inverse (WFS and TS for
+// Bead model: bilinear interpolation against closed form, the inverse (WFS and TS for
 // a width at a height) round trip, clamping with its shortfall, table errors naming the cell
 // field, and planMotion filling wire feed, bead width and weld speed per point from it.
 #include "curvedslicer/robot/bead_model.hpp"

@@ -1,4 +1,4 @@
-// The cell reader on hostile files (issue 13): deep nesting, numbers beyond the double range and
+// The cell reader on hostile files: deep nesting, numbers beyond the double range and
 // huge values are InvalidInput naming the file and place, never a crash; the command line exits
 // with code 2.
 #include <filesystem>

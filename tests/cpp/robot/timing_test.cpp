@@ -1,4 +1,4 @@
-// Time parameterisation (robot/timing.hpp) and the motion a cell can run (issue 14): move
+// Time parameterisation (robot/timing.hpp) and the motion a cell can run: move
 // durations against every axis's speed limit, speed reductions, dwells, estimates; on the curved
 // example and the cylinder (coarse voxels, default cell) independent checks of axis speeds, V
 // against gravity, a2 steps and one configuration per weld.

@@ -1,4 +1,4 @@
-// Overlapping and nested closed shells (issue 13): filled by the non-zero winding rule as their
+// Overlapping and nested closed shells: filled by the non-zero winding rule as their
 // union, with the voxels inside two or more shells counted; surfaces whose edges do not cancel
 // fall back to parity.
 #include <gtest/gtest.h>

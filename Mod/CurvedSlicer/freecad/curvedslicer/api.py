@@ -121,7 +121,7 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
     narrow_strips "CentreBead" (one bead where paths of one level come closer than 0.95 x
     bead_spacing) | "Overlap"; corner_angle (degrees, in (0, 180]): turns sharper than this
     within 0.2 mm are kept as exact corners by the spline fit (180: none).
-    Bead coverage (issue 15): min_feature_width (mm, None = half of bead_spacing),
+    Bead coverage: min_feature_width (mm, None = half of bead_spacing),
     bead_width_range (min, max) fractions of bead_spacing ((1, 1) = fixed width), connect_insets
     (join consecutive rings into one arc-on path), fill_gaps (a centre-line bead in every
     uncovered strip between beads at least min_feature_width wide), min_gap_area (mm², None =

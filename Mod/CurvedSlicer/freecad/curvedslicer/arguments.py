@@ -1,4 +1,4 @@
-"""Checks of the macro API's arguments before anything is stored in a Job (issue 13).
+"""Checks of the macro API's arguments before anything is stored in a Job.
 
 A FreeCAD length property stores a negative value as 0, so a bad argument must be refused before
 it reaches the property, with the value the caller gave. The messages are the core's (those the

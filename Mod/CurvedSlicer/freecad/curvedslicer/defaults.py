@@ -14,14 +14,14 @@ _WALL = native.ThinWallOptions()
 _MOTION = native.MotionOptions()
 
 LAYER_THICKNESS = _LAYERS.layer_thickness  # mm
-# Issue 18: layer surfaces simplified within 0.05 x voxel size (False: full resolution)
+# Layer surfaces simplified within 0.05 x voxel size (False: full resolution)
 SIMPLIFY_LAYERS = _LAYERS.simplify_layers
 BEAD_SPACING = _PLANNER.bead_spacing  # mm, curved layers
 WALL_BEAD_SPACING = _WALL.bead_spacing  # mm, between the beads of a thin wall
 POINT_SPACING = _PLANNER.point_spacing  # mm
 FIT_TOLERANCE = _PLANNER.fit_tolerance  # mm
 CORNER_ANGLE = _PLANNER.corner_angle  # degrees
-# Issue 15 (bead coverage): the core's "< 0 = half the bead spacing" as a number for the Job
+# Bead coverage: the core's "< 0 = half the bead spacing" as a number for the Job
 MIN_FEATURE_WIDTH = (_PLANNER.min_feature_width if _PLANNER.min_feature_width > 0
                      else 0.5 * BEAD_SPACING)  # mm
 BEAD_WIDTH_MIN = _PLANNER.width_min  # fraction of the bead spacing

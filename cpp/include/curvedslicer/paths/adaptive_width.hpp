@@ -1,4 +1,4 @@
-// Adaptive bead width (issue 15, item 3): per connected region of a layer, the ring widths and
+// Adaptive bead width: per connected region of a layer, the ring widths and
 // iso-values that fill the region's half-width with a whole number of beads.
 //
 // A region whose largest distance from its initial curve (GDTC) is m gets K = round(m/s) rings

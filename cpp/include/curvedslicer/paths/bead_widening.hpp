@@ -1,4 +1,4 @@
-// Bead widening (issue 15): an uncovered strip between beads that no bead of its own takes (one
+// Bead widening: an uncovered strip between beads that no bead of its own takes (one
 // narrower than the gap fill's minimum width, e.g. the 1–2 mm strip down the middle of a thin
 // wall that holds one ring of beads on each side; the rim of a strip too short for a fill bead)
 // is taken, or narrowed, by widening the beads beside it,

@@ -1,4 +1,4 @@
-// Connected insets (issue 15 item 4): fewer arc starts. Consecutive contour-parallel rings of one
+// Connected insets: fewer arc starts. Consecutive contour-parallel rings of one
 // region — the iso-lines at levels k and k + 1, nested, s apart — are deposited as one arc-on
 // path: round ring k from its seam back to the seam, a short step-over (the link) to the nearest
 // point of ring k + 1, round ring k + 1 back to that point, a link to ring k + 2, and so on to the

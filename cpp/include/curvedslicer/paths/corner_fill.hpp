@@ -1,4 +1,4 @@
-// Corner fill (issue 15): at an acute convex corner of a layer region, the outer ring dips
+// Corner fill: at an acute convex corner of a layer region, the outer ring dips
 // toward the corner so its bead covers the corner's wedge, its edge going past the layer
 // boundary by at most a bound.
 //

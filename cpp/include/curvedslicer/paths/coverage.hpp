@@ -1,4 +1,4 @@
-// Bead coverage of one layer (issue 15, item 1): how much of the layer surface no bead covers
+// Bead coverage of one layer: how much of the layer surface no bead covers
 // (voids) and how much two or more beads cover (overlap), measured on the layer surface.
 //
 // Bead model: a bead is the set of surface points within half its width of its centre line (the

@@ -1,4 +1,4 @@
-// Gap fill (issue 15 items 2 and 3): beads for the strips of a layer that its beads leave
+// Gap fill: beads for the strips of a layer that its beads leave
 // uncovered — between two rings of one level that run 1–2 bead widths apart where the next level
 // has no ring, in corners where rings turn, between a ring and a thin-region bead.
 //

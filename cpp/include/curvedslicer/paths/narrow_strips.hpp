@@ -1,4 +1,4 @@
-// Narrow strips where the contour-parallel fronts meet (issue 3): the planner rule that keeps the
+// Narrow strips where the contour-parallel fronts meet: the planner rule that keeps the
 // bead paths of one layer at least 0.95·s apart where an iso-line comes close to its own opposite
 // side (the innermost ring of a thin region, whose sides are 2·(m − c) apart at the GDTC ridge m)
 // or to another iso-line of the same value (two fronts meeting, e.g. a hole's and the rim's).

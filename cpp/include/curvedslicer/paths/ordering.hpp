@@ -1,4 +1,4 @@
-// Ordering the paths of one layer (issue 3 item 5): the deposition order, the direction of open
+// Ordering the paths of one layer: the deposition order, the direction of open
 // paths and the seam (start point) of closed rings, so that travel between paths is short and
 // seams do not stack from layer to layer.
 //

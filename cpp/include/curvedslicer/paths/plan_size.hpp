@@ -1,4 +1,4 @@
-// The size of a plan before it is planned (issue 13): bead paths at spacing s that cover layer
+// The size of a plan before it is planned: bead paths at spacing s that cover layer
 // surfaces of total area A are about A / s long, and robot points every p along them number about
 // A / (s·p). A point spacing of 1e-9 mm would ask for ~1e13 points; the check refuses such a run
 // with the option value that fits, before any path is fitted or resampled. Cost O(1).

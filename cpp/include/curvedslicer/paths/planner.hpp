@@ -1,4 +1,4 @@
-// The deposition plan (paper §3.1 and the first part of §3.2; issue 3): equidistant bead paths on
+// The deposition plan (paper §3.1 and the first part of §3.2): equidistant bead paths on
 // every curved layer, ordered, with seams staggered and a deposition direction per point.
 //
 // Per layer (`planLayers`), bottom to top:
@@ -107,26 +107,26 @@ struct PlannerOptions {
   /// Where paths of one level come closer than 0.95·s (default: one centre bead).
   NarrowStripMode narrowStrips = NarrowStripMode::CentreBead;
   DepositionOptions deposition;
-  /// Issue 15. mm; a region (or strip) narrower than one bead but at least this wide gets a single
+  /// mm; a region (or strip) narrower than one bead but at least this wide gets a single
   /// bead on its centre line and a note with the shortfall; narrower ones are left out and
   /// reported with size and location; < 0 means 0.5·s.
   double minFeatureWidth = -1.0;
-  /// Issue 15, adaptive bead width: bead widths may vary per point within
+  /// Adaptive bead width: bead widths may vary per point within
   /// [widthMin·s, widthMax·s] (fractions of s); widthMin = widthMax = 1 is a fixed width s.
   /// Must satisfy 0 < widthMin <= 1 <= widthMax.
   double widthMin = 1.0;
   double widthMax = 1.0;
-  /// Issue 15: consecutive rings of one region joined by a short step-over inside the layer into
+  /// Consecutive rings of one region joined by a short step-over inside the layer into
   /// one arc-on path (fewer arc starts).
   bool connectInsets = true;
-  /// Issue 15: the uncovered strips the beads leave (between rings of one level, in corners) get
+  /// The uncovered strips the beads leave (between rings of one level, in corners) get
   /// a bead on their centre line when at least minFeatureWidth wide (paths/gap_fill.hpp); the
   /// beads beside narrower strips between beads grow into them (paths/bead_widening.hpp).
   bool fillGaps = true;
-  /// Issue 15, gap fill: mm², smallest uncovered patch that gets a fill bead (smaller ones stay
+  /// Gap fill: mm², smallest uncovered patch that gets a fill bead (smaller ones stay
   /// empty; GapFillOptions::minGapArea); < 0 means s².
   double minGapArea = -1.0;
-  /// Issue 15, corner fill (paths/corner_fill.hpp): at an acute convex corner of the layer
+  /// Corner fill (paths/corner_fill.hpp): at an acute convex corner of the layer
   /// boundary the outer ring dips toward the corner so its bead covers the corner's wedge.
   bool cornerFill = true;
   /// mm, how far a corner-fill bead's edge may pass the layer boundary (stock allowance);
@@ -135,9 +135,9 @@ struct PlannerOptions {
   /// Degrees, in (0, 180): corner fill takes corners of the layer boundary sharper than this
   /// (CornerFillOptions::maxCornerAngle; default: acute corners).
   double cornerFillAngle = 85.0;
-  /// Issue 15: measure every layer's coverage (paths/coverage.hpp) into PlanLayer::coverage.
+  /// Measure every layer's coverage (paths/coverage.hpp) into PlanLayer::coverage.
   bool measureCoverage = true;
-  /// Issue 15, thin regions (paths/thin_regions.hpp): mm/s, the weld speed a spot's dwell is
+  /// Thin regions (paths/thin_regions.hpp): mm/s, the weld speed a spot's dwell is
   /// reckoned with. A spot (a tiny island) dwells w / spotWeldSpeed seconds, the time the torch
   /// takes to lay one bead width of bead, so it deposits about one bead's worth (a round deposit
   /// w across). Default: the default cell's weld speed (robot/cell.hpp ProcessDescription).

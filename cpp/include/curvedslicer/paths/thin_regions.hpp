@@ -1,4 +1,4 @@
-// Thin features and small islands (issue 15 item 2): the beads of the parts of a layer that the
+// Thin features and small islands: the beads of the parts of a layer that the
 // contour-parallel rings leave without any bead — a branch's cross-section narrower than one bead,
 // a cap, a thin fin cut off from the rest of the layer.
 //

@@ -1,5 +1,5 @@
-// The deposition plan: the hand-over between path planning (paths/, issue 3) and positioner
-// planning, kinematics and robot programs (robot/, export/, issue 4), and what the FreeCAD
+// The deposition plan: the hand-over between path planning (paths/) and positioner
+// planning, kinematics and robot programs (robot/, export/), and what the FreeCAD
 // workbench stores in a document.
 //
 // A plan is a sequence of layers, bottom to top; each layer holds its paths in deposition order.
@@ -31,7 +31,7 @@ struct PathPoint {
   /// already-deposited material (previous bead of the layer, previous layer, or the substrate).
   /// The positioner turns the part so that V points along gravity.
   Vec3 deposition = -Vec3::UnitZ();
-  /// Bead width at the point, mm (issue 15, adaptive bead width). 0 means the plan's bead
+  /// Bead width at the point, mm (adaptive bead width). 0 means the plan's bead
   /// spacing (plans of format version 1, and every point when adaptive width is off).
   double width = 0.0;
 };
@@ -47,14 +47,14 @@ struct PlanPath {
   double dwell = 0.0;
 };
 
-/// A patch of a layer no bead covers (issue 15), for the user to find it.
+/// A patch of a layer no bead covers, for the user to find it.
 struct CoverageVoid {
   double area = 0.0;           ///< mm² of layer surface
   Vec3 centre = Vec3::Zero();  ///< mm, part frame, area-weighted centre of the patch
   double size = 0.0;           ///< mm, largest extent of the patch
 };
 
-/// How well the beads of one layer cover its surface (issue 15), measured on the layer surface:
+/// How well the beads of one layer cover its surface, measured on the layer surface:
 /// a surface point is covered by a bead when it lies within half the bead's width of the bead's
 /// centre line (PathPoint::width, or the bead spacing where 0).
 struct LayerCoverage {
@@ -93,26 +93,26 @@ struct PlanParameters {
   /// degrees: turns sharper than this (within 0.2 mm) were kept as exact corners by the fit;
   /// absent in plans written before it existed (then not written to the file)
   std::optional<double> cornerAngle;
-  /// Issue 15 (volume plans; absent for thin walls and plans written before it existed): mm, the
+  /// Volume plans only (absent for thin walls and plans written before it existed): mm, the
   /// minimum feature width the planner used (PlannerOptions::minFeatureWidth resolved, > 0)
   std::optional<double> minFeatureWidth;
-  /// Issue 15: the bead width range {min, max} as fractions of the bead spacing ({1, 1}: fixed)
+  /// The bead width range {min, max} as fractions of the bead spacing ({1, 1}: fixed)
   std::optional<std::array<double, 2>> beadWidthRange;
-  /// Issue 15: whether consecutive rings of one region were joined into one arc-on path
+  /// Whether consecutive rings of one region were joined into one arc-on path
   std::optional<bool> connectInsets;
-  /// Issue 15: whether uncovered strips between beads got centre-line fill beads (paths/gap_fill)
+  /// Whether uncovered strips between beads got centre-line fill beads (paths/gap_fill)
   std::optional<bool> fillGaps;
-  /// Issue 18: ε, mm, of the layer simplification the layer surfaces went through; absent for
+  /// ε, mm, of the layer simplification the layer surfaces went through; absent for
   /// full-resolution layers, thin walls and plans written before it existed
   std::optional<double> layerTolerance;
-  /// Issue 15: mm², the smallest uncovered patch gap fill gave a bead (PlannerOptions::minGapArea
+  /// mm², the smallest uncovered patch gap fill gave a bead (PlannerOptions::minGapArea
   /// resolved, > 0); absent for thin walls and plans written before the option existed
   std::optional<double> minGapArea;
-  /// Issue 15, corner fill: mm, how far a bead's edge may pass the layer boundary at a corner
+  /// Corner fill: mm, how far a bead's edge may pass the layer boundary at a corner
   /// (PlannerOptions::cornerOverdeposit resolved); < 0: corner fill was off; absent for thin
   /// walls and plans written before corner fill existed (no corner fill)
   std::optional<double> cornerOverdeposit;
-  /// Issue 15, corner fill: degrees, the corners of the layer boundary sharper than this were
+  /// Corner fill: degrees, the corners of the layer boundary sharper than this were
   /// filled (PlannerOptions::cornerFillAngle); absent when corner fill was off, for thin walls and
   /// plans written before the option existed
   std::optional<double> cornerFillAngle;

@@ -1,4 +1,4 @@
-// The bead model of a GMA deposition process (issue 15, item 3): measured single-bead width and
+// The bead model of a GMA deposition process: measured single-bead width and
 // height over a grid of wire feed speed (WFS, m/min) × travel speed (TS, mm/s), interpolated
 // bilinearly; and its inverse, the WFS and TS that give a wanted width at a wanted height (the
 // layer thickness). In GMA deposition both width and height follow WFS and TS, so changing TS

@@ -205,7 +205,7 @@ struct ProcessDescription {
   double current = 0.0;       ///< A, direct arc condition (ArcControl::Direct), > 0 then
   double voltage = 0.0;       ///< V, direct arc condition
   double arcStartTime = 0.0;  ///< s, crater / start time for direct conditions
-  /// Issue 15: bead width and height over WFS × TS (robot/bead_model.hpp), JSON
+  /// Bead width and height over WFS × TS (robot/bead_model.hpp), JSON
   /// "process"/"bead_model" (optional); empty = none: every weld at weldSpeed and wireFeed.
   BeadModel beadModel;
 };

@@ -95,11 +95,11 @@ struct MotionPoint {
   Pose toolInPart = Pose::Identity();       ///< TCP pose in the part frame
   double speed = 0.0;  ///< mm/s of the move arriving here: weld speed (relative to the part;
                        ///< lower where kMotionSpeedReduced) or travel speed for arc-off moves
-  /// Issue 15: m/min wire feed of the weld move arriving here (from the cell's bead model for
+  /// m/min wire feed of the weld move arriving here (from the cell's bead model for
   /// the point's bead width and the layer height, or the cell's fixed wire feed); 0 for arc-off.
   double wireFeed = 0.0;
   double beadWidth = 0.0;  ///< mm, the plan's bead width at the point (0 for arc-off points)
-  /// Issue 15: mm/s, the weld speed planned for the move before the axis limits (the cell's, or
+  /// mm/s, the weld speed planned for the move before the axis limits (the cell's, or
   /// the bead model's for the point's width); 0 = the cell's weld speed (arc-off moves).
   double nominalSpeed = 0.0;
   int weldSchedule = 0;     ///< controller weld condition/schedule number for the move; 0 = cell's

@@ -1,4 +1,4 @@
-// Time parameterisation of a planned motion against every axis's speed limit (issue 14): each
+// Time parameterisation of a planned motion against every axis's speed limit: each
 // move (from one motion point to the next) takes the longest of
 //   - its nominal time: a weld move's part-frame length / the cell's weld speed (the speed
 //     relative to the part), an arc-off move's length / the travel speed (the longer of its

@@ -1,10 +1,10 @@
 """Where the part sits on the positioner table at a motion point: the one place that decides the
-part's placement for the pose view (stages/poses.py) — issue 14's "the workbench shows the part
-on the table at the pose". App side: no GUI imports.
+part's placement for the pose view (stages/poses.py), which shows the part on the table at the
+pose. App side: no GUI imports.
 
 The part frame in world at tilt a1, rotation a2 is T_table(a1, a2) · tableToPart. Today
 tableToPart is the cell's ``positioner.table_to_part`` (what ``native.positioner_frames`` puts in
-its "part" frame). The motion planner gains a placement rule (MotionPlan::tableToPart, issue 14):
+its "part" frame). The motion planner gains a placement rule (MotionPlan::tableToPart):
 once ``native.plan_motion`` returns it as ``table_to_part`` (a 4x4 matrix, mm), it is used
 instead — no other code changes.
 """

@@ -1,4 +1,4 @@
-"""Pose simulation of a Job (issue 17 item 6): at motion point ``PosePoint`` the Poses group
+"""Pose simulation of a Job: at motion point ``PosePoint`` the Poses group
 shows, besides the positioner carrying the part (stages/poses.py),
 
 - the torch: the cell's torch envelope (a truncated cone on the tool z axis, the wire stick-out

@@ -1,4 +1,4 @@
-"""What a Job shows (issue 17 item 5): the results after a run with the solid hidden, the cell at
+"""What a Job shows: the results after a run with the solid hidden, the cell at
 the pose on or off (it sits in cell coordinates, a metre or more from the part's own frame, so
 Fit All frames the part only without it), one layer isolated — its surface and its paths — and
 that layer's numbers (height, paths, coverage, warnings) from the stored plan.

@@ -1,5 +1,4 @@
-"""Uncovered regions of a plan in the 3D view (issue 15 item 1: "the workbench shows it per layer
-and can colour the uncovered regions").
+"""Uncovered regions of a plan in the 3D view: per layer, the uncovered regions coloured.
 
 The plan's coverage (paths/coverage.hpp) lists per layer its largest voids: area, centre and size.
 Each plan layer with voids gets one Part feature in the "Voids" group (inside the Job's Paths

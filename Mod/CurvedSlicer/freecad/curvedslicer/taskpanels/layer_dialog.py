@@ -1,4 +1,4 @@
-"""The layer inspector (issue 17 item 5): a spin box and a slider pick one plan layer; the view
+"""The layer inspector: a spin box and a slider pick one plan layer; the view
 shows only that layer's surface and its paths (api.show_layer, recorded in macros), and the
 dialog shows the layer's number, height, paths, coverage (when the plan measured it) and
 warnings. "All layers" shows every layer again; "Uncovered regions" marks the largest voids of

@@ -1,4 +1,4 @@
-"""The pose simulation player (issue 17 item 6): play/pause, a speed factor over the motion's
+"""The pose simulation player: play/pause, a speed factor over the motion's
 own time line (native.plan_motion's ``time``: 1× is real time), a scrub slider and a point spin
 box; the cell (positioner carrying the part, robot, torch, deposit so far) follows the point
 (api.set_pose) and the dialog shows the point's joints, configuration and flags.
