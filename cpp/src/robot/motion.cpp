@@ -552,7 +552,10 @@ void RobotKinematicsPass::setConfiguration(MotionPathSpan& span) {
 }
 
 /// The arc-off move to the path start may re-centre the wrist joints (R, T) by a turn; tries
-/// that when the nearest start would run a joint into its limit along the path.
+/// that when the nearest start would run a joint into its limit along the path. The first path
+/// has no previous joints: its shifts are taken from the controller's zero (the unshifted start
+/// is the solution nearest to it), so a path that turns T by a whole turn can start a turn lower
+/// or higher whatever the joint's zero offset.
 void RobotKinematicsPass::solvePath(const MotionPathSpan& span) {
   const double shifts[5][2] = {{0, 0}, {0, -kTwoPi}, {0, kTwoPi}, {-kTwoPi, 0}, {kTwoPi, 0}};
   std::size_t bestShift = 0, lastRun = 0;
@@ -564,8 +567,7 @@ void RobotKinematicsPass::solvePath(const MotionPathSpan& span) {
     return start;
   };
   for (std::size_t t = 0; t < 5; ++t) {
-    if (t > 0 && !haveJoints_) break;
-    const std::size_t n = solvePathJoints(span, shiftedStart(t), haveJoints_);
+    const std::size_t n = solvePathJoints(span, shiftedStart(t), haveJoints_ || t > 0);
     lastRun = t;
     if (n < fewest) {
       fewest = n;
@@ -573,7 +575,9 @@ void RobotKinematicsPass::solvePath(const MotionPathSpan& span) {
     }
     if (n == 0) break;
   }
-  if (bestShift != lastRun) solvePathJoints(span, shiftedStart(bestShift), haveJoints_);
+  if (bestShift != lastRun) {
+    solvePathJoints(span, shiftedStart(bestShift), haveJoints_ || bestShift > 0);
+  }
 }
 
 /// Joints along one path from a start reference; sets joints and flags, returns a badness:

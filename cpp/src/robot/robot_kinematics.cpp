@@ -2,7 +2,10 @@
 #include "curvedslicer/robot/robot_kinematics.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 namespace curvedslicer {
 namespace {
@@ -211,8 +214,47 @@ bool unwrapJoints(const RobotDescription& robot, JointVector& joints,
                   const JointVector& reference) {
   bool ok = true;
   for (int i = 0; i < 6; ++i) ok = unwrapInto(joints[i], robot.joints[i], reference[i]) && ok;
-  // The interference limits couple joints the box above treats separately (e.g. L and U).
-  return ok && violatedInterference(robot, joints) == nullptr;
+  if (!ok) return false;
+  // The interference limits couple joints the box above treats separately (e.g. J2 and J3). A
+  // joint whose range is wider than a turn may hold the same angle a turn away: when the nearest
+  // turns violate a limit, the other turns of the coupled joints within their ranges are tried,
+  // the combination nearest the reference that satisfies every limit kept.
+  if (violatedInterference(robot, joints) == nullptr) return true;
+  std::array<std::vector<double>, 6> candidates;
+  for (int i = 0; i < 6; ++i) {
+    bool coupled = false;
+    for (const JointInequality& limit : robot.interference) {
+      coupled = coupled || limit.coefficients[i] != 0.0;
+    }
+    candidates[i].push_back(joints[i]);
+    if (!coupled) continue;
+    for (int k = -2; k <= 2; ++k) {
+      const double c = joints[i] + k * kTwoPi;
+      if (k != 0 && robot.joints[i].contains(c, 1e-9)) candidates[i].push_back(c);
+    }
+  }
+  JointVector best = joints, trial = joints;
+  double bestCost = std::numeric_limits<double>::infinity();
+  const auto search = [&](const auto& self, int i) -> void {
+    if (i == 6) {
+      if (violatedInterference(robot, trial) != nullptr) return;
+      double cost = 0.0;
+      for (int j = 0; j < 6; ++j) cost += std::abs(trial[j] - reference[j]);
+      if (cost < bestCost) {
+        bestCost = cost;
+        best = trial;
+      }
+      return;
+    }
+    for (double c : candidates[i]) {
+      trial[i] = c;
+      self(self, i + 1);
+    }
+  };
+  search(search, 0);
+  if (!(bestCost < std::numeric_limits<double>::infinity())) return false;
+  joints = best;
+  return true;
 }
 
 }  // namespace curvedslicer

@@ -113,8 +113,8 @@ INSTANTIATE_TEST_SUITE_P(
                       "custom_base_geom_to_slice.obj", "distorted_v_closed_mid_res.stl",
                       "overhang_coin_closed_low_res.stl", "simple_box_closed_low_res.stl",
                       "simple_cylinder_closed_mid_res.stl"),
-    [](const ::testing::TestParamInfo<std::string>& info) {
-      std::string name = info.param.substr(0, info.param.find('.'));
+    [](const ::testing::TestParamInfo<std::string>& model) {
+      std::string name = model.param.substr(0, model.param.find('.'));
       std::replace(name.begin(), name.end(), '-', '_');
       return name;
     });

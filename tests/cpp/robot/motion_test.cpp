@@ -1,6 +1,7 @@
 // Motion planning: positioner angles along paths (singular zone, branches, limits, unwrapping,
 // smoothing), world poses and robot joints, unreachable points, estimates, cancellation.
 #include "curvedslicer/robot/motion.hpp"
+#include "common/test_constants.hpp"
 #include "curvedslicer/robot/placement.hpp"
 
 #include <gtest/gtest.h>
@@ -17,8 +18,8 @@
 namespace curvedslicer {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
+using testing::kDeg;
+using testing::kPi;
 
 double angleBetween(const Vec3& a, const Vec3& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
@@ -233,15 +234,32 @@ TEST(Motion, EndlessRotationUnwraps) {
   }
   EXPECT_NEAR(std::abs(points.back().a2 - points.front().a2), 4 * kPi, 1e-9);
   EXPECT_LT(motion.maxResidual, 1e-9);
-  // with the torch following the travel direction the joint-T limit is named
-  try {
-    MotionOptions along;
-    along.toolAlongTravel = true;
-    planMotion(linePlan(dirs), cell, along);
-    ADD_FAILURE() << "T winding beyond its limit accepted";
-  } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find("joint 6 at"), std::string::npos) << e.what();
+  // With the torch x following the travel direction joint T turns with the table. Where it
+  // cannot follow within its +-360 deg (four table turns), the arm changes its IK branch within
+  // the weld (the wrist flips) rather than cross a joint limit, and a warning says so.
+  MotionOptions along;
+  along.toolAlongTravel = true;
+  const MotionPlan twoTurns = planMotion(linePlan(dirs), cell, along);
+  for (const MotionPoint& m : pathPoints(twoTurns)) {
+    for (int j = 0; j < 6; ++j) EXPECT_TRUE(cell.robot.joints[j].contains(m.joints[j]));
   }
+  std::vector<Vec3> fourTurns;
+  for (int i = 0; i < 2 * count; ++i) {
+    const double phi = 8 * kPi * i / (2 * count - 1);
+    fourTurns.push_back(
+        Vec3(std::sin(0.5) * std::cos(phi), std::sin(0.5) * std::sin(phi), -std::cos(0.5)));
+  }
+  const MotionPlan four = planMotion(linePlan(fourTurns), cell, along);
+  for (const MotionPoint& m : pathPoints(four)) {
+    for (int j = 0; j < 6; ++j) EXPECT_TRUE(cell.robot.joints[j].contains(m.joints[j]));
+  }
+  bool warned = false;
+  for (const std::string& w : four.warnings) {
+    warned = warned || w.find(
+                           "robot configuration (IK branch) changes within a weld (joint "
+                           "limits)") != std::string::npos;
+  }
+  EXPECT_TRUE(warned);
 }
 
 TEST(Motion, SmoothingStaysWithinItsBound) {

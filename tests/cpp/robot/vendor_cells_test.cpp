@@ -1,18 +1,20 @@
 // The cells of resources/cells/, one per vendor: every file valid by the cell schema and read
 // without notes; forward kinematics, flange and controller frame equal to the published robot
-// descriptions copied into tests/data/robots/ (sources there and in resources/cells/README.md); inverse kinematics reproducing random joint vectors within the
-// limits; home poses clear of the table; the vendor check of exports (checkCellVendor).
+// descriptions copied into tests/data/robots/ (sources there and in resources/cells/README.md);
+// inverse kinematics reproducing random joint vectors within the limits; home poses clear of the
+// table; the vendor check of exports (checkCellVendor).
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "common/test_constants.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/robot/cell.hpp"
 #include "curvedslicer/robot/motion.hpp"
@@ -27,8 +29,8 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
+using testing::kDeg;
+using testing::kPi;
 
 fs::path cellsDir() {
   return fs::path(CURVEDSLICER_SOURCE_DIR) / "resources" / "cells";
@@ -103,11 +105,13 @@ ReferenceDescription readReference(const std::string& file) {
   ReferenceDescription d;
   d.file = file;
   for (const Json& joint : j.at("joints")) {
-    d.chain.push_back(
-        {jsonVec3(joint.at("xyz_m"), 1000.0), jsonVec3(joint.at("rpy_rad")), jsonVec3(joint.at("axis"))});
+    d.chain.push_back({jsonVec3(joint.at("xyz_m"), 1000.0), jsonVec3(joint.at("rpy_rad")),
+                       jsonVec3(joint.at("axis"))});
   }
-  d.tool0 = makePose(jsonVec3(j.at("tool0").at("xyz_m"), 1000.0), jsonVec3(j.at("tool0").at("rpy_rad")));
-  d.base = makePose(jsonVec3(j.at("base").at("xyz_m"), 1000.0), jsonVec3(j.at("base").at("rpy_rad")));
+  d.tool0 =
+      makePose(jsonVec3(j.at("tool0").at("xyz_m"), 1000.0), jsonVec3(j.at("tool0").at("rpy_rad")));
+  d.base =
+      makePose(jsonVec3(j.at("base").at("xyz_m"), 1000.0), jsonVec3(j.at("base").at("rpy_rad")));
   d.rotationTolerance = j.at("rotation_tolerance_rad").get<double>();
   EXPECT_EQ(d.chain.size(), 6u) << file;
   EXPECT_FALSE(j.at("source").at("commit").get<std::string>().empty()) << file;
@@ -137,21 +141,23 @@ RobotKinematics lengthsAtZero(const ReferenceDescription& d) {
     at.push_back(p);
   }
   const Vec3 tool = p + d.tool0.translation();
-  return RobotKinematics{at[1].x(),         at[4].z() - at[2].z(), at[1].y(),
-                         at[1].z(),         at[2].z() - at[1].z(), at[4].x() - at[2].x(),
+  return RobotKinematics{at[1].x(),           at[4].z() - at[2].z(), at[1].y(),
+                         at[1].z(),           at[2].z() - at[1].z(), at[4].x() - at[2].x(),
                          tool.x() - at[4].x()};
 }
 
 /// Random controller joint vectors within the joint limits (seeded).
+/// `count` joint vectors drawn uniformly from the joint ranges, keeping those that satisfy the
+/// robot's interference limits (the poses the robot can take).
 std::vector<JointVector> randomJoints(const RobotDescription& robot, int count, unsigned seed) {
   std::mt19937 rng(seed);
   std::vector<JointVector> out;
-  for (int k = 0; k < count; ++k) {
+  while (static_cast<int>(out.size()) < count) {
     JointVector q;
     for (int j = 0; j < 6; ++j) {
       q[j] = std::uniform_real_distribution<double>(robot.joints[j].min, robot.joints[j].max)(rng);
     }
-    out.push_back(q);
+    if (violatedInterference(robot, q) == nullptr) out.push_back(q);
   }
   return out;
 }
@@ -174,7 +180,8 @@ void expectFlangeIsReferenceTool0(
     const Pose cell = robot.base * computeFlangePose(robot, q);
     const Pose reference = referenceToolPose(d, urdfJoints(q));
     worstMm = std::max(worstMm, (cell.translation() - reference.translation()).norm());
-    worstRad = std::max(worstRad, Eigen::AngleAxisd(cell.linear().transpose() * reference.linear()).angle());
+    worstRad = std::max(worstRad,
+                        Eigen::AngleAxisd(cell.linear().transpose() * reference.linear()).angle());
   }
   EXPECT_LT(worstMm, 1e-6);
   EXPECT_LT(worstRad, d.rotationTolerance);
@@ -191,7 +198,8 @@ std::array<double, 6> sameJoints(const JointVector& q) {
 // KUKA KR 16 R1610-2: the description's joint angles are the controller's A1..A6.
 TEST(VendorCells, KukaForwardKinematicsEqualsTheReferenceDescription) {
   const Cell cell = readCell(cellsDir() / "kuka_kr16_r1610_2_dkp400.json");
-  expectFlangeIsReferenceTool0(cell.robot, readReference("kuka_kr16_r1610_2.json"), 161, sameJoints);
+  expectFlangeIsReferenceTool0(cell.robot, readReference("kuka_kr16_r1610_2.json"), 161,
+                               sameJoints);
   // KUKA's mastering pose A2 = -90, A3 = +90: upper arm up, forearm level, flange 968 mm out.
   const Pose home = computeFlangePose(cell.robot, {0, -90 * kDeg, 90 * kDeg, 0, 0, 0});
   EXPECT_LT((home.translation() - Vec3(968, 0, 1450)).norm(), 1e-9);
@@ -203,11 +211,10 @@ TEST(VendorCells, KukaForwardKinematicsEqualsTheReferenceDescription) {
 // (the controller's world frame, 450 mm up).
 TEST(VendorCells, FanucForwardKinematicsEqualsTheReferenceDescription) {
   const Cell cell = readCell(cellsDir() / "fanuc_arcmate100ic_2axis_positioner.json");
-  expectFlangeIsReferenceTool0(cell.robot, readReference("fanuc_m10ia.json"), 100,
-                               [](const JointVector& q) {
-                                 return std::array<double, 6>{q[0], q[1], q[2] + q[1],
-                                                              q[3], q[4], q[5]};
-                               });
+  expectFlangeIsReferenceTool0(
+      cell.robot, readReference("fanuc_m10ia.json"), 100, [](const JointVector& q) {
+        return std::array<double, 6>{q[0], q[1], q[2] + q[1], q[3], q[4], q[5]};
+      });
   // J3 = 0 keeps the forearm level whatever J2: the wrist centre's height does not change.
   const RobotKinematics& k = cell.robot.kinematics;
   for (double j2 : {-30.0, 0.0, 40.0}) {
@@ -298,9 +305,10 @@ TEST(VendorCells, InverseKinematicsReproducesRandomJointsWithinLimits) {
 // a violating solution as usable.
 TEST(VendorCells, InverseKinematicsNeverOffersASolutionViolatingAnInterferenceLimit) {
   RobotDescription robot = readCell(cellsDir() / "motoman_hp20d_tilt_rotate.json").robot;
+  const RobotDescription jointBox = robot;  // samples from the whole joint box
   robot.interference.push_back({"L/U", {0, 1, 1, 0, 0, 0}, 30 * kDeg});
   int violating = 0, kept = 0;
-  for (const JointVector& q : randomJoints(robot, 300, 27)) {
+  for (const JointVector& q : randomJoints(jointBox, 300, 27)) {
     const IkResult ik = solveInverseKinematics(robot, computeFlangePose(robot, q), q[3]);
     for (const IkSolution& s : ik.solutions) {
       if (s.withinLimits) {
@@ -308,7 +316,8 @@ TEST(VendorCells, InverseKinematicsNeverOffersASolutionViolatingAnInterferenceLi
         ++kept;
       }
       bool same = true;
-      for (int j = 0; j < 6; ++j) same = same && std::abs(angleDifference(s.joints[j], q[j])) < 1e-7;
+      for (int j = 0; j < 6; ++j)
+        same = same && std::abs(angleDifference(s.joints[j], q[j])) < 1e-7;
       if (same && q[1] + q[2] > 30 * kDeg && std::abs(s.joints[2] - q[2]) < 1e-7) {
         EXPECT_FALSE(s.withinLimits);
         ++violating;

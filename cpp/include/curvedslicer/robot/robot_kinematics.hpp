@@ -78,8 +78,10 @@ IkResult solveInverseKinematics(const RobotDescription& robot, const Pose& flang
                                 double wristReference = 0.0);
 
 /// Moves each joint by multiples of 2π to the value nearest `reference` that lies within its
-/// limits (or nearest the range if none does); returns false if some joint is out of limits or
-/// the joints violate one of the robot's interference limits (RobotDescription::interference).
+/// limits (or nearest the range if none does); when those violate one of the robot's
+/// interference limits (RobotDescription::interference), the other turns of the coupled joints
+/// within their ranges are tried and the satisfying one nearest `reference` taken. Returns false
+/// if some joint is out of limits or no turn satisfies the interference limits.
 bool unwrapJoints(const RobotDescription& robot, JointVector& joints, const JointVector& reference);
 
 }  // namespace curvedslicer
