@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/cli_test_support.hpp"
+#include "common/sanitized_build.hpp"
 #include "common/shapes.hpp"
 #include "common/test_paths.hpp"
 #include "curvedslicer/mesh/mesh_io.hpp"
@@ -164,12 +165,15 @@ TEST(PlanCliCases, ThinWallCylinder) {
 }
 
 TEST(PlanCliCases, CoverageOptionsAreRecordedAndSummarised) {
-  // The box at coarse settings: the plan records the issue-15 options and every layer's
-  // coverage, the summary prints the totals; --no-coverage leaves the layers unmeasured.
+  // The box at coarse settings: the plan records the coverage options and every layer's
+  // coverage, the summary prints the totals; --no-coverage leaves the layers unmeasured. Under
+  // the sanitizers the grid, layers and beads are twice as coarse (the same checks).
+  const double k = testing::coarseningUnderSanitizers();
+  const double s = 12.0 * k;
   const fs::path model = modelPath("simple_box_closed_low_res.stl");
   const fs::path out = freshTempDir() / "out";
-  const Args base = {
-      "plan", model.string(), "--layer-thickness", "20", "--voxel", "5", "--bead-spacing", "12"};
+  const Args base = {"plan",    model.string(), "--layer-thickness", arg(20 * k),
+                     "--voxel", arg(5 * k),     "--bead-spacing",    arg(s)};
   Args args = base;
   for (const char* a : {"--min-feature-width", "4", "--bead-width-range", "0.8,1.25",
                         "--no-connect-insets", "--no-gap-fill", "--min-gap-area", "20",
@@ -202,13 +206,13 @@ TEST(PlanCliCases, CoverageOptionsAreRecordedAndSummarised) {
   ASSERT_EQ(run2.exitCode, 0) << run2.err;
   EXPECT_NE(run2.out.find("coverage not measured"), std::string::npos) << run2.out;
   const Plan unmeasured = expectValidPlanOutput(out2);
-  EXPECT_EQ(unmeasured.parameters.minFeatureWidth, 6.0);  // the default, s/2
+  EXPECT_EQ(unmeasured.parameters.minFeatureWidth, 0.5 * s);  // the default, s/2
   EXPECT_EQ(unmeasured.parameters.beadWidthRange, (std::array<double, 2>{1.0, 1.0}));
   EXPECT_EQ(unmeasured.parameters.connectInsets, true);
   EXPECT_EQ(unmeasured.parameters.fillGaps, true);
-  EXPECT_EQ(unmeasured.parameters.minGapArea, 144.0);       // the default, s²
-  EXPECT_EQ(unmeasured.parameters.cornerOverdeposit, 3.0);  // the default, s/4
-  EXPECT_EQ(unmeasured.parameters.cornerFillAngle, 85.0);   // the default: acute corners
+  EXPECT_EQ(unmeasured.parameters.minGapArea, s * s);            // the default, s²
+  EXPECT_EQ(unmeasured.parameters.cornerOverdeposit, 0.25 * s);  // the default, s/4
+  EXPECT_EQ(unmeasured.parameters.cornerFillAngle, 85.0);        // the default: acute corners
   for (const PlanLayer& layer : unmeasured.layers) EXPECT_FALSE(layer.coverage.measured);
 }
 

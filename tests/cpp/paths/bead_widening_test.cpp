@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/test_constants.hpp"
 #include "common/shapes.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/paths/bead_widening.hpp"
@@ -17,7 +18,7 @@
 namespace curvedslicer {
 namespace {
 
-constexpr double kS = 3.7;
+using testing::kS;
 
 struct TwoBeads {
   TriMesh mesh;

@@ -10,6 +10,7 @@
 #include <tuple>
 #include <vector>
 
+#include "common/test_constants.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/paths/connected_insets.hpp"
 #include "curvedslicer/paths/planner.hpp"
@@ -19,7 +20,7 @@
 namespace curvedslicer {
 namespace {
 
-constexpr double kS = 3.7;
+using testing::kS;
 
 /// A ring of radius r about (cx, cy) in the plane z = 0, `n` points, starting at angle `a0`.
 PlanPath makeCircle(double r, int n, double a0 = 0.0, double cx = 0.0, double cy = 0.0) {

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/test_constants.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/paths/corner_fill.hpp"
 #include "curvedslicer/paths/coverage.hpp"
@@ -18,8 +19,8 @@
 namespace curvedslicer {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kS = 3.7;         // bead spacing, mm
+using testing::kPi;
+using testing::kS;
 constexpr double kH = 0.5 * kS;    // half a bead
 constexpr double kSpacing = 0.05;  // coverage sample spacing, mm
 

@@ -13,13 +13,14 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include "common/test_constants.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/paths/coverage.hpp"
 
 namespace curvedslicer {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using testing::kPi;
 constexpr double kSpacing = 0.05;  // mm, sample spacing of the tests
 
 /// The plate [x0, x1] × [y0, y1] at z = 0, two triangles.

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/test_constants.hpp"
 #include "common/shapes.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/geom/triangle_bvh.hpp"
@@ -15,7 +16,7 @@
 namespace curvedslicer {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using testing::kPi;
 
 double angleDegrees(const Vec3& a, const Vec3& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / kPi;

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/test_constants.hpp"
 #include "common/shapes.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/paths/gap_fill.hpp"
@@ -18,7 +19,7 @@
 namespace curvedslicer {
 namespace {
 
-constexpr double kS = 3.7;
+using testing::kS;
 
 /// Flat rectangle [0, a] × [0, b] at z = 0, cells of `h` mm, and its distance to the boundary.
 TriMesh makeRectangle(double a, double b, double h, std::vector<double>& distance) {

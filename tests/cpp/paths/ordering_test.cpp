@@ -6,13 +6,14 @@
 
 #include <gtest/gtest.h>
 
+#include "common/test_constants.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/paths/ordering.hpp"
 
 namespace curvedslicer {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using testing::kPi;
 
 Polyline makeCircle(const Vec3& c, double r, int n, double phase = 0.0) {
   Polyline p;

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/test_constants.hpp"
 #include "common/shapes.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/paths/coverage.hpp"
@@ -21,8 +22,8 @@
 namespace curvedslicer {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kS = 3.7;
+using testing::kPi;
+using testing::kS;
 
 /// Flat rectangle [x0, x1] × [y0, y1] at height z, n × m cells.
 TriMesh makeRectangle(double x0, double x1, double y0, double y1, double z, int n, int m) {

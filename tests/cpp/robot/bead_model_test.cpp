@@ -1,6 +1,7 @@
 // Bead model: bilinear interpolation against closed form, the inverse (WFS and TS for
 // a width at a height) round trip, clamping with its shortfall, table errors naming the cell
 // field, and planMotion filling wire feed, bead width and weld speed per point from it.
+#include "common/test_constants.hpp"
 #include "curvedslicer/robot/bead_model.hpp"
 
 #include <gtest/gtest.h>
@@ -19,7 +20,7 @@
 namespace curvedslicer {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using testing::kPi;
 
 /// A table sampled from bilinear functions of (f, t), which bilinear interpolation reproduces
 /// exactly on any grid: width = 1 + 0.8 f − 0.1 t − 0.01 f t, height = 2 + 0.1 f − 0.1 t

@@ -1,6 +1,7 @@
 // Part placement: rest puts the lowest bead bottom on the table top (keeping the cell's rotation
 // and xy), cell keeps the cell's table_to_part, and weld points below the table or outside the
 // working volume are InvalidInput naming the point, the amount and the hint.
+#include "common/test_constants.hpp"
 #include "curvedslicer/robot/placement.hpp"
 
 #include <gtest/gtest.h>
@@ -15,7 +16,7 @@
 namespace curvedslicer {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using testing::kPi;
 
 /// Two flat layers of one ring each (radius 30 mm about the part origin), layer thickness
 /// 1.5 mm, bead spacing 4 mm; the first layer's weld points at z = `z0` (part frame), the lowest at

@@ -1,4 +1,5 @@
 // Positioner: eq. 16 closed form (both branches) and forward/inverse kinematics.
+#include "common/test_constants.hpp"
 #include "curvedslicer/robot/positioner.hpp"
 
 #include <gtest/gtest.h>
@@ -11,8 +12,8 @@
 namespace curvedslicer {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
+using testing::kPi;
+using testing::kDeg;
 
 Vec3 randomDirection(std::mt19937_64& rng) {
   std::normal_distribution<double> normal;

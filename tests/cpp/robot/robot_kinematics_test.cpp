@@ -1,5 +1,6 @@
 // Six-axis robot: forward kinematics against hand-computed poses, inverse kinematics round trip
 // (all 8 solutions), wrist singularity and the reach check.
+#include "common/test_constants.hpp"
 #include "curvedslicer/robot/robot_kinematics.hpp"
 
 #include <gtest/gtest.h>
@@ -13,8 +14,8 @@
 namespace curvedslicer {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
+using testing::kPi;
+using testing::kDeg;
 
 double angleDistance(double a, double b) {
   return std::abs(std::remainder(a - b, 2 * kPi));

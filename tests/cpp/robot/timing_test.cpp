@@ -2,6 +2,7 @@
 // durations against every axis's speed limit, speed reductions, dwells, estimates; on the curved
 // example and the cylinder (coarse voxels, default cell) independent checks of axis speeds, V
 // against gravity, a2 steps and one configuration per weld.
+#include "common/test_constants.hpp"
 #include "curvedslicer/robot/timing.hpp"
 
 #include <gtest/gtest.h>
@@ -23,8 +24,8 @@
 namespace curvedslicer {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
+using testing::kPi;
+using testing::kDeg;
 
 /// Two layers, each one straight path of `count` points 1 mm apart along +x; V = -z.
 Plan straightPlan(int count) {
