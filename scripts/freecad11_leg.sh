@@ -174,9 +174,9 @@ work=/var/tmp/curvedslicer
 mkdir -p "$root$work/src"
 rsync -a --delete --exclude='/build*/' --exclude='/out/' --exclude='/.git' \
   --exclude='__pycache__/' --exclude='*.pyc' "$repo/" "$root$work/src/"
-# -O1 instead of Release's -O3: the module is built from scratch on every cold run and only runs
-# the FreeCAD tests' small parts here, so compile time counts, not run time (about 40 % less
-# compile time for about 10 s more test time; tests/bench/README.md, "CI run time").
+# -O1 instead of Release's -O3: the module is built from scratch on every cold run and runs only
+# the FreeCAD tests' small parts here, so its compile time counts, not its speed (measured in
+# tests/bench/README.md, "CI run time").
 in_chroot cmake -S "$work/src" -B "$work/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
   -DCURVEDSLICER_BUILD_BENCH=OFF -DCURVEDSLICER_BUILD_TESTS=ON -DCURVEDSLICER_BUILD_PYTHON=ON
