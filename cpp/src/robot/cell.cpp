@@ -304,13 +304,12 @@ Pose readControllerFrame(Field& r, RobotVendor vendor, const RobotKinematics& ki
   }
   const Pose frame = defaultControllerFrame(vendor, kinematics);
   const double height = frame.translation().z();
-  std::string taken =
-      vendor == RobotVendor::Unknown
-          ? "no vendor named, so the robot base frame itself taken"
-          : "the " + std::string(toString(vendor)) + " convention taken: " +
-                (height != 0.0 ? "on joint 1's axis at the height of joint 2, " +
-                                     formatNumber(height) + " mm above robot/base"
-                               : std::string("the robot base frame itself"));
+  std::string taken = vendor == RobotVendor::Unknown
+                          ? "no vendor named, so the robot base frame itself taken"
+                          : "the " + std::string(toString(vendor)) + " convention taken: " +
+                                (height != 0.0 ? "on joint 1's axis at the height of joint 2, " +
+                                                     formatNumber(height) + " mm above robot/base"
+                                               : std::string("the robot base frame itself"));
   notes.push_back("robot/controller_frame not given: " + taken +
                   "; Cartesian robot positions in programs are measured from it; add "
                   "robot/controller_frame to state it (see resources/cells/README.md)");

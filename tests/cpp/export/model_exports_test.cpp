@@ -1,8 +1,8 @@
-// The acceptance models of the motion planner, planned end to end (runPlanJob, planMotion with the default
-// cell) and exported to JBI, KRL, RAPID and LS: read back by the strict readers, the stated robot
-// configuration (RCONF, S/T, confdata, CONFIG) is constant within every weld and is the planned
-// solution's, up to joints within kBoundaryBand of a boundary. The plans are coarser than the
-// issue's measurement (voxel 2 mm and 5 mm point spacing for the curved example, 3 mm layers,
+// The acceptance models of the motion planner, planned end to end (runPlanJob, planMotion with the
+// default cell) and exported to JBI, KRL, RAPID and LS: read back by the strict readers, the stated
+// robot configuration (RCONF, S/T, confdata, CONFIG) is constant within every weld and is the
+// planned solution's, up to joints within kBoundaryBand of a boundary. The plans are coarser than
+// the measurement (voxel 2 mm and 5 mm point spacing for the curved example, 3 mm layers,
 // 4 mm voxels, 10 mm bead and point spacing for the cylinder) to keep the run time at seconds;
 // the configuration rules do not depend on the resolution.
 // The same motions exported to CSV are read back as a process engineer would check them: every

@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "common/test_constants.hpp"
 #include "common/shapes.hpp"
+#include "common/test_constants.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/paths/bead_widening.hpp"
 #include "curvedslicer/paths/planner.hpp"

@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "common/test_constants.hpp"
 #include "common/shapes.hpp"
+#include "common/test_constants.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/geom/triangle_bvh.hpp"
 #include "curvedslicer/paths/deposition.hpp"

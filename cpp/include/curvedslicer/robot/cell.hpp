@@ -120,8 +120,8 @@ struct RobotDescription {
 double interferenceExcess(const RobotDescription& robot, const JointVector& joints);
 
 /// The first interference limit `joints` violate by more than `tolerance` (rad), or nullptr.
-const JointInequality* violatedInterference(const RobotDescription& robot, const JointVector& joints,
-                                            double tolerance = 1e-9);
+const JointInequality* violatedInterference(const RobotDescription& robot,
+                                            const JointVector& joints, double tolerance = 1e-9);
 
 /// The torch body for collision checks: a truncated cone on the tool z axis. It starts at the
 /// nozzle, `stickout` behind the TCP (the wire tip; against tool z, i.e. up the torch), with
