@@ -383,7 +383,7 @@ int readVersion(const Reader& r, const Json& doc) {
   return static_cast<int>(version);
 }
 
-/// The issue-15 parameters (version 2, each optional).
+/// The bead coverage parameters (version 2, each optional).
 void readCoverageParameters(const Reader& r, const Json& pj, PlanParameters& p) {
   if (pj.contains("min_feature_width_mm")) {
     const double w = r.number(pj["min_feature_width_mm"], "/parameters/min_feature_width_mm");

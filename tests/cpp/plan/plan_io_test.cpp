@@ -113,7 +113,7 @@ TEST(PlanIo, JsonRoundTripIsByteIdentical) {
   EXPECT_EQ(read.layers[0].paths[0].closed, true);
   EXPECT_EQ(read.parameters.initialCurve, "boundary");
   // Version 2: widths (0 = the bead spacing is written as the bead spacing), dwell, coverage, the
-  // issue-15 parameters.
+  // bead coverage parameters.
   EXPECT_NE(first.find("\"version\": 2,"), std::string::npos);
   EXPECT_EQ(read.layers[0].paths[0].points[0].width, 3.7);
   EXPECT_EQ(read.layers[1].paths[1].points[2].width, plan.layers[1].paths[1].points[2].width);
@@ -179,7 +179,7 @@ const char* const kVersion1Plan = R"({
 )";
 
 TEST(PlanIo, Version1PlanIsMigrated) {
-  // Width = the bead spacing, coverage not measured, no issue-15 parameters; written back as
+  // Width = the bead spacing, coverage not measured, no bead coverage parameters; written back as
   // version 2, which then round-trips byte-identically.
   const Plan plan = parsePlanJson(kVersion1Plan, "old.json");
   ASSERT_EQ(plan.layers.size(), 1u);

@@ -81,7 +81,7 @@ def mm(quantity):
 
 
 def _coverage_options(job):
-    """The issue-15 planner options of a Job, checked so that the message names the property,
+    """The bead coverage options of a Job, checked so that the message names the property,
     and the digest part (empty for the values every plan had before the options existed)."""
     width = _mm(job.MinFeatureWidth)
     if not width > 0:
