@@ -1,6 +1,7 @@
 #include "curvedslicer/paths/bead_widening.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -47,6 +48,18 @@ class SegmentCells {
         }
       }
     }
+  }
+
+  /// Bound on how fast nearestEdge(p).beyond changes with p (mm per mm): 1 for beads of constant
+  /// width, more where a short segment's width changes fast (its edge then tilts).
+  double slope() const {
+    double slope = 1.0;
+    for (const Segment& g : segments_) {
+      const double len = (g.b - g.a).norm();
+      const double dw = std::abs(g.widthB - g.widthA);
+      if (dw > 0.0) slope = std::max(slope, len > 0.0 ? 1.0 + 0.5 * dw / len : kInf);
+    }
+    return slope;
   }
 
   EdgeHit nearestEdge(const Vec3& p) const {
@@ -252,18 +265,39 @@ BeadWidening computeBeadWidening(const TriMesh& mesh, const std::vector<Widenabl
     const double d = d0 + u * (d1 - d0) + w * (d2 - d0);
     return std::isfinite(d) ? std::max(d, 0.0) : kInf;
   };
+  // A sample is asked only if its distance beyond the nearest bead edge may lie in
+  // (1e-9·s, maxExtension]. `beyond` changes at most `slope` per mm, so the triangle's corners
+  // bound it: at most beyond(v) + slope·|x − v| (x inside a bead: nothing to widen), at least
+  // min(beyond(v), reach) − slope·|x − v| (x too far off). The cells find every segment whose
+  // edge is within `reach` of a point, so a corner's value above `reach` only says "more than
+  // reach". Skipping such samples leaves the result as if all were asked, at a fraction of
+  // the cost: most samples lie inside beads.
+  const double reach = 2.0 * maxExtension;
+  const double slope = cells.slope();
+  const double inside = 1e-9 * s;
   for (const Vec3i& tri : mesh.triangles) {
-    const Vec3 &p0 = mesh.vertices[tri[0]], &p1 = mesh.vertices[tri[1]],
-               &p2 = mesh.vertices[tri[2]];
-    const double edge = std::max({(p1 - p0).norm(), (p2 - p1).norm(), (p0 - p2).norm()});
-    const double lo = std::min({vertexBeyond[tri[0]], vertexBeyond[tri[1]], vertexBeyond[tri[2]]});
-    const double hi = std::max({vertexBeyond[tri[0]], vertexBeyond[tri[1]], vertexBeyond[tri[2]]});
-    if (hi < -edge || lo > maxExtension + edge) continue;  // all inside a bead, or all far off
+    const std::array<Vec3, 3> p = {mesh.vertices[tri[0]], mesh.vertices[tri[1]],
+                                   mesh.vertices[tri[2]]};
+    const std::array<double, 3> beyond = {vertexBeyond[tri[0]], vertexBeyond[tri[1]],
+                                          vertexBeyond[tri[2]]};
+    const double edge =
+        std::max({(p[1] - p[0]).norm(), (p[2] - p[1]).norm(), (p[0] - p[2]).norm()});
+    const double lo = std::min({beyond[0], beyond[1], beyond[2]});
+    const double hi = std::max({beyond[0], beyond[1], beyond[2]});
+    if (hi < -slope * edge || lo > maxExtension + slope * edge) continue;  // all in, or all off
     const int n = std::max(1, static_cast<int>(std::ceil(edge / spacing)));
     for (int a = 0; a <= n; ++a) {
       for (int b = 0; a + b <= n; ++b) {
         const double u = static_cast<double>(a) / n, w = static_cast<double>(b) / n;
-        ask(p0 + u * (p1 - p0) + w * (p2 - p0), edgeAt(tri, u, w));
+        const Vec3 x = p[0] + u * (p[1] - p[0]) + w * (p[2] - p[0]);
+        double upper = kInf, lower = -kInf;
+        for (int c = 0; c < 3; ++c) {
+          const double d = slope * (x - p[c]).norm();
+          upper = std::min(upper, beyond[c] + d);
+          lower = std::max(lower, std::min(beyond[c], reach) - d);
+        }
+        if (upper <= inside || lower > maxExtension) continue;
+        ask(x, edgeAt(tri, u, w));
       }
     }
   }
