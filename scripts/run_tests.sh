@@ -78,12 +78,13 @@ run_suite release "${CURVEDSLICER_BUILD_DIR:-$repo/build}" -DCMAKE_BUILD_TYPE=Re
 # instrumented extension module cannot be loaded into an uninstrumented freecadcmd. It is built
 # with clang (already installed for libFuzzer) at -O1 with line tables only: the sanitizers find
 # the same faults and name file and line, and the build takes about a third of gcc's at -O2 -g
-# (tests/bench/README.md, "CI run time"). The Release leg stays with gcc, the compiler of the
-# product build, so both compilers build and test the whole tree.
+# (tests/bench/README.md, "CI run time"), and its core is a unity build (half the compile time
+# again). The Release leg stays with gcc and one unit per source, as the product is built, so both
+# compilers build and test the whole tree.
 run_suite asan-ubsan "${CURVEDSLICER_ASAN_BUILD_DIR:-$repo/build-asan}" \
   -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
-  -DCURVEDSLICER_SANITIZE=ON -DCURVEDSLICER_BUILD_BENCH=OFF \
+  -DCURVEDSLICER_SANITIZE=ON -DCURVEDSLICER_UNITY_CORE=ON -DCURVEDSLICER_BUILD_BENCH=OFF \
   -DCURVEDSLICER_BUILD_PYTHON=OFF -DCURVEDSLICER_BUILD_OCC=OFF
 
 # The readers under libFuzzer (clang, ASan + UBSan): 60 s each on their seed corpora
