@@ -355,7 +355,9 @@ void bindMotionOptions(py::module_& m) {
       .choice(
           "placement", member(&O::placement), parsePartPlacement,
           [](PartPlacement p) { return toString(p); },
-          "'rest' (lowest bead bottom on the table top) | 'cell' (the cell's table_to_part)");
+          "'rest' (lowest bead bottom on the fixture's top, else the table's) | 'cell' (the "
+          "cell's table_to_part) | 'auto' (rest, on the lowest riser that keeps the torch clear "
+          "of the table)");
   c.finish();
 }
 

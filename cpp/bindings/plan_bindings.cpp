@@ -177,6 +177,12 @@ py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
   d["limited_points"] = motion.limitedPoints;
   d["total"] = estimateDict(motion.total);
   d["table_to_part"] = poseMatrix(motion.tableToPart);  // the placement used (4x4, mm)
+  py::dict fixture;  // the riser and plate used (placement auto: the riser it chose), mm
+  fixture["riser_height_mm"] = motion.fixture.riserHeight;
+  fixture["riser_diameter_mm"] = motion.fixture.riserDiameter;
+  fixture["substrate_thickness_mm"] = motion.fixture.substrateThickness;
+  fixture["substrate_size_mm"] = motion.fixture.substrateSize;
+  d["fixture"] = fixture;
   d["near_singular_band"] = motion.nearSingularBand;
   d["notes"] = motion.notes;
   d["paths"] = pathSpanList(motion.paths);
@@ -408,25 +414,28 @@ void registerPlanBindings(py::module_& m) {
         "matrices (mm) base, cradle (turns with a1 only), table, part, table_zero; and gravity.",
         py::arg("cell_json"), py::arg("a1"), py::arg("a2"));
 
-  m.def("plan_motion", &planMotionPy,
-        "Positioner angles and robot joints per path point (robot/motion.hpp planMotion, paper "
-        "eq. 16) with options: MotionOptions (unreachable='warn' keeps unreachable points with "
-        "a warning instead of raising InvalidInput; tool_along_travel: tool x along the travel "
-        "direction, else a fixed world x, turned about the torch axis per path so joint 6 stays "
-        "away from +-180 deg). Returns columns over the motion points: layer, path, index, kind "
-        "(codes into kind_names: path, retract, travel, approach, home), a1, a2 (rad), joints "
-        "(n,6, rad), residual (rad), speed (mm/s of the arriving move), time (s from the start, "
-        "axis speed limits respected), arc_on, path_start, path_end, flags, "
-        "position/normal/deposition/used_deposition (n,3) in the part frame, tool_in_world (n,4,4 "
-        "mm: the TCP pose in world), configuration (IK branch bits: 1 back, 2 elbow down, 4 "
-        "wrist flip); warnings, notes, "
-        "max_residual, singular_points, limited_points, near_singular_band (rad), paths "
-        "(layer, path, begin, end, configuration), speed_reductions (layer, path, first_index, "
-        "last_index, min_speed, axis), collisions (point, what, depth), total (estimates; "
-        "total_time_s = the last point's time plus the dwell after it), table_to_part (4x4 mm: the "
-        "part placement used, MotionOptions.placement).",
-        py::arg("plan_json"), py::arg("cell_json"), py::kw_only(),
-        py::arg("options") = MotionOptions{}, py::arg("progress") = py::none());
+  m.def(
+      "plan_motion", &planMotionPy,
+      "Positioner angles and robot joints per path point (robot/motion.hpp planMotion, paper "
+      "eq. 16) with options: MotionOptions (unreachable='warn' keeps unreachable points with "
+      "a warning instead of raising InvalidInput; tool_along_travel: tool x along the travel "
+      "direction, else a fixed world x, turned about the torch axis per path so joint 6 stays "
+      "away from +-180 deg). Returns columns over the motion points: layer, path, index, kind "
+      "(codes into kind_names: path, retract, travel, approach, home), a1, a2 (rad), joints "
+      "(n,6, rad), residual (rad), speed (mm/s of the arriving move), time (s from the start, "
+      "axis speed limits respected), arc_on, path_start, path_end, flags, "
+      "position/normal/deposition/used_deposition (n,3) in the part frame, tool_in_world (n,4,4 "
+      "mm: the TCP pose in world), configuration (IK branch bits: 1 back, 2 elbow down, 4 "
+      "wrist flip); warnings, notes, "
+      "max_residual, singular_points, limited_points, near_singular_band (rad), paths "
+      "(layer, path, begin, end, configuration), speed_reductions (layer, path, first_index, "
+      "last_index, min_speed, axis), collisions (point, what, depth), total (estimates; "
+      "total_time_s = the last point's time plus the dwell after it), table_to_part (4x4 mm: the "
+      "part placement used, MotionOptions.placement), fixture (riser_height_mm, riser_diameter_mm, "
+      "substrate_thickness_mm, substrate_size_mm: the fixture used; placement \"auto\" "
+      "chooses the riser's height).",
+      py::arg("plan_json"), py::arg("cell_json"), py::kw_only(),
+      py::arg("options") = MotionOptions{}, py::arg("progress") = py::none());
 
   m.def("robot_arm_points", &robotArmPointsPy,
         "Forward kinematics of the cell's robot for controller joints (rad, 6): joint points in "

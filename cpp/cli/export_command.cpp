@@ -45,6 +45,13 @@ void printPlacement(const MotionPlan& motion, PartPlacement placement) {
       "rpy %.3f, %.3f, %.3f deg\n",
       std::string(toString(placement)).c_str(), t.x(), t.y(), t.z(), rpy.x() + 0.0, rpy.y() + 0.0,
       rpy.z() + 0.0);
+  const FixtureGeometry& f = motion.fixture;
+  if (f.hasRiser() || f.hasSubstrate()) {
+    std::printf(
+        "curvedslicer: fixture: riser %.1f mm high, %.1f mm across; substrate plate %.1f mm "
+        "thick, %.1f mm square; the part rests %.1f mm above the table\n",
+        f.riserHeight, f.riserDiameter, f.substrateThickness, f.substrateSize, f.top());
+  }
 }
 
 void printSpeedReductions(const MotionPlan& motion) {

@@ -71,11 +71,16 @@ void addMotionOptions(CLI::App& cmd, OptionBindings<MotionOptions>& b) {
         "  rest  the cell's table_to_part rotation and xy, moved along the\n"
         "        table z so the lowest bead bottom (a bead: one layer thickness\n"
         "        below its weld point along the layer normal, half a bead\n"
-        "        spacing to each side) lies on the table top\n"
+        "        spacing to each side) lies on the fixture's top (the cell's\n"
+        "        positioner/fixture: riser and substrate plate), else the table's\n"
         "  cell  the cell's positioner/table_to_part as given\n"
+        "  auto  rest, on the lowest riser that keeps the torch clear of the\n"
+        "        table on every move (the cell's riser diameter, else the\n"
+        "        plate's side, else the first layer's footprint); says the\n"
+        "        height it chose\n"
         "Default " +
             formatDefault(toString(MotionOptions{}.placement)) +
-            ". A weld point below the table top or outside the\n"
+            ". A weld point below the fixture's top or outside the\n"
             "positioner's working volume stops the export (exit code 2).",
         "MODE",
         [](std::string_view text, MotionOptions& o) { o.placement = parsePartPlacement(text); });

@@ -2,7 +2,8 @@
 Clearance, AllowCollisions, AddHome, MergeTolerance, MaxA2Step, PartPlacement): defaults from the
 core's MotionOptions, passed to the motion and the export, the part shown where the motion placed
 it (resting on the table, or where the cell puts it), a part below the table reported with the
-lowest point, and a Job of an older schema migrated to the placement it had."""
+lowest point, the placement auto choosing the riser, and a Job of an older schema migrated to
+the placement it had and the choices of this version."""
 
 import math
 import os
@@ -104,6 +105,52 @@ class TestMotionOptions(cs_testing.DocumentTestCase):
         job.PartPlacement = "Rest"
         api.run(job, progress=False)
         self.assertGreater(api.pose_count(job), 0)
+
+    def test_auto_placement_reaches_the_motion_and_says_what_it_chose(self):
+        job = self.sunken_box_job()
+        self.assertIn("Auto", job.getEnumerationsOfProperty("PartPlacement"))
+        job.PartPlacement = "Auto"
+        self.assertEqual(poses.motion_options(job).placement, "auto")
+        api.run(job, progress=False)
+        motion = api.motion(job)
+        # A flat box: the torch clears the table resting on it, no riser needed.
+        self.assertEqual(motion["fixture"]["riser_height_mm"], 0.0)
+        self.assertGreater(motion["fixture"]["riser_diameter_mm"], 30.0)
+        self.assertTrue(any("part placement auto" in n for n in motion["notes"]), motion["notes"])
+
+    def test_the_cells_fixture_carries_the_part_and_is_drawn_on_the_table(self):
+        import json
+
+        cell = json.loads(native.default_cell_json())
+        cell["positioner"]["fixture"] = {"riser_height_mm": 40, "riser_diameter_mm": 120,
+                                         "substrate_thickness_mm": 8, "substrate_size_mm": 100}
+        path = cs_testing.tmp_path("fixture_cell.json")
+        with open(path, "w") as f:
+            json.dump(cell, f)
+        job = self.sunken_box_job()
+        job.CellFile = path
+        api.run(job, progress=False)
+        motion = api.motion(job)
+        self.assertEqual(motion["fixture"]["riser_height_mm"], 40.0)
+        t = FreeCAD.Matrix(*[float(v) for row in motion["table_to_part"] for v in row])
+        # The box's bottom (z = -20 in the part frame) lies on the plate's top (table z = 48).
+        self.assertAlmostEqual(t.multiply(FreeCAD.Vector(0, 0, -20)).z, 48.0, places=6)
+        # The table of the positioner model carries the riser and the plate up to z = 48.
+        objects = {o.PoseRole: o for o in job.PosesGroup.Group if "PoseRole" in o.PropertiesList}
+        shape = objects["PositionerTable"].Shape.copy()
+        shape.Placement = FreeCAD.Placement()  # its own frame: the table frame
+        box = shape.BoundBox
+        self.assertAlmostEqual(box.ZMax, 48.0, places=6)
+        self.assertAlmostEqual(box.ZMin, -30.0, places=6)
+
+    def test_a_job_saved_with_fewer_placements_gets_auto(self):
+        job = api.make_job(self.doc, self.box(), cell_file="")
+        job.PartPlacement = ["Rest", "Cell"]  # the list a Job of the previous version stored
+        job.PartPlacement = "Cell"
+        job.Proxy.onDocumentRestored(job)
+        self.assertEqual(list(job.getEnumerationsOfProperty("PartPlacement")),
+                         job_module.PART_PLACEMENTS)
+        self.assertEqual(job.PartPlacement, "Cell")
 
     def test_older_job_keeps_the_cells_placement(self):
         job = api.make_job(self.doc, self.box(), cell_file="")

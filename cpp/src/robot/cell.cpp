@@ -449,6 +449,30 @@ PositionerGeometry readGeometry(Field& p, int version, std::vector<std::string>&
   return geo;
 }
 
+/// positioner/fixture: optional in version 2 (none: the part on the bare table).
+FixtureGeometry readFixture(Field& p, int version, const PositionerGeometry& geometry,
+                            std::string_view origin) {
+  if (version < 2) {
+    refuseInVersion1(p, "fixture");
+    return {};
+  }
+  if (!p.has("fixture")) return {};
+  Field f = p.object("fixture",
+                     "give riser_height_mm, riser_diameter_mm, substrate_thickness_mm and "
+                     "substrate_size_mm (0 for none)");
+  FixtureGeometry fixture;
+  fixture.riserHeight =
+      f.nonNegative("riser_height_mm", 0.0, "height of the riser on the table top in mm");
+  fixture.riserDiameter = f.nonNegative("riser_diameter_mm", 0.0, "diameter of the riser in mm");
+  fixture.substrateThickness =
+      f.nonNegative("substrate_thickness_mm", 0.0, "thickness of the substrate plate in mm");
+  fixture.substrateSize =
+      f.nonNegative("substrate_size_mm", 0.0, "side of the square substrate plate in mm");
+  f.rejectUnknown();
+  validateFixture(fixture, geometry, std::string(origin) + ": field " + f.path() + "/");
+  return fixture;
+}
+
 std::string describeHome(const HomePose& h) {
   std::string joints;
   for (double q : h.robot) joints += (joints.empty() ? "" : ", ") + formatNumber(q / kDeg);
@@ -513,7 +537,8 @@ ToolDescription readTool(Field& top, int version, std::vector<std::string>& note
   return tool;
 }
 
-PositionerDescription readPositioner(Field& top, int version, std::vector<std::string>& notes) {
+PositionerDescription readPositioner(Field& top, int version, std::vector<std::string>& notes,
+                                     std::string_view origin) {
   Field p = top.object("positioner", "describe the tilt-rotate positioner");
   PositionerDescription pos;
   pos.model = p.string("model", "name the positioner model");
@@ -536,6 +561,7 @@ PositionerDescription readPositioner(Field& top, int version, std::vector<std::s
   pos.tilt = readAxis(p, "tilt", false);
   pos.rotation = readAxis(p, "rotation", true);
   pos.geometry = readGeometry(p, version, notes);
+  pos.fixture = readFixture(p, version, pos.geometry, origin);
   p.rejectUnknown();
   return pos;
 }
@@ -865,7 +891,7 @@ Cell readCellDocument(const Json& root, std::string_view origin) {
   cell.gravity = top.direction("gravity", "give gravity as a direction in world, e.g. [0, 0, -1]");
   cell.robot = readRobot(top, origin, cell.vendor, cell.notes);
   cell.tool = readTool(top, version, cell.notes);
-  cell.positioner = readPositioner(top, version, cell.notes);
+  cell.positioner = readPositioner(top, version, cell.notes, origin);
   cell.process = readProcess(top, origin);
   cell.exportOptions = readExport(top);
   cell.controller = readController(top, origin, cell.exportOptions.coordinated);
@@ -1089,6 +1115,13 @@ std::string writeCellJson(const Cell& cell) {
              {"table_thickness_mm", clean(p.geometry.tableThickness)},
              {"max_part_radius_mm", clean(p.geometry.maxPartRadius)},
              {"max_part_height_mm", clean(p.geometry.maxPartHeight)}}}};
+  const FixtureGeometry& f = p.fixture;
+  if (f.hasRiser() || f.hasSubstrate() || f.riserDiameter > 0.0 || f.substrateSize > 0.0) {
+    j["positioner"]["fixture"] = Json{{"riser_height_mm", clean(f.riserHeight)},
+                                      {"riser_diameter_mm", clean(f.riserDiameter)},
+                                      {"substrate_thickness_mm", clean(f.substrateThickness)},
+                                      {"substrate_size_mm", clean(f.substrateSize)}};
+  }
   const ProcessDescription& pr = cell.process;
   Json arc{{"control", std::string(toString(pr.arcControl))},
            {"start_condition", pr.arcStartCondition},
@@ -1123,6 +1156,51 @@ std::string writeCellJson(const Cell& cell) {
   j["home"] = Json{{"robot_joints_deg", homeJoints},
                    {"positioner_deg", {clean(cell.home.a1 / kDeg), clean(cell.home.a2 / kDeg)}}};
   return j.dump(2) + "\n";
+}
+
+void validateFixture(const FixtureGeometry& fixture, const PositionerGeometry& geometry,
+                     std::string_view origin) {
+  const auto fail = [&](std::string_view field, std::string_view problem, double value,
+                        std::string_view hint) {
+    throw InvalidInput(std::string(origin) + std::string(field) + " " + std::string(problem) +
+                       ": " + formatNumber(value) + " mm; " + std::string(hint));
+  };
+  const std::pair<const char*, double> sizes[] = {
+      {"riser_height_mm", fixture.riserHeight},
+      {"riser_diameter_mm", fixture.riserDiameter},
+      {"substrate_thickness_mm", fixture.substrateThickness},
+      {"substrate_size_mm", fixture.substrateSize}};
+  for (const auto& [field, value] : sizes) {
+    if (!std::isfinite(value) || value < 0.0) {
+      fail(field, "must be a finite size, not negative", value, "give 0 for none or a size in mm");
+    }
+  }
+  if (fixture.hasRiser() && !(fixture.riserDiameter > 0.0)) {
+    fail("riser_diameter_mm", "must be positive with a riser", fixture.riserDiameter,
+         "give the riser's diameter, or riser_height_mm 0 for no riser");
+  }
+  if (fixture.hasSubstrate() && !(fixture.substrateSize > 0.0)) {
+    fail("substrate_size_mm", "must be positive with a substrate plate", fixture.substrateSize,
+         "give the plate's side, or substrate_thickness_mm 0 for no plate");
+  }
+  if (fixture.riserDiameter > 2.0 * geometry.tableRadius) {
+    fail("riser_diameter_mm",
+         "is wider than the table (diameter " + formatNumber(2.0 * geometry.tableRadius) + " mm)",
+         fixture.riserDiameter, "give the riser's diameter as measured");
+  }
+  if (0.5 * std::sqrt(2.0) * fixture.substrateSize > geometry.maxPartRadius) {
+    fail("substrate_size_mm",
+         "puts the plate's corners outside the working volume (radius " +
+             formatNumber(geometry.maxPartRadius) + " mm)",
+         fixture.substrateSize, "give the plate's side as measured, or a larger working volume");
+  }
+  if (fixture.top() >= geometry.maxPartHeight) {
+    fail("riser_height_mm",
+         "and the plate leave no room in the working volume (height " +
+             formatNumber(geometry.maxPartHeight) + " mm, fixture top " +
+             formatNumber(fixture.top()) + " mm)",
+         fixture.riserHeight, "give the fixture as measured, or a taller working volume");
+  }
 }
 
 void validateCell(const Cell& cell) {

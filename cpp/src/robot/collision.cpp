@@ -26,6 +26,10 @@ struct TorchChecker::Fcl {
   std::vector<std::shared_ptr<fcl::Capsuled>> sections;  // one per TorchChecker::Section
   std::shared_ptr<fcl::Cylinderd> table;
   fcl::Transform3d tableInPart = fcl::Transform3d::Identity();
+  std::shared_ptr<fcl::Cylinderd> riser;  // null without a riser
+  fcl::Transform3d riserInPart = fcl::Transform3d::Identity();
+  std::shared_ptr<fcl::Boxd> substrate;  // null without a plate
+  fcl::Transform3d substrateInPart = fcl::Transform3d::Identity();
 };
 
 namespace {
@@ -55,6 +59,34 @@ double fclPenetration(const fcl::CollisionGeometryd* a, const fcl::Transform3d& 
   return depth;
 }
 
+/// Signed distance (mm, negative inside) of `p` to the cylinder about the z axis of `radius`
+/// between heights z0 and z1 (table frame).
+double cylinderDistance(const Vec3& p, double radius, double z0, double z1) {
+  const double dr = std::hypot(p.x(), p.y()) - radius;
+  const double dz = std::max(z0 - p.z(), p.z() - z1);
+  if (dr <= 0.0 && dz <= 0.0) return std::max(dr, dz);
+  return std::hypot(std::max(dr, 0.0), std::max(dz, 0.0));
+}
+
+/// Signed distance (mm, negative inside) of `p` to the box centred on the z axis with half
+/// sides `half` across and heights z0 to z1 (table frame).
+double plateDistance(const Vec3& p, double half, double z0, double z1) {
+  const Vec3 q(std::abs(p.x()) - half, std::abs(p.y()) - half, std::max(z0 - p.z(), p.z() - z1));
+  return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+}
+
+/// The deepest reach of a capsule (axis b–t in the table frame, `radius`) into a solid given
+/// by its signed distance, sampling the axis every millimetre: max(radius − distance).
+template <class Distance>
+double capsuleReach(const Vec3& b, const Vec3& t, double radius, Distance&& distance) {
+  double reach = -kInf;
+  const int n = std::max(1, static_cast<int>(std::ceil((t - b).norm())));
+  for (int k = 0; k <= n; ++k) {
+    reach = std::max(reach, radius - distance(b + (t - b) * (static_cast<double>(k) / n)));
+  }
+  return reach;
+}
+
 }  // namespace
 
 /// The cone of the torch envelope covered by capsules along the axis (heights above the TCP):
@@ -81,6 +113,7 @@ TorchChecker::TorchChecker(const Cell& cell, const CollisionGeometry& geometry,
       sections_(envelopeSections(geometry.torch)),
       partToTable_(cell.positioner.tableToPart),
       tableRadius_(geometry.table.tableRadius),
+      fixture_(geometry.fixture),
       fcl_(std::make_unique<Fcl>()) {
   for (const Section& section : sections_) {
     fcl_->sections.push_back(
@@ -92,6 +125,20 @@ TorchChecker::TorchChecker(const Cell& cell, const CollisionGeometry& geometry,
   fcl::Transform3d tableInTable = fcl::Transform3d::Identity();
   tableInTable.translation() = Vec3(0.0, 0.0, -0.5 * geometry.table.tableThickness);
   fcl_->tableInPart = cell.positioner.tableToPart.inverse() * tableInTable;
+  const FixtureGeometry& f = geometry.fixture;
+  if (f.hasRiser()) {
+    fcl_->riser = std::make_shared<fcl::Cylinderd>(0.5 * f.riserDiameter, f.riserHeight);
+    fcl::Transform3d riserInTable = fcl::Transform3d::Identity();
+    riserInTable.translation() = Vec3(0.0, 0.0, 0.5 * f.riserHeight);
+    fcl_->riserInPart = cell.positioner.tableToPart.inverse() * riserInTable;
+  }
+  if (f.hasSubstrate()) {
+    fcl_->substrate =
+        std::make_shared<fcl::Boxd>(f.substrateSize, f.substrateSize, f.substrateThickness);
+    fcl::Transform3d plateInTable = fcl::Transform3d::Identity();
+    plateInTable.translation() = Vec3(0.0, 0.0, f.riserHeight + 0.5 * f.substrateThickness);
+    fcl_->substrateInPart = cell.positioner.tableToPart.inverse() * plateInTable;
+  }
 }
 
 TorchChecker::~TorchChecker() = default;
@@ -103,6 +150,7 @@ TorchHit TorchChecker::check(const Vec3& tip, const Vec3& up) const {
     const Vec3 top = tip + sections_[k].to * up;
     TorchHit hit = checkDeposit(k, bottom, top);
     if (!hit.collides()) hit = checkTable(k, bottom, top);
+    if (!hit.collides()) hit = checkFixture(k, bottom, top);
     if (hit.collides() && (!worst.collides() || hit.depth > worst.depth)) worst = hit;
   }
   return worst;
@@ -147,6 +195,43 @@ TorchHit TorchChecker::checkTable(std::size_t section, const Vec3& bottom, const
     if (x.head<2>().norm() <= tableRadius_) depth = std::max(depth, radius - x.z());
   }
   return {TorchHit::Object::Table, depth > 0.0 ? depth : fclDepth, 0};
+}
+
+TorchHit TorchChecker::checkFixture(std::size_t section, const Vec3& bottom,
+                                    const Vec3& top) const {
+  if (!fcl_->riser && !fcl_->substrate) return {};
+  const double radius = sections_[section].radius;
+  const Vec3 b = partToTable_ * bottom;
+  const Vec3 t = partToTable_ * top;
+  // cheap rejection: the capsule entirely above the fixture's top
+  if (std::min(b.z(), t.z()) - radius > fixture_.top()) return {};
+  TorchHit worst;
+  // the depth: how far the capsule reaches into the solid (its axis sampled every mm, in closed
+  // form); FCL confirms the contact (a grazing one it does not confirm is none) and gives the
+  // depth where the samples miss a shallow touch
+  const auto confirm = [&](TorchHit::Object object, const fcl::CollisionGeometryd* shape,
+                           const fcl::Transform3d& pose, double reach) {
+    if (reach <= -1e-9) return;
+    const double fclDepth =
+        fclPenetration(fcl_->sections[section].get(), alongSegment(bottom, top), shape, pose);
+    if (fclDepth < 0.0) return;
+    const double depth = reach > 0.0 ? reach : fclDepth;
+    if (!worst.collides() || depth > worst.depth) worst = {object, depth, 0};
+  };
+  if (fcl_->riser) {
+    const double r = 0.5 * fixture_.riserDiameter, h = fixture_.riserHeight;
+    confirm(
+        TorchHit::Object::Riser, fcl_->riser.get(), fcl_->riserInPart,
+        capsuleReach(b, t, radius, [&](const Vec3& x) { return cylinderDistance(x, r, 0.0, h); }));
+  }
+  if (fcl_->substrate) {
+    const double half = 0.5 * fixture_.substrateSize;
+    const double z0 = fixture_.riserHeight, z1 = fixture_.top();
+    confirm(
+        TorchHit::Object::Substrate, fcl_->substrate.get(), fcl_->substrateInPart,
+        capsuleReach(b, t, radius, [&](const Vec3& x) { return plateDistance(x, half, z0, z1); }));
+  }
+  return worst;
 }
 
 namespace {
@@ -246,8 +331,23 @@ TorchHit checkArcOffMove(const MotionPlan& motion, std::size_t i, const Cell& ce
 
 std::string describeHit(const TorchHit& hit, const DepositIndex& deposit) {
   if (hit.object == TorchHit::Object::Table) return "torch vs positioner table";
+  if (hit.object == TorchHit::Object::Riser) return "torch vs riser";
+  if (hit.object == TorchHit::Object::Substrate) return "torch vs substrate plate";
   const DepositSegment& s = deposit.segments()[hit.segment];
   return "torch vs deposit of layer " + std::to_string(s.layer) + " path " + std::to_string(s.path);
+}
+
+CollisionObstacle obstacleOf(const TorchHit& hit) {
+  switch (hit.object) {
+    case TorchHit::Object::Table:
+      return CollisionObstacle::Table;
+    case TorchHit::Object::Riser:
+      return CollisionObstacle::Riser;
+    case TorchHit::Object::Substrate:
+      return CollisionObstacle::Substrate;
+    default:
+      return CollisionObstacle::Deposit;
+  }
 }
 
 void reportCollisions(MotionPlan& motion, const MotionOptions& options) {
@@ -297,7 +397,7 @@ std::string describeMove(const MotionPlan& motion, std::size_t index) {
 }
 
 CollisionGeometry collisionGeometryOf(const Cell& cell) {
-  return {cell.tool.envelope, cell.positioner.geometry};
+  return {cell.tool.envelope, cell.positioner.geometry, cell.positioner.fixture};
 }
 
 void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const CollisionGeometry& geometry,
@@ -338,7 +438,7 @@ void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const Collision
     }
     if (hit.collides()) {
       m.flags |= kMotionCollision;
-      motion.collisions.push_back({i, describeHit(hit, deposit), hit.depth});
+      motion.collisions.push_back({i, describeHit(hit, deposit), hit.depth, obstacleOf(hit)});
     }
     if (m.arcOn) {
       const MotionPoint& prev = motion.points[i - 1];

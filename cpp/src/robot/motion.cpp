@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "curvedslicer/core/error.hpp"
+#include "curvedslicer/robot/collision.hpp"
 #include "curvedslicer/robot/positioner.hpp"
 #include "curvedslicer/robot/robot_kinematics.hpp"
 #include "curvedslicer/robot/timing.hpp"
@@ -717,8 +718,109 @@ void RobotKinematicsPass::reportFailures() const {
 
 }  // namespace
 
+namespace {
+
+std::string mm(double value) {
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(1);
+  out << value;
+  return out.str();
+}
+
+/// The deepest collision with `obstacle` in `motion` (index into motion.collisions), or -1.
+int deepestHit(const MotionPlan& motion, CollisionObstacle obstacle) {
+  int deepest = -1;
+  for (std::size_t k = 0; k < motion.collisions.size(); ++k) {
+    const CollisionReport& c = motion.collisions[k];
+    if (c.obstacle != obstacle) continue;
+    if (deepest < 0 || c.depth > motion.collisions[deepest].depth) deepest = static_cast<int>(k);
+  }
+  return deepest;
+}
+
+/// PartPlacement::Auto (planMotion's comment): raise the riser until the torch clears the table.
+MotionPlan planMotionOnLowestRiser(const Plan& plan, const Cell& givenCell,
+                                   const MotionOptions& options, const Progress& progress) {
+  constexpr int kAttempts = 12;
+  constexpr double kMargin = 2.0;  // mm above the deepest reach into the table
+  Cell cell = givenCell;
+  FixtureGeometry& fixture = cell.positioner.fixture;
+  fixture.riserDiameter =
+      riserDiameterFor(plan, cell, placePart(plan, cell, PartPlacement::Rest).tableToPart);
+  MotionOptions trial = options;
+  trial.placement = PartPlacement::Rest;
+  trial.allowCollisions = true;  // to see every collision of a trial height
+  std::string tried;
+  for (int attempt = 0; attempt < kAttempts; ++attempt) {
+    const double lo = 1.0 - std::pow(0.5, attempt), hi = 1.0 - std::pow(0.5, attempt + 1);
+    tried += (tried.empty() ? "" : ", ") + mm(fixture.riserHeight);
+    MotionPlan motion;
+    try {
+      validateFixture(fixture, cell.positioner.geometry, "part placement auto: fixture ");
+      motion = planMotion(plan, cell, trial, progress.sub(lo, hi));
+    } catch (const InvalidInput& e) {
+      if (attempt == 0) throw;
+      throw InvalidInput("part placement auto: a riser of " + mm(fixture.riserHeight) +
+                         " mm, needed to keep the torch clear of the table, leaves the part "
+                         "outside what the cell can run: " +
+                         e.what());
+    }
+    const int table = deepestHit(motion, CollisionObstacle::Table);
+    if (table >= 0) {
+      fixture.riserHeight += motion.collisions[table].depth + kMargin;
+      continue;
+    }
+    for (const CollisionObstacle obstacle :
+         {CollisionObstacle::Riser, CollisionObstacle::Substrate}) {
+      const int hit = deepestHit(motion, obstacle);
+      if (hit < 0 || options.allowCollisions) continue;
+      const CollisionReport& c = motion.collisions[hit];
+      const bool riser = obstacle == CollisionObstacle::Riser;
+      throw InvalidInput("part placement auto: on a riser of " + mm(fixture.riserHeight) +
+                         " mm the torch hits " + (riser ? "the riser" : "the substrate plate") +
+                         " at " + describeMove(motion, c.point) + " by " + mm(c.depth) +
+                         " mm, which no riser height clears; give " +
+                         (riser ? "a narrower riser (positioner/fixture riser_diameter_mm, now " +
+                                      mm(fixture.riserDiameter) + " mm)"
+                                : "a smaller plate (positioner/fixture substrate_size_mm, now " +
+                                      mm(fixture.substrateSize) + " mm)") +
+                         ", or allow collisions (--allow-collisions) to export anyway");
+    }
+    const bool raised = fixture.riserHeight > givenCell.positioner.fixture.riserHeight;
+    const std::string note =
+        "part placement auto: " +
+        (raised ? "a riser of " + mm(fixture.riserHeight) + " mm (" + mm(fixture.riserDiameter) +
+                      " mm across) is the lowest tried that keeps the torch clear of the table "
+                      "on every move (tried " +
+                      tried + " mm)"
+                : std::string("the torch clears the table on every move without raising the "
+                              "cell's riser (") +
+                      mm(fixture.riserHeight) + " mm)");
+    // Collisions with the deposit remain errors unless allowed: plan once more as asked.
+    if (!motion.collisions.empty() && !options.allowCollisions) {
+      MotionOptions asAsked = options;
+      asAsked.placement = PartPlacement::Rest;
+      motion = planMotion(plan, cell, asAsked, progress.sub(hi, 1.0));
+    }
+    motion.notes.push_back(note);
+    progress.report(1.0, "estimates");
+    return motion;
+  }
+  throw InvalidInput("part placement auto: no riser up to " + mm(fixture.riserHeight) +
+                     " mm (tried " + tried +
+                     " mm) keeps the torch clear of the table; place the part "
+                     "by hand (--placement cell) or use a slimmer torch envelope");
+}
+
+}  // namespace
+
 MotionPlan planMotion(const Plan& plan, const Cell& givenCell, const MotionOptions& options,
                       const Progress& progress) {
+  if (options.placement == PartPlacement::Auto) {
+    validateCell(givenCell);
+    return planMotionOnLowestRiser(plan, givenCell, options, progress);
+  }
   validateCell(givenCell);
   validateInputs(plan, options);
   // Placement (placement.hpp): the rest of the planning uses the cell with the part placed.
@@ -729,6 +831,7 @@ MotionPlan planMotion(const Plan& plan, const Cell& givenCell, const MotionOptio
   const Vec3 gravity = cell.gravity.normalized();
   MotionPlan result;
   result.tableToPart = placement.tableToPart;
+  result.fixture = cell.positioner.fixture;
   result.notes = givenCell.notes;
   if (!placement.note.empty()) result.notes.push_back(placement.note);
   result.points.reserve(plan.pointCount() + plan.pathCount());

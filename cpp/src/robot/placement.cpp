@@ -1,6 +1,7 @@
 // Part placement on the table and the table / working-volume check (placement.hpp).
 #include "curvedslicer/robot/placement.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -10,15 +11,24 @@
 namespace curvedslicer {
 
 std::string_view toString(PartPlacement placement) {
-  return placement == PartPlacement::Cell ? "cell" : "rest";
+  switch (placement) {
+    case PartPlacement::Cell:
+      return "cell";
+    case PartPlacement::Auto:
+      return "auto";
+    default:
+      return "rest";
+  }
 }
 
 PartPlacement parsePartPlacement(std::string_view name) {
   if (name == "rest") return PartPlacement::Rest;
   if (name == "cell") return PartPlacement::Cell;
+  if (name == "auto") return PartPlacement::Auto;
   throw InvalidInput("unknown part placement: '" + std::string(name) +
-                     "'; choose rest (the part's lowest bead bottom on the table top) or cell "
-                     "(the cell's positioner/table_to_part as given)");
+                     "'; choose rest (the part's lowest bead bottom on the fixture's top, or the "
+                     "table's), cell (the cell's positioner/table_to_part as given) or auto (rest "
+                     "on the lowest riser that keeps the torch clear of the table)");
 }
 
 namespace {
@@ -89,6 +99,17 @@ double beadDepthBelow(const PlanPath& path, std::size_t k, const Mat3& rotation,
   return h * std::max(normal.z(), 0.0) + 0.5 * s * acrossZ;
 }
 
+/// "the table top" / "the substrate plate's top (z = 42.000 mm above the table)" …
+std::string supportName(const Cell& cell) {
+  const FixtureGeometry& f = cell.positioner.fixture;
+  if (f.hasSubstrate()) {
+    return "the substrate plate's top (" + fmt(f.top()) + " mm above the table" +
+           (f.hasRiser() ? ", on a riser of " + fmt(f.riserHeight) + " mm)" : ")");
+  }
+  if (f.hasRiser()) return "the riser's top (" + fmt(f.top()) + " mm above the table)";
+  return "the table top";
+}
+
 const char* const kHint =
     "set the part's placement on the table: positioner/table_to_part in the cell file, or the "
     "placement rest (--placement rest; Python MotionOptions(placement=\"rest\"); the Job's "
@@ -139,7 +160,7 @@ std::string faceStartSurfaceDown(const Plan& plan, Pose& tableToPart) {
 PartPlacementResult placePart(const Plan& plan, const Cell& cell, PartPlacement placement) {
   PartPlacementResult result;
   result.tableToPart = cell.positioner.tableToPart;
-  if (placement == PartPlacement::Cell) return result;
+  if (placement == PartPlacement::Cell) return result;  // Auto: as Rest on the cell's fixture
   const std::string turned = faceStartSurfaceDown(plan, result.tableToPart);
   // The lowest bead bottom: of -(z_table - depth of the bead below the point).
   const double h = std::max(plan.parameters.layerThickness, 0.0);
@@ -162,16 +183,37 @@ PartPlacementResult placePart(const Plan& plan, const Cell& cell, PartPlacement 
   }
   if (!lowest.found()) return result;
   const double bottom = -lowest.value;  // table z of the lowest bead bottom
+  const double support = cell.positioner.fixture.top();
   // A part already resting within kTolerance keeps the cell's placement exactly (no motion
   // changes in the last digits from a lift of 1e-11 mm).
-  result.lift = std::abs(bottom) <= kTolerance ? 0.0 : -bottom;
+  result.lift = std::abs(bottom - support) <= kTolerance ? 0.0 : support - bottom;
   result.tableToPart.pretranslate(Vec3(0, 0, result.lift));
   result.note = turned + "part placement rest: the lowest bead bottom (" + fmt(depth) +
-                " mm below " + lowest.name() + ") lies on the table top: table_to_part z = " +
-                fmt(result.tableToPart.translation().z()) + " mm (the cell gives " +
-                fmt(cell.positioner.tableToPart.translation().z()) +
+                " mm below " + lowest.name() + ") lies on " + supportName(cell) +
+                ": table_to_part z = " + fmt(result.tableToPart.translation().z()) +
+                " mm (the cell gives " + fmt(cell.positioner.tableToPart.translation().z()) +
                 " mm); use --placement cell to keep the cell's placement";
   return result;
+}
+
+double riserDiameterFor(const Plan& plan, const Cell& cell, const Pose& tableToPart) {
+  const FixtureGeometry& f = cell.positioner.fixture;
+  if (f.riserDiameter > 0.0) return f.riserDiameter;
+  if (f.substrateSize > 0.0) return f.substrateSize;
+  double radius = 0.0;
+  for (const PlanLayer& layer : plan.layers) {
+    bool any = false;
+    for (const PlanPath& path : layer.paths) {
+      for (const PathPoint& point : path.points) {
+        const Vec3 x = tableToPart * point.position;
+        radius = std::max(radius, std::hypot(x.x(), x.y()));
+        any = true;
+      }
+    }
+    if (any) break;
+  }
+  const double bead = std::max(plan.parameters.beadSpacing, 0.0);
+  return std::min(2.0 * radius + bead, 2.0 * cell.positioner.geometry.tableRadius);
 }
 
 Cell withPartPlacement(Cell cell, const Pose& tableToPart) {
@@ -181,17 +223,22 @@ Cell withPartPlacement(Cell cell, const Pose& tableToPart) {
 
 void checkPartPlacement(const Plan& plan, const PositionerDescription& positioner) {
   const PositionerGeometry& g = positioner.geometry;
-  Extreme below, outside, above;  // of -z, radius, z (table frame)
+  const double support = positioner.fixture.top();
+  Extreme below, outside, above;  // of support - z, radius, z (table frame)
   forEachWeldPoint(
       plan, positioner.tableToPart, [&](int l, int p, int k, const Vec3& part, const Vec3& table) {
-        below.add(-table.z(), kTolerance, l, p, k, part);
+        below.add(support - table.z(), kTolerance, l, p, k, part);
         outside.add(std::hypot(table.x(), table.y()), g.maxPartRadius + kTolerance, l, p, k, part);
         above.add(table.z(), g.maxPartHeight + kTolerance, l, p, k, part);
       });
   if (below.beyond > 0) {
-    throw InvalidInput("weld points below the table top: " + below.name() + " lies " +
-                       fmt(below.value) + " mm below the table (" + std::to_string(below.beyond) +
-                       " points below it); " + kHint);
+    const bool fixture = support > 0.0;
+    const std::string surface = fixture ? "the fixture's top (" + fmt(support) +
+                                              " mm above the table: riser and substrate plate)"
+                                        : "the table top";
+    throw InvalidInput("weld points below " + surface + ": " + below.name() + " lies " +
+                       fmt(below.value) + " mm below the " + (fixture ? "fixture's top" : "table") +
+                       " (" + std::to_string(below.beyond) + " points below it); " + kHint);
   }
   if (outside.beyond > 0) {
     throw InvalidInput("weld points outside the positioner's working volume: " + outside.name() +

@@ -14,7 +14,7 @@
 namespace curvedslicer::detail {
 
 struct TorchHit {
-  enum class Object { None, Deposit, Table };
+  enum class Object { None, Deposit, Table, Riser, Substrate };
   Object object = Object::None;
   double depth = 0.0;       ///< mm, penetration depth
   std::size_t segment = 0;  ///< DepositIndex segment hit (Object::Deposit)
@@ -49,11 +49,13 @@ class TorchChecker {
   struct Fcl;
   TorchHit checkDeposit(std::size_t section, const Vec3& bottom, const Vec3& top) const;
   TorchHit checkTable(std::size_t section, const Vec3& bottom, const Vec3& top) const;
+  TorchHit checkFixture(std::size_t section, const Vec3& bottom, const Vec3& top) const;
 
   const DepositIndex& deposit_;
   std::vector<Section> sections_;
   Pose partToTable_;  // part frame -> table frame
   double tableRadius_ = 0.0;
+  FixtureGeometry fixture_;
   std::unique_ptr<Fcl> fcl_;
 };
 

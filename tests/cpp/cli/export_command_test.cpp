@@ -281,6 +281,25 @@ TEST(ExportCommand, APartBelowTheTableFailsWithExitTwoNamingTheLowestPoint) {
   EXPECT_TRUE(fs::exists(out));
 }
 
+TEST(ExportCommand, PlacementAutoSaysWhatRiserItChose) {
+  const fs::path dir = freshTempDir();
+  writePlanJson(dir / "plan.json", lowered(9.5));
+  const fs::path out = dir / "W.JBI";
+  ASSERT_EQ(runCli(dir, "export '" + (dir / "plan.json").string() + "' --format jbi -o '" +
+                            out.string() + "' --placement auto"),
+            0)
+      << readFile((dir / "stderr.txt").string());
+  // a flat part: the torch clears the table resting on it, no riser raised
+  EXPECT_NE(readFile((dir / "stdout.txt").string()).find("part on the table (placement auto)"),
+            std::string::npos);
+  EXPECT_NE(readFile((dir / "stderr.txt").string())
+                .find("note: part placement auto: the torch clears the table on every move "
+                      "without raising the cell's riser (0.0 mm)"),
+            std::string::npos)
+      << readFile((dir / "stderr.txt").string());
+  EXPECT_TRUE(fs::exists(out));
+}
+
 TEST(ExportCommand, GcodeMachineCoordinatesUseThePlacementOfTheMotion) {
   const fs::path dir = freshTempDir();
   writePlanJson(dir / "plan.json", lowered(9.5));  // rests 8 + 1.5 = 9.5 mm higher

@@ -163,6 +163,30 @@ struct PositionerGeometry {
   double maxPartHeight = 500.0;  ///< mm, > 0, above the table top
 };
 
+/// What the part is built on, between the table and the part, in the table frame: a riser
+/// (pedestal) standing on the table top, a cylinder of `riserDiameter` centred on the rotation
+/// axis from z = 0 to z = `riserHeight`; on it (or on the table without a riser) a square
+/// substrate plate of side `substrateSize` centred on the axis, `substrateThickness` thick. The
+/// part rests on the fixture's top, z = riserHeight + substrateThickness. Zero heights: no riser,
+/// no plate (the part on the bare table, the default).
+struct FixtureGeometry {
+  double riserHeight = 0.0;         ///< mm, >= 0; > 0 needs riserDiameter > 0
+  double riserDiameter = 0.0;       ///< mm, >= 0, at most the table's diameter
+  double substrateThickness = 0.0;  ///< mm, >= 0; > 0 needs substrateSize > 0
+  double substrateSize = 0.0;       ///< mm, side of the square plate, >= 0
+  /// Table z of the surface the part rests on (mm).
+  double top() const { return riserHeight + substrateThickness; }
+  bool hasRiser() const { return riserHeight > 0.0; }
+  bool hasSubstrate() const { return substrateThickness > 0.0; }
+};
+
+/// A clear InvalidInput naming the field (`origin` + "riser_height_mm" …, `origin` e.g.
+/// "cell.json: field /positioner/fixture/") when `fixture` is not a fixture that fits `geometry`:
+/// negative or non-finite sizes, a riser or plate without its width, a riser wider than the
+/// table, a plate wider than the working volume, a fixture as high as the working volume.
+void validateFixture(const FixtureGeometry& fixture, const PositionerGeometry& geometry,
+                     std::string_view origin);
+
 struct PositionerDescription {
   std::string model;                       ///< e.g. "two-axis tilt-rotate positioner (D500B class)"
   Pose base = Pose::Identity();            ///< positioner base frame in world
@@ -174,6 +198,7 @@ struct PositionerDescription {
   PositionerAxis tilt;                         ///< a1
   PositionerAxis rotation;                     ///< a2
   PositionerGeometry geometry;                 ///< table disc and working volume
+  FixtureGeometry fixture;                     ///< riser and substrate plate on the table
 };
 
 /// Where the program starts and ends: robot joints and positioner angles. The default (taken

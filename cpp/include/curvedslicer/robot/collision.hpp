@@ -12,7 +12,9 @@
 //             cylinder envelope, radius == topRadius, is one capsule); the round ends of the
 //             lowest and highest reach exactly the nozzle and the top;
 //   table     a cylinder (disc) of the positioner table: top face at the table frame's origin,
-//             normal along its z axis, tableRadius and tableThickness (PositionerGeometry).
+//             normal along its z axis, tableRadius and tableThickness (PositionerGeometry);
+//   fixture   the riser (a cylinder on the table top) and the substrate plate (a box on the
+//             riser or the table) of FixtureGeometry, in the table frame.
 // Weld moves are checked at their end point (the torch pose while the next segment is laid);
 // arc-off moves at samples no further apart than half the envelope radius, linear in the part
 // frame (joint-interpolated for moves from or to the home pose, through forward kinematics).
@@ -32,14 +34,16 @@
 
 namespace curvedslicer {
 
-/// The cell's torch envelope (tool/envelope, a cone from the nozzle up the torch) and the
-/// positioner's table disc (positioner/geometry), as the collision check uses them.
+/// The cell's torch envelope (tool/envelope, a cone from the nozzle up the torch), the
+/// positioner's table disc (positioner/geometry) and the fixture on it (positioner/fixture), as
+/// the collision check uses them.
 struct CollisionGeometry {
   TorchEnvelope torch;       ///< cell.tool.envelope
   PositionerGeometry table;  ///< cell.positioner.geometry (table radius and thickness)
+  FixtureGeometry fixture;   ///< cell.positioner.fixture (riser and substrate plate)
 };
 
-/// The collision geometry of a cell: its torch envelope and positioner geometry.
+/// The collision geometry of a cell: its torch envelope, positioner geometry and fixture.
 CollisionGeometry collisionGeometryOf(const Cell& cell);
 
 /// Radius of the deposit capsules (mm): half the bead width (= bead spacing) of the plan, or

@@ -132,11 +132,15 @@ struct SpeedReduction {
   std::string axis;       ///< the limiting axis, e.g. "positioner rotation (a2)" or "robot T"
 };
 
+/// What a colliding torch hits.
+enum class CollisionObstacle { Deposit, Table, Riser, Substrate };
+
 /// A move that still collides after raising/re-routing (error unless allowCollisions).
 struct CollisionReport {
   std::size_t point = 0;  ///< MotionPlan::points index of the move's end point
   std::string what;       ///< e.g. "torch vs deposit of layer 5 path 2"
   double depth = 0.0;     ///< mm, penetration (or clearance deficit for travel moves)
+  CollisionObstacle obstacle = CollisionObstacle::Deposit;
 };
 
 /// Process estimates (paper §4.1 process parameters from the cell).
@@ -193,9 +197,11 @@ struct MotionOptions {
   double maxA2Step = 0.0872664625997165;
   bool timeParameterise = true;  ///< respect every axis's max speed (else nominal speeds only)
   /// Where the part sits on the table (placement.hpp): Rest (default) lifts the cell's
-  /// table_to_part so the lowest bead bottom lies on the table top (a start surface facing more
-  /// than 30° from down turned onto the table first); Cell keeps it as given.
-  /// Either way a weld point below the table or outside the working volume is InvalidInput.
+  /// table_to_part so the lowest bead bottom lies on the fixture's top (the table top without
+  /// one; a start surface facing more than 30° from down turned onto the table first); Cell
+  /// keeps it as given; Auto rests it on the lowest riser that keeps the torch clear of the
+  /// table on every move (planMotion). Either way a weld point below the fixture's top or
+  /// outside the working volume is InvalidInput.
   PartPlacement placement = PartPlacement::Rest;
 };
 
@@ -212,6 +218,7 @@ struct MotionPlan {
   std::vector<CollisionReport> collisions;      ///< what remains (only with allowCollisions)
   double nearSingularBand = 0.0;        ///< rad, V this close to the rotation axis is blended
   Pose tableToPart = Pose::Identity();  ///< the part placement used (after the placement rule)
+  FixtureGeometry fixture;              ///< the riser and plate used (Auto: the riser it chose)
   /// e.g. defaults taken for an older cell version (Cell::notes), the placement rest made
   std::vector<std::string> notes;
 };
@@ -220,6 +227,12 @@ struct MotionPlan {
 /// Throws InvalidInput for an invalid cell or plan (names the layer/path/point) and, with
 /// UnreachablePolicy::Throw, for points the robot cannot reach (which point, by how much);
 /// Cancelled when `progress` asks. Deterministic.
+/// PartPlacement::Auto plans with Rest on the cell's riser (height 0 without one; diameter: the
+/// cell's, else the plate's side, else the first layer's footprint) and, while the torch
+/// reaches into the table, raises the riser by the deepest reach plus 2 mm and plans again (at
+/// most 12 times); the note names the height chosen. A torch that hits the riser or the plate
+/// itself is not cleared by raising: InvalidInput names the move and the smaller riser or plate
+/// that would help.
 MotionPlan planMotion(const Plan& plan, const Cell& cell, const MotionOptions& options = {},
                       const Progress& progress = {});
 

@@ -33,9 +33,10 @@ enum class PartPlacement {
          ///< onto the table first), moved along the table z so that the lowest bead bottom
          ///< lies on the table top (default)
   Cell,  ///< the cell's table_to_part as given (a measured fixture or substrate placement)
+  Auto,  ///< Rest on the lowest riser that keeps the torch clear of the table (planMotion)
 };
 
-/// "rest" | "cell" (the command line's and the Python module's names).
+/// "rest" | "cell" | "auto" (the command line's and the Python module's names).
 std::string_view toString(PartPlacement placement);
 /// @throws InvalidInput naming the text and the choices.
 PartPlacement parsePartPlacement(std::string_view name);
@@ -48,8 +49,14 @@ struct PartPlacementResult {
 };
 
 /// The part placement `placement` gives for `plan` in `cell` (cell.positioner.tableToPart is
-/// the starting point). A plan without points keeps the cell's placement.
+/// the starting point; Auto places as Rest on the cell's fixture, planMotion chooses the riser).
+/// A plan without points keeps the cell's placement.
 PartPlacementResult placePart(const Plan& plan, const Cell& cell, PartPlacement placement);
+
+/// Diameter (mm) of a riser under the part at `tableToPart`: the cell's riser diameter if it
+/// gives one, else the substrate plate's side, else the diameter about the rotation axis of the
+/// first layer's weld points plus a bead width (the part's footprint), at most the table's.
+double riserDiameterFor(const Plan& plan, const Cell& cell, const Pose& tableToPart);
 
 /// `cell` with the part placement `tableToPart` (e.g. MotionPlan::tableToPart): the cell the
 /// motion was planned in, for writers and readers that use the positioner's kinematics with

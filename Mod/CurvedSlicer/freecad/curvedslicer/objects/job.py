@@ -166,8 +166,10 @@ PROPERTIES = [
      "are inserted where it turns faster, degrees", defaults.MAX_A2_STEP),
     ("App::PropertyEnumeration", "PartPlacement", "Robot",
      "Where the part sits on the table: Rest (the cell's table_to_part rotation and xy, moved "
-     "along the table z so the lowest bead bottom lies on the table top) or Cell (the cell's "
-     "table_to_part as given); a weld point below the table or outside the working volume is an "
+     "along the table z so the lowest bead bottom lies on the fixture's top, the cell's riser "
+     "and substrate plate, or on the table top without one), Cell (the cell's table_to_part as "
+     "given) or Auto (Rest, on the lowest riser that keeps the torch clear of the table on "
+     "every move); a weld point below the fixture's top or outside the working volume is an "
      "error", PART_PLACEMENTS),
     ("App::PropertyInteger", "PosePoint", "Robot",
      "Motion point (0-based, execution order) the positioner model shows", 0),
@@ -260,6 +262,21 @@ def add_missing_properties(obj):
     return added
 
 
+def refresh_enumerations(obj):
+    """Gives every choice property of `obj` this version's list of choices (a Job saved by an
+    older workbench stores the list it had, e.g. PartPlacement without Auto), keeping its value.
+    """
+    for (ptype, name, _group, _tooltip, default) in PROPERTIES:
+        if ptype != "App::PropertyEnumeration" or name not in obj.PropertiesList:
+            continue
+        choices = list(default)
+        if list(obj.getEnumerationsOfProperty(name)) == choices:
+            continue
+        value = getattr(obj, name)
+        setattr(obj, name, choices)
+        setattr(obj, name, value if value in choices else choices[0])
+
+
 class JobProxy:
     """Proxy of a Job (App::DocumentObjectGroupPython)."""
 
@@ -288,6 +305,7 @@ class JobProxy:
         install_observer()
         old = obj.SchemaVersion if "SchemaVersion" in obj.PropertiesList else 0
         added = add_missing_properties(obj)
+        refresh_enumerations(obj)
         if "CornerAngle" in added:
             # Planned before the option existed: its fit used the legacy angle.
             obj.CornerAngle = paths.LEGACY_CORNER_ANGLE

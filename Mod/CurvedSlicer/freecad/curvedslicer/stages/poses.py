@@ -30,7 +30,7 @@ from .simulation import update_simulation
 POSE_PARTS = ["PositionerBase", "PositionerCradle", "PositionerTable", "PosePart"]
 
 #: PartPlacement property values, the core's default first; name -> MotionOptions.placement.
-_PLACEMENT_NAMES = {"Rest": "rest", "Cell": "cell"}
+_PLACEMENT_NAMES = {"Rest": "rest", "Cell": "cell", "Auto": "auto"}
 PART_PLACEMENTS = sorted(_PLACEMENT_NAMES, key=lambda n: _PLACEMENT_NAMES[n]
                          != defaults.PART_PLACEMENT)
 
@@ -112,9 +112,27 @@ def _box(x0, x1, y0, y1, z0, z1):
     return Part.makeBox(x1 - x0, y1 - y0, z1 - z0, FreeCAD.Vector(x0, y0, z0))
 
 
-def positioner_shapes(cell, part_radius):
+def fixture_shape(fixture):
+    """The riser (a cylinder on the table top) and the substrate plate (a square box on it) of a
+    motion's ``fixture`` dict, in the table frame (mm); None without either."""
+    import Part
+
+    shape = None
+    height = float(fixture.get("riser_height_mm", 0.0))
+    thickness = float(fixture.get("substrate_thickness_mm", 0.0))
+    if height > 0.0:
+        shape = Part.makeCylinder(0.5 * float(fixture["riser_diameter_mm"]), height)
+    if thickness > 0.0:
+        half = 0.5 * float(fixture["substrate_size_mm"])
+        plate = _box(-half, half, -half, half, height, height + thickness)
+        shape = plate if shape is None else shape.fuse(plate)
+    return shape
+
+
+def positioner_shapes(cell, part_radius, fixture=None):
     """Base, cradle and table shapes in the table-zero frame (mm): placed by T0 (base), the
-    cradle frame T_cradle(a1) and the table frame T_table(a1, a2)."""
+    cradle frame T_cradle(a1) and the table frame T_table(a1, a2). The table carries the
+    fixture (riser and substrate plate) of the motion's ``fixture`` dict, if any."""
     import Part
 
     frames = native.positioner_frames(cell, 0.0, 0.0)
@@ -131,6 +149,9 @@ def positioner_shapes(cell, part_radius):
     r = max(150.0, 1.2 * part_radius)
     w = r + 70.0  # half width of the cradle plate
     table = Part.makeCylinder(r, 30.0, FreeCAD.Vector(0, 0, -30.0))
+    on_table = fixture_shape(fixture or {})
+    if on_table is not None:
+        table = table.fuse(on_table)
     cradle = _box(-w, w, -0.8 * r, 0.8 * r, -70.0, -30.0)
     for sign in (1, -1):
         x0, x1 = sorted((sign * w, sign * (w + 40.0)))
@@ -184,11 +205,13 @@ def update_poses(job, progress=None):
     doc = job.Document
     group = ensure_poses_group(job)
     objects = pose_objects(job)
-    shape_digest = _digest("shapes v2", cell, round(_part_radius(job), 3))
+    fixture = dict(m.get("fixture", {}))
+    shape_digest = _digest("shapes v3", cell, round(_part_radius(job), 3),
+                           sorted((k, round(float(v), 6)) for k, v in fixture.items()))
     needs_shapes = any(role not in objects for role in POSE_PARTS[:3]) or \
         objects["PositionerBase"].ShapeDigest != shape_digest
     if needs_shapes:
-        shapes = positioner_shapes(cell, _part_radius(job))
+        shapes = positioner_shapes(cell, _part_radius(job), fixture)
     for role, shape_index in (("PositionerBase", 0), ("PositionerCradle", 1),
                               ("PositionerTable", 2)):
         obj = objects.get(role)
