@@ -119,8 +119,8 @@ struct PlanParameters {
 };
 
 struct Plan {
-  /// 2: per-point bead width, path dwell, per-layer coverage, bead coverage parameters (version-1 files
-  /// still read: width = bead spacing, coverage not measured).
+  /// 2: per-point bead width, path dwell, per-layer coverage, bead coverage parameters (version-1
+  /// files still read: width = bead spacing, coverage not measured).
   static constexpr int kFormatVersion = 2;
   std::string model;  ///< the model file or document object the plan was made from
   std::string start;  ///< start-surface specification

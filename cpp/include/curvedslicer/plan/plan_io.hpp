@@ -25,8 +25,8 @@
 // "closed"); moves between consecutive paths and layers are travel with the arc off; a path with
 // "dwell_s" keeps the arc on at its first point that long (a spot deposit).
 //
-// Version 1 (no "w", no "dwell_s", no "coverage", none of the bead coverage parameters) is still read:
-// every point gets the bead spacing as its width and no layer's coverage is measured; it is
+// Version 1 (no "w", no "dwell_s", no "coverage", none of the bead coverage parameters) is still
+// read: every point gets the bead spacing as its width and no layer's coverage is measured; it is
 // written back as version 2.
 //
 // Numbers are written in the shortest form that reads back to the same double, so JSON written →
