@@ -69,6 +69,10 @@ print("  blades:      %d curved layers of 1.5 mm (paper: %d), %d paths at 3.7 mm
 print("  coverage:    blades %.2f %% void, %.2f %% overlap, %d arc starts (target: "
       "void <= 1.5 %%)" % (s["blade_void_percent"], s["blade_overlap_percent"],
                            s["blade_arc_starts"]))
+print("  clearance:   %d collisions; largest torch angle off gravity %.1f deg, largest gravity "
+      "deviation %.1f deg; risers: base %.1f mm, blades %.1f mm"
+      % (s["collisions"], s["max_torch_angle_deg"], s["max_gravity_deviation_deg"],
+         s["riser_height_mm"]["base"], s["riser_height_mm"]["blades"]))
 print("  program:     %s (%d files, %d motions)"
       % (s["program"], len(s["program_files"]), s["program_motions"]))
 print("  document:    %s (layers, paths, poses, plan JSON)" % s["document"])

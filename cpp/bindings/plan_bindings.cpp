@@ -50,6 +50,8 @@ py::dict estimateDict(const MotionEstimate& e) {
   d["deposited_mass_g"] = e.depositedMass;
   d["paths"] = e.paths;
   d["points"] = e.points;
+  d["max_torch_angle"] = e.maxTorchAngle;              // rad
+  d["max_gravity_deviation"] = e.maxGravityDeviation;  // rad
   return d;
 }
 
@@ -115,6 +117,7 @@ py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
   const auto n = static_cast<py::ssize_t>(motion.points.size());
   py::array_t<std::int32_t> layer(n), path(n), index(n), flags(n), kind(n);
   py::array_t<double> a1(n), a2(n), residual(n), speed(n), time(n);
+  py::array_t<double> torchAngle(n), travelAngle(n), workAngle(n);
   py::array_t<double> joints({n, py::ssize_t{6}});
   py::array_t<bool> arcOn(n), pathStart(n), pathEnd(n);
   py::array_t<double> position({n, py::ssize_t{3}}), deposition({n, py::ssize_t{3}}),
@@ -130,6 +133,9 @@ py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
     a1.mutable_at(i) = p.a1;
     a2.mutable_at(i) = p.a2;
     residual.mutable_at(i) = p.residual;
+    torchAngle.mutable_at(i) = p.torchAngle;
+    travelAngle.mutable_at(i) = p.travelAngle;
+    workAngle.mutable_at(i) = p.workAngle;
     speed.mutable_at(i) = p.speed;
     time.mutable_at(i) = p.time;
     kind.mutable_at(i) = static_cast<std::int32_t>(p.kind);
@@ -157,6 +163,9 @@ py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
   d["a1"] = a1;
   d["a2"] = a2;
   d["residual"] = residual;
+  d["torch_angle"] = torchAngle;
+  d["travel_angle"] = travelAngle;
+  d["work_angle"] = workAngle;
   d["speed"] = speed;
   d["time"] = time;
   d["kind"] = kind;
@@ -176,6 +185,9 @@ py::dict planMotionPy(const std::string& planJson, const std::string& cellJson,
   d["singular_points"] = motion.singularPoints;
   d["limited_points"] = motion.limitedPoints;
   d["total"] = estimateDict(motion.total);
+  py::list layers;
+  for (const MotionEstimate& e : motion.layers) layers.append(estimateDict(e));
+  d["layers"] = layers;
   d["table_to_part"] = poseMatrix(motion.tableToPart);  // the placement used (4x4, mm)
   py::dict fixture;  // the riser and plate used (placement auto: the riser it chose), mm
   fixture["riser_height_mm"] = motion.fixture.riserHeight;
@@ -422,7 +434,9 @@ void registerPlanBindings(py::module_& m) {
       "direction, else a fixed world x, turned about the torch axis per path so joint 6 stays "
       "away from +-180 deg). Returns columns over the motion points: layer, path, index, kind "
       "(codes into kind_names: path, retract, travel, approach, home), a1, a2 (rad), joints "
-      "(n,6, rad), residual (rad), speed (mm/s of the arriving move), time (s from the start, "
+      "(n,6, rad), residual (rad: the gravity deviation of the deposit), torch_angle, "
+      "travel_angle (push > 0), work_angle (rad: the torch off gravity to clear deposit, table "
+      "and fixture), speed (mm/s of the arriving move), time (s from the start, "
       "axis speed limits respected), arc_on, path_start, path_end, flags, "
       "position/normal/deposition/used_deposition (n,3) in the part frame, tool_in_world (n,4,4 "
       "mm: the TCP pose in world), configuration (IK branch bits: 1 back, 2 elbow down, 4 "
@@ -430,7 +444,8 @@ void registerPlanBindings(py::module_& m) {
       "max_residual, singular_points, limited_points, near_singular_band (rad), paths "
       "(layer, path, begin, end, configuration), speed_reductions (layer, path, first_index, "
       "last_index, min_speed, axis), collisions (point, what, depth), total (estimates; "
-      "total_time_s = the last point's time plus the dwell after it), table_to_part (4x4 mm: the "
+      "total_time_s = the last point's time plus the dwell after it; max_torch_angle and "
+      "max_gravity_deviation in rad), layers (the same per plan layer), table_to_part (4x4 mm: the "
       "part placement used, MotionOptions.placement), fixture (riser_height_mm, riser_diameter_mm, "
       "substrate_thickness_mm, substrate_size_mm: the fixture used; placement \"auto\" "
       "chooses the riser's height).",

@@ -54,6 +54,24 @@ void printPlacement(const MotionPlan& motion, PartPlacement placement) {
   }
 }
 
+/// Collisions left, the largest torch angle off gravity and gravity deviation of the deposit,
+/// and the layer where each is largest.
+void printClearance(const MotionPlan& motion) {
+  constexpr double kToDeg = 180.0 / 3.14159265358979323846;
+  std::size_t torchLayer = 0, gravityLayer = 0;
+  for (std::size_t l = 0; l < motion.layers.size(); ++l) {
+    if (motion.layers[l].maxTorchAngle > motion.layers[torchLayer].maxTorchAngle) torchLayer = l;
+    if (motion.layers[l].maxGravityDeviation > motion.layers[gravityLayer].maxGravityDeviation) {
+      gravityLayer = l;
+    }
+  }
+  std::printf(
+      "curvedslicer: collisions: %zu; largest torch angle off gravity %.1f deg (layer %zu), "
+      "largest gravity deviation of the deposit %.1f deg (layer %zu)\n",
+      motion.collisions.size(), motion.total.maxTorchAngle * kToDeg, torchLayer,
+      motion.total.maxGravityDeviation * kToDeg, gravityLayer);
+}
+
 void printSpeedReductions(const MotionPlan& motion) {
   if (motion.speedReductions.empty()) return;
   std::printf("curvedslicer: weld speed reduced in %zu stretch%s (axis speed limits):\n",
@@ -137,6 +155,7 @@ int runExportCommand(const ExportArguments& args) {
       }
       printPlacement(motion, motionOptions.placement);
       printSpeedReductions(motion);
+      printClearance(motion);
       std::printf(
           "curvedslicer: wrote %s (%zu file%s, %zu bytes): %zu motions, %zu paths; arc time "
           "%.0f s, total time %.0f s, wire %.2f m, deposit %.1f g\n",

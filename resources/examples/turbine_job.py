@@ -20,6 +20,7 @@ and summary.json; exits non-zero on failure or when the counts leave the accepta
 """
 
 import json
+import math
 import os
 import sys
 import time
@@ -72,6 +73,7 @@ def main():
     api.set_pose(blades, welded[len(welded) // 2] if welded else api.pose_count(blades) // 2)
     path = os.path.join(out, "turbine.FCStd")
     doc.saveAs(path)
+    motions = [api.motion(base), api.motion(blades)]
     summary = {
         "document": path,
         "program": program,
@@ -94,6 +96,16 @@ def main():
         "grid": blades.GridDims,
         "max_geodesic_distance_mm": round(blades.MaxDistance, 3),
         "motion_warnings": list(base.MotionWarnings) + list(blades.MotionWarnings),
+        # what the program still hits (0: every move clears table, riser and deposit), the largest
+        # torch angle off gravity used to clear, the largest gravity deviation of the deposit, and
+        # the riser each Job stands on (placement Auto)
+        "collisions": sum(len(m["collisions"]) for m in motions),
+        "max_torch_angle_deg": round(max(math.degrees(m["total"]["max_torch_angle"])
+                                         for m in motions), 2),
+        "max_gravity_deviation_deg": round(max(math.degrees(m["total"]["max_gravity_deviation"])
+                                               for m in motions), 2),
+        "riser_height_mm": {"base": round(motions[0]["fixture"]["riser_height_mm"], 1),
+                            "blades": round(motions[1]["fixture"]["riser_height_mm"], 1)},
         "pose": {"point": blades.PosePoint, "a1_deg": blades.PoseA1, "a2_deg": blades.PoseA2},
         "plan_seconds": round(plan_seconds, 2),
     }

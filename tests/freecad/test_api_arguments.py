@@ -13,6 +13,7 @@ import cs_testing  # noqa: E402
 import FreeCAD  # noqa: E402
 from freecad.curvedslicer import api  # noqa: E402
 from freecad.curvedslicer.core import InvalidInput, ResourceLimit  # noqa: E402
+from freecad.curvedslicer.stages import layers as layer_stage  # noqa: E402
 
 
 class TestApiArguments(cs_testing.DocumentTestCase):
@@ -92,9 +93,8 @@ class TestApiArguments(cs_testing.DocumentTestCase):
         self.doc.recompute()
         job = api.make_job(self.doc, both, layer_thickness=4.0, voxel_size=1.0,
                            grid_alignment="Model")
-        # The union is the point here; the default cell's torch reaches the table on it.
-        job.AllowCollisions = True
-        api.run(job, progress=False)
+        # The union is the point here: only the layer stage runs.
+        layer_stage.update_layers(job)
         report = api.report(job)
         self.assertEqual(report["grid"]["fill_rule"], "nonzero")
         self.assertEqual(report["grid"]["inside_voxels"], 15000)

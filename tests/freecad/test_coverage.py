@@ -116,7 +116,7 @@ class TestCoverage(cs_testing.DocumentTestCase):
         self.assertEqual((job.BeadWidthMin, job.BeadWidthMax), (1.0, 1.0))
         self.assertTrue(job.MeasureCoverage)
         self.assertEqual(job.SchemaVersion, job_module.SCHEMA_VERSION)
-        self.assertEqual(job_module.SCHEMA_VERSION, 8)
+        self.assertEqual(job_module.SCHEMA_VERSION, 9)
 
     def test_schema_6_job_keeps_its_plan_without_gap_fill(self):
         job = self.job()
@@ -138,7 +138,7 @@ class TestCoverage(cs_testing.DocumentTestCase):
         job.Proxy.onDocumentRestored(job)
         self.assertFalse(job.CornerFill)  # planned before corner fill existed
         self.assertAlmostEqual(job.MinGapArea, 16.0)  # what gap fill used before the option
-        self.assertEqual(job.SchemaVersion, 8)
+        self.assertEqual(job.SchemaVersion, job_module.SCHEMA_VERSION)
         api.run(job, progress=False)
         params = native.plan_summary(job.PlanJson)["parameters"]
         self.assertAlmostEqual(params["min_gap_area_mm2"], 16.0)

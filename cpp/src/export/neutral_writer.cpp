@@ -43,6 +43,10 @@ constexpr const char* kColumns[] = {"layer",
                                     "wire_feed_m_min",
                                     "weld_schedule",
                                     "bead_width_mm",
+                                    "torch_angle_deg",
+                                    "travel_angle_deg",
+                                    "work_angle_deg",
+                                    "gravity_deviation_deg",
                                     "kind"};
 
 /// Wire feed (m/min) of the move arriving at `p`: its own (MotionPoint::wireFeed) or, where not
@@ -90,6 +94,12 @@ void appendRow(std::string& b, const MotionPoint& p, const Cell& cell, char sep,
   b += std::to_string(p.weldSchedule);
   b += sep;
   appendShortest(b, p.beadWidth);
+  // the torch's angle off gravity and its travel (push > 0) / work shares; the deposit's
+  // deviation from gravity (the residual of the positioner angles)
+  for (double v : {p.torchAngle, p.travelAngle, p.workAngle, p.residual}) {
+    b += sep;
+    appendShortest(b, v * kRadToDeg);
+  }
   b += sep;
   if (json) b += '"';
   b += toString(p.kind);
@@ -106,7 +116,7 @@ ExportResult NeutralWriter::write(const MotionPlan& motion, const Cell& cell,
   if (json) {
     text.line("{");
     text.line("  \"format\": \"curvedslicer-motion\",");
-    text.line("  \"version\": 3,");
+    text.line("  \"version\": 4,");
     text.line("  \"cell\": " + nlohmann::json(cell.name).dump() + ",");
     std::string& c = text.buffer();
     c += "  \"columns\": [";

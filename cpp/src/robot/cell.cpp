@@ -675,6 +675,14 @@ ProcessDescription readProcess(Field& top, std::string_view origin) {
   }
   proc.layerDwell = pr.nonNegative("layer_dwell_s", 0.0, "interlayer dwell in s");
   proc.pathDwell = pr.nonNegative("path_dwell_s", 0.0, "dwell after each path in s");
+  const double window =
+      pr.number("max_torch_angle_deg", 15.0, "the largest torch angle off gravity, in degrees");
+  if (!(window >= 0.0 && window <= 45.0)) {
+    pr.fail("max_torch_angle_deg", "must be in [0, 45] degrees", formatNumber(window),
+            "GMA deposits well within about 15 degrees of the deposition direction, WAAM up to "
+            "20-25; use e.g. 15 (0 keeps the torch along gravity)");
+  }
+  proc.maxTorchAngle = window * kDeg;
   proc.speedUnit = pr.choice<SpeedUnit>("speed_unit",
                                         {{"mm/s", SpeedUnit::MillimetresPerSecond},
                                          {"cm/min", SpeedUnit::CentimetresPerMinute},
@@ -1137,6 +1145,7 @@ std::string writeCellJson(const Cell& cell) {
                       {"deposition_efficiency", pr.depositionEfficiency},
                       {"layer_dwell_s", pr.layerDwell},
                       {"path_dwell_s", pr.pathDwell},
+                      {"max_torch_angle_deg", clean(pr.maxTorchAngle / kDeg)},
                       {"speed_unit", std::string(toString(pr.speedUnit))},
                       {"arc", arc}};
   if (!pr.beadModel.empty()) j["process"]["bead_model"] = beadModelJson(pr.beadModel);

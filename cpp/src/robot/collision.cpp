@@ -156,6 +156,18 @@ TorchHit TorchChecker::check(const Vec3& tip, const Vec3& up) const {
   return worst;
 }
 
+bool TorchChecker::collides(const Vec3& tip, const Vec3& up) const {
+  for (std::size_t k = 0; k < sections_.size(); ++k) {
+    const Vec3 bottom = tip + sections_[k].from * up;
+    const Vec3 top = tip + sections_[k].to * up;
+    if (checkTable(k, bottom, top).collides() || checkFixture(k, bottom, top).collides() ||
+        deposit_.anyWithin(bottom, top, sections_[k].radius)) {
+      return true;
+    }
+  }
+  return false;
+}
+
 TorchHit TorchChecker::checkDeposit(std::size_t section, const Vec3& bottom,
                                     const Vec3& top) const {
   // exact capsule distances find the nearest bead; FCL confirms the contact and its depth
@@ -350,7 +362,35 @@ CollisionObstacle obstacleOf(const TorchHit& hit) {
   }
 }
 
-void reportCollisions(MotionPlan& motion, const MotionOptions& options) {
+/// What would clear the remaining collisions: a riser as deep as the deepest reach into the
+/// table (placement auto), a wider torch window against the deposit, the fixture smaller.
+std::string collisionAdvice(const MotionPlan& motion, double maxTorchAngle) {
+  double table = 0.0;
+  bool deposit = false, fixture = false;
+  for (const CollisionReport& c : motion.collisions) {
+    if (c.obstacle == CollisionObstacle::Table) table = std::max(table, c.depth);
+    deposit = deposit || c.obstacle == CollisionObstacle::Deposit;
+    fixture = fixture || c.obstacle == CollisionObstacle::Riser ||
+              c.obstacle == CollisionObstacle::Substrate;
+  }
+  std::string advice;
+  const auto add = [&](const std::string& text) { advice += (advice.empty() ? "" : "; ") + text; };
+  if (table > 0.0) {
+    add("raise the part on a riser of at least " + fmt(table + 2.0, 1) +
+        " mm (--placement auto finds the lowest)");
+  }
+  if (deposit) {
+    add(maxTorchAngle < 0.785 ? "widen the torch window (the cell's process/max_torch_angle_deg, "
+                                "now " +
+                                    fmt(maxTorchAngle * 180.0 / 3.14159265358979323846, 1) +
+                                    " deg, at most 45), change the path order"
+                              : "change the path order");
+  }
+  if (fixture) add("use a narrower riser or a smaller substrate plate (positioner/fixture)");
+  return advice + (advice.empty() ? "" : ", ") + "use a slimmer torch envelope";
+}
+
+void reportCollisions(MotionPlan& motion, const MotionOptions& options, double maxTorchAngle) {
   if (motion.collisions.empty()) return;
   std::string list;
   for (std::size_t k = 0; k < std::min(kNamedCollisions, motion.collisions.size()); ++k) {
@@ -362,9 +402,8 @@ void reportCollisions(MotionPlan& motion, const MotionOptions& options) {
   const std::string text =
       "torch collides on " + std::to_string(motion.collisions.size()) + " move(s): " + list;
   if (!options.allowCollisions) {
-    throw InvalidInput(text +
-                       "; change the path order or the part's placement, use a slimmer torch "
-                       "envelope, or allow collisions (--allow-collisions) to export anyway");
+    throw InvalidInput(text + "; " + collisionAdvice(motion, maxTorchAngle) +
+                       ", or allow collisions (--allow-collisions) to export anyway");
   }
   motion.warnings.push_back(text + " (allowed: --allow-collisions)");
 }
@@ -400,9 +439,7 @@ CollisionGeometry collisionGeometryOf(const Cell& cell) {
   return {cell.tool.envelope, cell.positioner.geometry, cell.positioner.fixture};
 }
 
-void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const CollisionGeometry& geometry,
-                           double beadRadius, const MotionOptions& options,
-                           const Progress& progress) {
+void validateCollisionGeometry(const CollisionGeometry& geometry, double beadRadius) {
   const TorchEnvelope& torch = geometry.torch;
   const double widest = std::max(torch.radius, torch.topRadius);
   if (!(torch.stickout > 0.0 && torch.radius > 0.0 && torch.topRadius > 0.0 &&
@@ -416,6 +453,13 @@ void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const Collision
         fmt(geometry.table.tableThickness) + ", bead radius " + fmt(beadRadius) +
         " mm; fix the cell's tool envelope / positioner geometry");
   }
+}
+
+void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const CollisionGeometry& geometry,
+                           double beadRadius, const MotionOptions& options,
+                           const Progress& progress) {
+  validateCollisionGeometry(geometry, beadRadius);
+  const TorchEnvelope& torch = geometry.torch;
   // a re-check (another envelope) replaces the verdicts of an earlier one, flags included
   motion.collisions.clear();
   for (MotionPoint& m : motion.points) m.flags &= ~static_cast<std::uint32_t>(kMotionCollision);
@@ -446,7 +490,7 @@ void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const Collision
     }
   }
   progress.report(1.0, "collisions");
-  reportCollisions(motion, options);
+  reportCollisions(motion, options, cell.process.maxTorchAngle);
 }
 
 }  // namespace curvedslicer

@@ -133,10 +133,12 @@ void DepositIndex::visitCandidates(const Vec3& p, const Vec3& q, double reach,
           if (stamp_[id] == query_) continue;
           stamp_[id] = query_;
           const Chunk& chunk = chunks_[id];
+          if (chunk.first >= visible_) continue;
           // sphere cull: every point of the chunk lies within `bound` of the box centre
           const double bound = 0.5 * chunk.box.diagonal();
           if (pointSegmentDistance(chunk.box.center(), p, q) - bound - radius_ >= reach) continue;
-          for (std::size_t s = chunk.first; s < chunk.first + chunk.count; ++s) {
+          const std::size_t end = std::min(chunk.first + chunk.count, visible_);
+          for (std::size_t s = chunk.first; s < end; ++s) {
             if (!visit(s)) return;
           }
         }

@@ -64,6 +64,10 @@ class DepositIndex {
   const std::vector<DepositSegment>& segments() const { return segments_; }
   double beadRadius() const { return radius_; }
 
+  /// Queries see only the first `count` segments added (the deposit before a given move when
+  /// a whole path has been added ahead); SIZE_MAX (the default) sees all.
+  void setVisible(std::size_t count) { visible_ = count; }
+
  private:
   struct Chunk {
     std::size_t first = 0;  // first segment
@@ -87,6 +91,7 @@ class DepositIndex {
   std::vector<Chunk> chunks_;
   mutable std::vector<std::uint32_t> stamp_;  // per chunk: last query that visited it
   mutable std::uint32_t query_ = 0;
+  std::size_t visible_ = static_cast<std::size_t>(-1);
 };
 
 }  // namespace curvedslicer::detail

@@ -1,6 +1,6 @@
 // Motion planning: positioner angles (eq. 16) along paths, world poses, robot inverse
 // kinematics and process estimates. Phases (progress stages): "positioner angles",
-// "robot kinematics", "estimates".
+// "torch angles", "robot kinematics", "estimates".
 #include "curvedslicer/robot/motion.hpp"
 
 #include <algorithm>
@@ -16,6 +16,7 @@
 #include "curvedslicer/robot/timing.hpp"
 #include "curvedslicer/robot/travel.hpp"
 #include "positioner_path.hpp"
+#include "torch_tilt.hpp"
 
 namespace curvedslicer {
 
@@ -468,7 +469,12 @@ void RobotKinematicsPass::setToolPoses(const MotionPathSpan& span, double roll) 
     const Vec3 prev = k > span.begin ? result_.points[k - 1].position : m.position;
     Vec3 travel = partInWorld.linear() * (next - prev);
     if (!options_.toolAlongTravel) travel = fixedX;
-    const Vec3 z = gravity_;
+    // the torch along gravity, or tilted by its lean (torch_tilt.hpp) to clear the deposit
+    Vec3 z = gravity_;
+    if (m.torchAngle > 0.0) {
+      const Vec3 up = -(partInWorld.linear().transpose() * gravity_);
+      z = -(partInWorld.linear() * detail::tiltedTorchUp(up, m.torchLean));
+    }
     const Vec3 x = toolXAxis(travel, z, previousX_);
     previousX_ = x;
     m.toolInWorld = Pose::Identity();
@@ -739,6 +745,28 @@ int deepestHit(const MotionPlan& motion, CollisionObstacle obstacle) {
   return deepest;
 }
 
+/// The note of the torch angles used (none when every torch runs along gravity).
+void noteTorchTilts(const detail::TorchTiltSummary& tilt, const ProcessDescription& process,
+                    MotionPlan& result) {
+  if (tilt.tilted == 0) return;
+  result.notes.push_back("torch tilted off gravity on " + std::to_string(tilt.tilted) +
+                         " path point(s) to clear the deposit, the table or the fixture: "
+                         "largest " +
+                         mm(tilt.maxAngle / kDeg) + " deg (torch window " +
+                         mm(process.maxTorchAngle / kDeg) + " deg, process/max_torch_angle_deg)");
+}
+
+/// Per layer and in total the largest torch angle and gravity deviation of the path points.
+void recordDeviations(MotionPlan& result) {
+  for (const MotionPoint& m : result.points) {
+    if (m.kind != MoveKind::Path) continue;
+    for (MotionEstimate* e : {&result.total, &result.layers[static_cast<std::size_t>(m.layer)]}) {
+      e->maxTorchAngle = std::max(e->maxTorchAngle, m.torchAngle);
+      e->maxGravityDeviation = std::max(e->maxGravityDeviation, m.residual);
+    }
+  }
+}
+
 /// PartPlacement::Auto (planMotion's comment): raise the riser until the torch clears the table.
 MotionPlan planMotionOnLowestRiser(const Plan& plan, const Cell& givenCell,
                                    const MotionOptions& options, const Progress& progress) {
@@ -748,13 +776,16 @@ MotionPlan planMotionOnLowestRiser(const Plan& plan, const Cell& givenCell,
   FixtureGeometry& fixture = cell.positioner.fixture;
   fixture.riserDiameter =
       riserDiameterFor(plan, cell, placePart(plan, cell, PartPlacement::Rest).tableToPart);
+  const double firstDiameter = fixture.riserDiameter;
   MotionOptions trial = options;
   trial.placement = PartPlacement::Rest;
   trial.allowCollisions = true;  // to see every collision of a trial height
   std::string tried;
   for (int attempt = 0; attempt < kAttempts; ++attempt) {
     const double lo = 1.0 - std::pow(0.5, attempt), hi = 1.0 - std::pow(0.5, attempt + 1);
-    tried += (tried.empty() ? "" : ", ") + mm(fixture.riserHeight);
+    tried += (tried.empty() ? "" : ", ") + mm(fixture.riserHeight) +
+             (fixture.riserDiameter < firstDiameter ? " (" + mm(fixture.riserDiameter) + " across)"
+                                                    : std::string());
     MotionPlan motion;
     try {
       validateFixture(fixture, cell.positioner.geometry, "part placement auto: fixture ");
@@ -769,6 +800,17 @@ MotionPlan planMotionOnLowestRiser(const Plan& plan, const Cell& givenCell,
     const int table = deepestHit(motion, CollisionObstacle::Table);
     if (table >= 0) {
       fixture.riserHeight += motion.collisions[table].depth + kMargin;
+      continue;
+    }
+    // a riser this placement chose (the cell gives none) is narrowed by the torch's deepest
+    // reach into it, down to a quarter of its first width: the part's edge then overhangs it
+    const int riserHit = deepestHit(motion, CollisionObstacle::Riser);
+    const double narrowed =
+        riserHit < 0 ? 0.0
+                     : fixture.riserDiameter - 2.0 * (motion.collisions[riserHit].depth + kMargin);
+    if (riserHit >= 0 && !(givenCell.positioner.fixture.riserDiameter > 0.0) &&
+        narrowed >= 0.25 * firstDiameter && !options.allowCollisions) {
+      fixture.riserDiameter = narrowed;
       continue;
     }
     for (const CollisionObstacle obstacle :
@@ -791,8 +833,8 @@ MotionPlan planMotionOnLowestRiser(const Plan& plan, const Cell& givenCell,
     const std::string note =
         "part placement auto: " +
         (raised ? "a riser of " + mm(fixture.riserHeight) + " mm (" + mm(fixture.riserDiameter) +
-                      " mm across) is the lowest tried that keeps the torch clear of the table "
-                      "on every move (tried " +
+                      " mm across) is the lowest tried that keeps the torch clear of the table and "
+                      "the riser on every move (tried " +
                       tried + " mm)"
                 : std::string("the torch clears the table on every move without raising the "
                               "cell's riser (") +
@@ -838,14 +880,22 @@ MotionPlan planMotion(const Plan& plan, const Cell& givenCell, const MotionOptio
   WarningLog warnings;
   planPositionerAngles(plan, cell, gravity, options, progress.sub(0.0, 0.4), result, warnings);
   assignWeldProcess(plan, cell, result, warnings);
+  const TravelSetup travel = travelSetupOf(cell);
+  const double beadRadius = depositBeadRadius(plan.parameters);
+  validateCollisionGeometry(travel.geometry, beadRadius);
+  const detail::TorchTiltSummary tilt =
+      detail::planTorchTilts(result, cell, travel.geometry, gravity, beadRadius,
+                             cell.process.maxTorchAngle, progress.sub(0.35, 0.4));
+  noteTorchTilts(tilt, cell.process, result);
   RobotKinematicsPass(cell, gravity, options, result, warnings).run(progress.sub(0.4, 0.95));
   result.nearSingularBand = options.nearSingularBand;
-  planArcOffMoves(plan, cell, travelSetupOf(cell), options, result, progress.sub(0.95, 0.95));
+  planArcOffMoves(plan, cell, travel, options, result, progress.sub(0.95, 0.95));
   progress.report(0.95, "estimates");
   warnings.flush(result.warnings);
   // time parameterisation (after the travel moves): times, speeds, estimates
   result.total = estimatePlan(plan, cell.process, &result.layers);
   parameteriseTime(result, cell, TimingOptions{options.timeParameterise});
+  recordDeviations(result);
   progress.report(1.0, "estimates");
   return result;
 }

@@ -38,6 +38,11 @@ class TorchChecker {
   /// The torch with its tip at `tip` and its body along unit `up` (part frame).
   TorchHit check(const Vec3& tip, const Vec3& up) const;
 
+  /// Whether check() could find a hit, without its depth: stops at the first contact and takes
+  /// a bead closer than the envelope's radius as one without FCL's confirmation (so it never
+  /// clears a pose check() rejects). For searches that try many poses.
+  bool collides(const Vec3& tip, const Vec3& up) const;
+
   /// One capsule of the envelope: its axis from `from` to `to` mm above the TCP, its radius.
   struct Section {
     double from = 0.0;

@@ -239,6 +239,11 @@ MotionPoint TravelPlanner::arcOffPoint(MoveKind kind, const MotionPoint& owner,
   m.toolInRobotBase = baseInverse_ * m.toolInWorld;
   m.toolInTable = computeTableInWorld(cell_.positioner, a1, a2).inverse() * m.toolInWorld;
   m.toolInPart = partInWorld.inverse() * m.toolInWorld;
+  // the torch's angle off gravity (carried from a tilted path end or start; no travel/work split)
+  const Vec3 z = worldRotation.col(2);
+  const Vec3 g = cell_.gravity.normalized();
+  m.torchAngle = std::atan2(z.cross(g).norm(), z.dot(g));
+  if (m.torchAngle < 1e-9) m.torchAngle = 0.0;
   m.speed = cell_.process.travelSpeed;
   return m;
 }

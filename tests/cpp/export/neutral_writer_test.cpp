@@ -18,10 +18,10 @@ namespace {
 
 using namespace testing;
 
-/// `v`: the 30 numeric columns; `kind`: the 31st. `cellWireFeed`: the cell's process wire feed.
+/// `v`: the 34 numeric columns; `kind`: the 35th. `cellWireFeed`: the cell's process wire feed.
 void expectRow(const std::vector<double>& v, const std::string& kind, const MotionPoint& p,
                double cellWireFeed) {
-  ASSERT_EQ(v.size(), 30u);
+  ASSERT_EQ(v.size(), 34u);
   EXPECT_EQ(v[0], p.layer);
   EXPECT_EQ(v[1], p.path);
   EXPECT_EQ(v[2], p.index);
@@ -44,6 +44,10 @@ void expectRow(const std::vector<double>& v, const std::string& kind, const Moti
   EXPECT_EQ(v[27], p.arcOn ? (p.wireFeed > 0.0 ? p.wireFeed : cellWireFeed) : 0.0);
   EXPECT_EQ(v[28], p.weldSchedule);
   EXPECT_EQ(v[29], p.beadWidth);
+  EXPECT_EQ(v[30], p.torchAngle * (180.0 / kPiT));
+  EXPECT_EQ(v[31], p.travelAngle * (180.0 / kPiT));
+  EXPECT_EQ(v[32], p.workAngle * (180.0 / kPiT));
+  EXPECT_EQ(v[33], p.residual * (180.0 / kPiT));
   EXPECT_EQ(kind, toString(p.kind));
 }
 
@@ -58,11 +62,13 @@ TEST(NeutralWriter, CsvRowsReadBackExactly) {
   ASSERT_EQ(lines.size(), motion.points.size() + 1);
   EXPECT_EQ(lines[0].rfind("layer,path,index,x_mm,y_mm,z_mm,nx,ny,nz,vx,vy,vz,a1_deg,a2_deg", 0),
             0u);
-  EXPECT_EQ(lines[0].substr(lines[0].rfind(",time_s")),
-            ",time_s,residual_deg,flags,wire_feed_m_min,weld_schedule,bead_width_mm,kind");
+  EXPECT_EQ(
+      lines[0].substr(lines[0].rfind(",time_s")),
+      ",time_s,residual_deg,flags,wire_feed_m_min,weld_schedule,bead_width_mm,torch_angle_deg,"
+      "travel_angle_deg,work_angle_deg,gravity_deviation_deg,kind");
   for (std::size_t i = 0; i < motion.points.size(); ++i) {
     std::vector<std::string> fields = splitFields(lines[i + 1], ',');
-    ASSERT_EQ(fields.size(), 31u);
+    ASSERT_EQ(fields.size(), 35u);
     std::vector<double> v;
     for (std::size_t k = 0; k + 1 < fields.size(); ++k) {
       char* end = nullptr;
@@ -79,15 +85,15 @@ TEST(NeutralWriter, JsonHoldsTheSameRowsAndJointNames) {
   const ExportResult result = NeutralWriter(ExportFormat::Json).write(motion, cell, {}, {});
   const auto doc = nlohmann::json::parse(result.files[0].text);
   EXPECT_EQ(doc.at("format"), "curvedslicer-motion");
-  EXPECT_EQ(doc.at("version"), 3);
+  EXPECT_EQ(doc.at("version"), 4);
   EXPECT_EQ(doc.at("cell"), cell.name);
-  EXPECT_EQ(doc.at("columns").size(), 31u);
+  EXPECT_EQ(doc.at("columns").size(), 35u);
   EXPECT_EQ(doc.at("columns").back(), "kind");
   EXPECT_EQ(doc.at("joint_names").size(), 8u);
   ASSERT_EQ(doc.at("points").size(), motion.points.size());
   for (std::size_t i = 0; i < motion.points.size(); ++i) {
     const auto& row = doc.at("points")[i];
-    ASSERT_EQ(row.size(), 31u);
+    ASSERT_EQ(row.size(), 35u);
     std::vector<double> v;
     for (std::size_t k = 0; k + 1 < row.size(); ++k) v.push_back(row[k].get<double>());
     expectRow(v, row.back().get<std::string>(), motion.points[i], cell.process.wireFeed);

@@ -829,9 +829,10 @@ inline ReadProgram readGcodeProgram(const ExportResult& result, const Cell& cell
 
 /// The neutral file's rows read back: every row as many fields as columns, every number finite,
 /// kind one of path | retract | travel | approach | home, welds from path_start / path_end, the
-/// speed column, and as part point the TCP of the row's robot joints (forward kinematics,
-/// controller degrees) in the part frame of its positioner angles — so a round trip against the
-/// x/y/z columns checks the joints, not only the copied position.
+/// speed column, the torch angle against its travel and work shares, and as part point the TCP of
+/// the row's robot joints (forward kinematics, controller degrees) in the part frame of its
+/// positioner angles — so a round trip against the x/y/z columns checks the joints, not only the
+/// copied position.
 inline ReadProgram readNeutralProgram(
     const ExportResult& result, const Cell& cell,
     std::vector<std::map<std::string, double>>* rowsOut = nullptr) {
@@ -842,7 +843,7 @@ inline ReadProgram readNeutralProgram(
   if (result.format == ExportFormat::Json) {
     const auto doc = nlohmann::json::parse(text);
     EXPECT_EQ(doc.at("format"), "curvedslicer-motion");
-    EXPECT_EQ(doc.at("version"), 3);
+    EXPECT_EQ(doc.at("version"), 4);
     for (const auto& c : doc.at("columns")) columns.push_back(c.get<std::string>());
     for (const auto& r : doc.at("points")) {
       std::vector<std::string> fields;
@@ -869,6 +870,18 @@ inline ReadProgram readNeutralProgram(
       row[columns[k]] = strictDouble(fields[k], line);
       EXPECT_TRUE(std::isfinite(row[columns[k]])) << columns[k] << " in " << line;
     }
+    // the torch angle off gravity of a path point splits into its travel and work shares
+    // (projections onto the planes along and across the travel): tan² travel + tan² work =
+    // tan² torch
+    const double torch = row.at("torch_angle_deg") * kDegT;
+    EXPECT_TRUE(torch >= 0.0 && torch <= 45.0 * kDegT) << line;
+    if (fields.back() == "path") {
+      EXPECT_NEAR(std::hypot(std::tan(row.at("travel_angle_deg") * kDegT),
+                             std::tan(row.at("work_angle_deg") * kDegT)),
+                  std::tan(torch), 1e-9)
+          << line;
+    }
+    EXPECT_GE(row.at("gravity_deviation_deg"), 0.0) << line;
     const std::string& kind = fields.back();
     EXPECT_TRUE(kind == "path" || kind == "retract" || kind == "travel" || kind == "approach" ||
                 kind == "home")

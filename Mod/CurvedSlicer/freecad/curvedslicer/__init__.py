@@ -15,7 +15,7 @@ __version__ = "0.1.0"
 
 #: Version of the Job's property layout; objects saved with an older one are migrated on load
 #: (objects/job.py, JobProxy.onDocumentRestored).
-SCHEMA_VERSION = 8  # 2: paths, plan JSON, poses, thin wall; 3: NarrowStrips; 4: CornerAngle;
+SCHEMA_VERSION = 9  # 2: paths, plan JSON, poses, thin wall; 3: NarrowStrips; 4: CornerAngle;
 # 5: motion options (Clearance, AllowCollisions, AddHome, MergeTolerance, MaxA2Step, PartPlacement)
 # 6: bead coverage options (MinFeatureWidth, BeadWidthMin, BeadWidthMax, ConnectInsets,
 #    MeasureCoverage) and results (VoidShare, OverlapShare, ArcStarts, CoverageReport)
@@ -24,6 +24,8 @@ SCHEMA_VERSION = 8  # 2: paths, plan JSON, poses, thin wall; 3: NarrowStrips; 4:
 #    full-resolution layers it sliced, and keeps its digest)
 #    and MinGapArea (gap fill's smallest patch; migrated: BeadSpacing²), CornerFill (a Job from
 #    before it keeps CornerFill = False) and CornerFillAngle
+# 9: results of the torch angles (PoseTorchAngle, MaxTorchAngle, MaxGravityDeviation) and
+#    CollisionCount (filled when the poses are next computed)
 
 PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
 ICON_DIR = os.path.join(PACKAGE_DIR, "resources", "icons")

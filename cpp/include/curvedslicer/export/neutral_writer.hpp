@@ -9,13 +9,15 @@
 // the time-parameterised motion, dwells included), residual_deg, flags (MotionFlag bits),
 // wire_feed_m_min (of the move arriving at the point: MotionPoint::wireFeed, or the cell's
 // process wire feed where that is 0; 0 with the arc off), weld_schedule (MotionPoint::
-// weldSchedule, 0 = the cell's), bead_width_mm (MotionPoint::beadWidth), kind
-// (path | retract | travel | approach | home). Every motion point is a row, arc-off points
-// included, so axis speeds follow from consecutive rows' joints, a1, a2 and time_s. Numbers in
-// the shortest form that reads back to the same double; CSV with '\n' line endings and a header
-// row. Version 3 (version 2 had no wire feed, weld schedule and bead width; version 1 no kind
-// and a distance / speed time).
-// JSON: {"format": "curvedslicer-motion", "version": 3, "cell": …, "columns": […],
+// weldSchedule, 0 = the cell's), bead_width_mm (MotionPoint::beadWidth), torch_angle_deg,
+// travel_angle_deg (push > 0, drag < 0), work_angle_deg (MotionPoint: the torch off gravity to
+// clear the deposit, table or fixture), gravity_deviation_deg (MotionPoint::residual: the deposit
+// off gravity), kind (path | retract | travel | approach | home). Every motion point is a row,
+// arc-off points included, so axis speeds follow from consecutive rows' joints, a1, a2 and time_s.
+// Numbers in the shortest form that reads back to the same double; CSV with '\n' line endings and a
+// header row. Version 4 (version 3 had no torch angles and gravity deviation; version 2 no wire
+// feed, weld schedule and bead width; version 1 no kind and a distance / speed time). JSON:
+// {"format": "curvedslicer-motion", "version": 4, "cell": …, "columns": […],
 //        "joint_names": ["j1",…,"j6","a1","a2"], "points": [[…, "path"], …]} (kind as a string).
 // Cost: O(points), about 300 bytes per point.
 #pragma once

@@ -223,6 +223,10 @@ struct ProcessDescription {
   double depositionEfficiency = 1.0;  ///< (0, 1], deposited / fed mass (spatter loss)
   double layerDwell = 0.0;            ///< s, wait after each layer (interpass cooling)
   double pathDwell = 0.0;             ///< s, wait after each path
+  /// rad (15°), the torch window: the largest angle of the torch off gravity the planner may use
+  /// to clear deposit, table and fixture (JSON "max_torch_angle_deg", 0..45; 0 = always along
+  /// gravity). GMA tolerates push/drag and work angles of about 0-15°, up to 20-25° in WAAM.
+  double maxTorchAngle = 0.261799387799;
   SpeedUnit speedUnit = SpeedUnit::MillimetresPerSecond;  ///< unit the controller expects
   ArcControl arcControl = ArcControl::ConditionFile;
   int arcStartCondition = 1;  ///< ASF#(n) condition-file number

@@ -54,6 +54,10 @@ double depositBeadRadius(const PlanParameters& parameters);
 /// the move arriving at motion.points[index].
 std::string describeMove(const MotionPlan& motion, std::size_t index);
 
+/// InvalidInput naming the sizes unless the torch envelope, the table and the bead radius are
+/// positive and the envelope is longer than twice its widest radius.
+void validateCollisionGeometry(const CollisionGeometry& geometry, double beadRadius);
+
 /// Checks every move of `motion` (see the file comment). Colliding moves get kMotionCollision
 /// and a CollisionReport; with options.allowCollisions they are also summarised in the
 /// warnings, otherwise InvalidInput names the first few moves, what they hit and by how much.

@@ -60,6 +60,7 @@ enum MotionFlag : std::uint32_t {
   kMotionInserted = 1u << 9,       ///< point inserted by the planner (fast positioner turn)
   kMotionNearSingular = 1u << 10,  ///< V inside the near-singular band (a2 blended, rate bounded)
   kMotionCollision = 1u << 11,     ///< the move arriving here collides (--allow-collisions)
+  kMotionTorchTilted = 1u << 12,   ///< torch tilted off gravity to clear deposit, table, fixture
 };
 
 /// What a motion point is. Path points are the plan's points (welded except the path's first);
@@ -102,13 +103,24 @@ struct MotionPoint {
   /// mm/s, the weld speed planned for the move before the axis limits (the cell's, or
   /// the bead model's for the point's width); 0 = the cell's weld speed (arc-off moves).
   double nominalSpeed = 0.0;
-  int weldSchedule = 0;     ///< controller weld condition/schedule number for the move; 0 = cell's
-  double time = 0.0;        ///< s from the program start to the arrival here (time parameterisation
-                            ///< against every axis's speed limit; dwells included)
-  bool arcOn = false;       ///< the move arriving at this point is welded
-  bool pathStart = false;   ///< first point of a path (ARCON after reaching it)
-  bool pathEnd = false;     ///< last point of a path (ARCOF after reaching it)
-  double residual = 0.0;    ///< rad, angle between the transformed plan V and gravity
+  int weldSchedule = 0;    ///< controller weld condition/schedule number for the move; 0 = cell's
+  double time = 0.0;       ///< s from the program start to the arrival here (time parameterisation
+                           ///< against every axis's speed limit; dwells included)
+  bool arcOn = false;      ///< the move arriving at this point is welded
+  bool pathStart = false;  ///< first point of a path (ARCON after reaching it)
+  bool pathEnd = false;    ///< last point of a path (ARCOF after reaching it)
+  double residual = 0.0;   ///< rad, angle between the transformed plan V and gravity: the
+                           ///< gravity deviation of the deposit at this point
+  /// Torch lean (part frame, orthogonal to the torch axis along gravity, norm = the torch
+  /// angle in rad): the direction the torch body leans to where the torch is tilted off
+  /// gravity to clear the deposit, the table or the fixture; zero where it runs along gravity.
+  Vec3 torchLean = Vec3::Zero();
+  /// rad, angle of the torch axis from gravity (|torchLean|; arc-off points: of their pose)
+  double torchAngle = 0.0;
+  /// rad, path points: the torch angle's share along the travel (projected onto the plane of
+  /// gravity and the travel direction): > 0 push (tip ahead), < 0 drag; 0 on arc-off points
+  double travelAngle = 0.0;
+  double workAngle = 0.0;   ///< rad, its share across the travel: > 0 the body leans left
   std::uint32_t flags = 0;  ///< MotionFlag bits
 };
 
@@ -156,6 +168,8 @@ struct MotionEstimate {
   double depositedMass = 0.0;    ///< g
   std::size_t paths = 0;
   std::size_t points = 0;
+  double maxTorchAngle = 0.0;        ///< rad, largest torch angle off gravity (planMotion)
+  double maxGravityDeviation = 0.0;  ///< rad, largest residual of V from gravity (planMotion)
 };
 
 enum class UnreachablePolicy {
@@ -230,9 +244,11 @@ struct MotionPlan {
 /// PartPlacement::Auto plans with Rest on the cell's riser (height 0 without one; diameter: the
 /// cell's, else the plate's side, else the first layer's footprint) and, while the torch
 /// reaches into the table, raises the riser by the deepest reach plus 2 mm and plans again (at
-/// most 12 times); the note names the height chosen. A torch that hits the riser or the plate
-/// itself is not cleared by raising: InvalidInput names the move and the smaller riser or plate
-/// that would help.
+/// most 12 times); a riser it chose itself (the cell gives no riser diameter) that the torch
+/// reaches into is narrowed by twice the deepest reach plus 2 mm, down to a quarter of its first
+/// width (the part's edge then overhangs it, on its substrate). The note names the riser chosen.
+/// A torch that hits the cell's own riser or plate is not cleared so: InvalidInput names the
+/// move and the smaller riser or plate that would help.
 MotionPlan planMotion(const Plan& plan, const Cell& cell, const MotionOptions& options = {},
                       const Progress& progress = {});
 

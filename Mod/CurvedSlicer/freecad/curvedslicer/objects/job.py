@@ -215,6 +215,17 @@ PROPERTIES = [
     ("App::PropertyVector", "PoseDeposition", "Results",
      "Deposition direction V of PosePoint turned by the positioner (world; gravity ideally)",
      FreeCAD.Vector(0, 0, -1)),
+    ("App::PropertyFloat", "PoseTorchAngle", "Results",
+     "Angle of the torch off gravity at PosePoint (tilted to clear the deposit, the table or the "
+     "fixture), degrees", 0.0),
+    ("App::PropertyFloat", "MaxTorchAngle", "Results",
+     "Largest angle of the torch off gravity over the motion, degrees", 0.0),
+    ("App::PropertyFloat", "MaxGravityDeviation", "Results",
+     "Largest angle between the turned deposition direction and gravity over the motion, "
+     "degrees", 0.0),
+    ("App::PropertyInteger", "CollisionCount", "Results",
+     "Moves on which the torch still hits the deposit, the table or the fixture (only with "
+     "AllowCollisions; otherwise planning stops at the first)", 0),
     ("App::PropertyStringList", "MotionWarnings", "Results",
      "Warnings of the motion planning (limits, unreachable points)", []),
     ("App::PropertyString", "InputsDigest", "Internal",

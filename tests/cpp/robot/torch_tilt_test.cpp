@@ -1,0 +1,203 @@
+// Collision avoidance by torch angle (robot/torch_tilt): a path beside a tall wall of earlier
+// beads, which the torch along gravity would hit, is welded with the torch leaning away from the
+// wall by the smallest angle that clears (checked against a second computation of the envelope's
+// lowest capsule against the wall's beads, and by sampling the torch cone itself); a wall too
+// close for the torch window, or a window of 0, stays a collision that names the window; the
+// window is a cell field with errors naming it; the angles reach the CSV.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "common/test_constants.hpp"
+#include "curvedslicer/core/error.hpp"
+#include "curvedslicer/export/neutral_writer.hpp"
+#include "curvedslicer/robot/cell.hpp"
+#include "curvedslicer/robot/motion.hpp"
+#include "robot_test_support.hpp"
+
+namespace curvedslicer {
+namespace {
+
+using robot_test::distanceToSegment;
+using robot_test::straightPath;
+using testing::kPi;
+
+constexpr double kDegree = kPi / 180.0;
+constexpr double kBeadRadius = 1.85;    // half the plan's 3.7 mm bead spacing
+constexpr double kWallTop = 45.0;       // 30 layers of 1.5 mm
+constexpr double kWallHalfLength = 40;  // the wall runs from x = -40 to 40 mm
+
+/// Layers 0-29: one bead each along x at y = 0 (a wall 45 mm high); layer 30: a path from
+/// x = -20 to 20 mm at height 1.5 mm, `offset` mm beside the wall.
+Plan pathBesideAWall(double offset) {
+  Plan plan;
+  plan.parameters.beadSpacing = 2.0 * kBeadRadius;
+  plan.parameters.layerThickness = 1.5;
+  for (int l = 0; l <= 30; ++l) {
+    PlanLayer layer;
+    layer.index = l;
+    if (l < 30) {
+      const double z = 1.5 * (l + 1);
+      layer.paths.push_back(
+          straightPath(Vec3(-kWallHalfLength, 0, z), Vec3(kWallHalfLength, 0, z)));
+    } else {
+      layer.paths.push_back(straightPath(Vec3(-20, offset, 1.5), Vec3(20, offset, 1.5)));
+    }
+    layer.paths.back().layer = l;
+    plan.layers.push_back(layer);
+  }
+  return plan;
+}
+
+/// Second computation of the planner's torch model against the wall: the lowest capsule of the
+/// default cell's cone (radius 15.625 mm, axis 30.625 to 111.25 mm above the TCP; the higher
+/// capsules stay above the wall), leaning by `angle` straight away from the wall, sampled every
+/// 0.05 mm along its axis against every wall bead's axis. True when it clears every bead.
+bool capsuleClearsWall(double offset, double angle) {
+  const double radius = 15.625;
+  for (double h = 30.625; h <= 111.25; h += 0.05) {
+    const double y = offset + h * std::sin(angle);
+    const double z = 1.5 + h * std::cos(angle);
+    for (int l = 0; l < 30; ++l) {
+      if (std::hypot(y, z - 1.5 * (l + 1)) < radius + kBeadRadius) return false;
+    }
+  }
+  return true;
+}
+
+/// The smallest lean (rad) at which capsuleClearsWall, by bisection (monotone here: leaning
+/// away only moves the capsule away from the wall).
+double smallestClearingLean(double offset) {
+  double lo = 0.0, hi = 40.0 * kDegree;
+  while (hi - lo > 1e-4 * kDegree) {
+    const double mid = 0.5 * (lo + hi);
+    (capsuleClearsWall(offset, mid) ? hi : lo) = mid;
+  }
+  return hi;
+}
+
+/// Distance (mm) of the torch cone itself (the cell's envelope, sampled every 1 mm along the axis
+/// and every 5° around) from the wall's bead surfaces; negative inside a bead.
+double wallConeClearance(const TorchEnvelope& torch, const Vec3& tip, const Vec3& up) {
+  const Vec3 u = up.normalized();
+  const Vec3 a = u.unitOrthogonal();
+  const Vec3 b = u.cross(a);
+  double nearest = kInf;
+  for (double h = torch.stickout; h <= torch.stickout + torch.length; h += 1.0) {
+    const double r =
+        torch.radius + (torch.topRadius - torch.radius) * (h - torch.stickout) / torch.length;
+    for (int k = 0; k < 72; ++k) {
+      const double phi = 2.0 * kPi * k / 72;
+      const Vec3 x = tip + h * u + r * (std::cos(phi) * a + std::sin(phi) * b);
+      if (x.z() > kWallTop + 50.0) break;
+      for (int l = 0; l < 30; ++l) {
+        const double z = 1.5 * (l + 1);
+        nearest = std::min(nearest, distanceToSegment(x, Vec3(-kWallHalfLength, 0, z),
+                                                      Vec3(kWallHalfLength, 0, z)) -
+                                        kBeadRadius);
+      }
+    }
+  }
+  return nearest;
+}
+
+TEST(TorchTilt, PathBesideATallWallIsWeldedLeaningAwayByTheSmallestAngle) {
+  constexpr double kOffset = 12.0;  // the torch along gravity reaches 5.5 mm into the wall
+  ASSERT_FALSE(capsuleClearsWall(kOffset, 0.0));
+  const double needed = smallestClearingLean(kOffset);
+  ASSERT_GT(needed, 5.0 * kDegree);
+  ASSERT_LT(needed, 15.0 * kDegree);
+  const Cell cell = defaultCell();
+  ASSERT_NEAR(cell.process.maxTorchAngle, 15.0 * kDegree, 1e-12);
+  const MotionPlan motion = planMotion(pathBesideAWall(kOffset), cell);
+  EXPECT_TRUE(motion.collisions.empty());
+  const MotionPathSpan& weld = motion.paths.back();
+  double largest = 0.0;
+  for (std::size_t k = weld.begin; k < weld.end; ++k) {
+    const MotionPoint& m = motion.points[k];
+    SCOPED_TRACE("point " + std::to_string(m.index));
+    ASSERT_EQ(m.kind, MoveKind::Path);
+    EXPECT_TRUE(m.flags & kMotionTorchTilted);
+    // the smallest clearing angle within the search's resolution (2.5° rings halved twice)
+    EXPECT_GE(m.torchAngle, needed - 1e-9);
+    EXPECT_LE(m.torchAngle, needed + 2.5 * kDegree / 4 + 0.01 * kDegree);
+    // straight away from the wall (+y), across the travel (+x): a work angle, the body leaning
+    // to the left of the travel, no push or drag
+    EXPECT_NEAR(m.workAngle, m.torchAngle, 1e-9);
+    EXPECT_NEAR(m.travelAngle, 0.0, 1e-9);
+    // the robot's TCP: its z axis (out of the torch) is off gravity by the torch angle, leaning
+    // so that the torch body points to +y in the part frame
+    const Vec3 z = m.toolInWorld.linear().col(2);
+    EXPECT_NEAR(std::acos(std::clamp(z.dot(cell.gravity.normalized()), -1.0, 1.0)), m.torchAngle,
+                1e-9);
+    const Vec3 up = -m.toolInPart.linear().col(2);
+    EXPECT_GT(up.y(), 0.0);
+    EXPECT_NEAR(std::atan2(up.y(), up.z()), m.torchAngle, 1e-9);
+    // the torch cone itself clears every bead of the wall
+    EXPECT_GE(wallConeClearance(cell.tool.envelope, m.toolInPart.translation(), up), 0.0);
+    largest = std::max(largest, m.torchAngle);
+  }
+  EXPECT_NEAR(motion.total.maxTorchAngle, largest, 1e-12);
+  EXPECT_NEAR(motion.layers.back().maxTorchAngle, largest, 1e-12);
+  EXPECT_EQ(motion.layers.front().maxTorchAngle, 0.0);  // the wall itself: along gravity
+  const bool noted = std::any_of(motion.notes.begin(), motion.notes.end(), [](const auto& n) {
+    return n.find("torch tilted off gravity on") != std::string::npos;
+  });
+  EXPECT_TRUE(noted);
+  // the angles reach the neutral CSV, in degrees
+  const ExportResult csv = NeutralWriter(ExportFormat::Csv).write(motion, cell, {}, {});
+  EXPECT_NE(csv.files[0].text.find("torch_angle_deg,travel_angle_deg,work_angle_deg"),
+            std::string::npos);
+}
+
+TEST(TorchTilt, WallBeyondTheWindowOrAWindowOfZeroStaysACollisionNamingTheWindow) {
+  // 8 mm from the wall the capsule needs about 18°: more than the 15° window
+  ASSERT_GT(smallestClearingLean(8.0), 15.0 * kDegree);
+  for (const auto& [offset, window] : {std::pair{8.0, 15.0}, std::pair{12.0, 0.0}}) {
+    SCOPED_TRACE("offset " + std::to_string(offset));
+    Cell cell = defaultCell();
+    cell.process.maxTorchAngle = window * kDegree;
+    try {
+      planMotion(pathBesideAWall(offset), cell);
+      ADD_FAILURE() << "no collision reported";
+    } catch (const InvalidInput& e) {
+      const std::string text = e.what();
+      EXPECT_NE(text.find("torch vs deposit of layer"), std::string::npos) << text;
+      EXPECT_NE(text.find("widen the torch window (the cell's process/max_torch_angle_deg, now " +
+                          std::string(window == 0.0 ? "0.0" : "15.0") + " deg"),
+                std::string::npos)
+          << text;
+    }
+    MotionOptions options;
+    options.allowCollisions = true;
+    const MotionPlan motion = planMotion(pathBesideAWall(offset), cell, options);
+    EXPECT_FALSE(motion.collisions.empty());
+    // a tilt that does not clear is not made: the torch stays along gravity
+    for (const MotionPoint& m : motion.points) EXPECT_EQ(m.torchAngle, 0.0);
+  }
+}
+
+TEST(TorchTilt, TheWindowIsACellFieldWithErrorsNamingIt) {
+  nlohmann::json cell = nlohmann::json::parse(writeCellJson(defaultCell()));
+  EXPECT_EQ(cell["process"]["max_torch_angle_deg"], 15.0);
+  cell["process"]["max_torch_angle_deg"] = 20;
+  EXPECT_NEAR(parseCell(cell.dump(), "cell.json").process.maxTorchAngle, 20.0 * kDegree, 1e-12);
+  for (const double bad : {50.0, -1.0}) {
+    cell["process"]["max_torch_angle_deg"] = bad;
+    try {
+      parseCell(cell.dump(), "cell.json");
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const InvalidInput& e) {
+      const std::string text = e.what();
+      EXPECT_NE(text.find("/process/max_torch_angle_deg"), std::string::npos) << text;
+      EXPECT_NE(text.find("must be in [0, 45] degrees"), std::string::npos) << text;
+      EXPECT_NE(text.find(bad == 50.0 ? "50" : "-1"), std::string::npos) << text;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace curvedslicer
