@@ -126,10 +126,18 @@ void DepositIndex::visitCandidates(const Vec3& p, const Vec3& q, double reach,
     std::fill(stamp_.begin(), stamp_.end(), 0u);
     query_ = 1;
   }
+  // a bead within reach of [p, q] is listed in the cell holding its point nearest to [p, q],
+  // whose centre lies within half a cell diagonal of that point: cells farther than that from
+  // the query segment need not be visited (a long slanted query spans many such cells)
+  const double cellCull = 0.5 * std::sqrt(3.0) * cell_ + radius_ + reach;
   for (int z = lo.z(); z <= hi.z(); ++z) {
     for (int y = lo.y(); y <= hi.y(); ++y) {
       for (int x = lo.x(); x <= hi.x(); ++x) {
-        for (std::uint32_t id : cells_[cellIndex(x, y, z)]) {
+        const std::vector<std::uint32_t>& list = cells_[cellIndex(x, y, z)];
+        if (list.empty()) continue;
+        const Vec3 centre = origin_ + (Vec3(x, y, z) + Vec3::Constant(0.5)) * cell_;
+        if (pointSegmentDistance(centre, p, q) > cellCull) continue;
+        for (std::uint32_t id : list) {
           if (stamp_[id] == query_) continue;
           stamp_[id] = query_;
           const Chunk& chunk = chunks_[id];
