@@ -24,8 +24,9 @@ def part_in_table_frame(job):
     objects = poses.pose_objects(job)
     table = objects["PositionerTable"]
     part = objects["PosePart"]
-    to_table = table.Placement.toMatrix().inverse().multiply(part.Placement.toMatrix()).multiply(
-        job.Solid.Placement.toMatrix())
+    # the link shows the solid's own shape (its vertices already in the part frame) carried by
+    # the link's placement
+    to_table = table.Placement.toMatrix().inverse().multiply(part.Placement.toMatrix())
     points = [to_table.multiply(v.Point) for v in job.Solid.Shape.Vertexes]
     return min(p.z for p in points), max((p.x ** 2 + p.y ** 2) ** 0.5 for p in points)
 
@@ -72,14 +73,17 @@ def run():
     box.Length, box.Width, box.Height = 30, 20, 12
     box.Placement.Base = FreeCAD.Vector(-15, -10, 0)  # centred on the table axis
     doc.recompute()
-    # Layers grow from the side face x = -15 along +x: the positioner tilts the part over.
-    job = api.make_job(doc, box, start=(box, ["Face1"]), layer_thickness=5.0, voxel_size=1.0)
-    # The cell's placement (table_to_part as given): the box's bottom face exactly on the table.
-    # (The default Rest derives it from the beads, to within the paths' accuracy: test_motion_options.)
+    # Layers grow from the side face x = -15 along +x: the positioner tilts the part over. The
+    # cell's placement (table_to_part as given), 150 mm above the table (as on a riser): the box
+    # stays on its side, so the table tilts far over while the torch stays clear of it.
+    cell = json.loads(native.default_cell_json())
+    cell["positioner"]["table_to_part"]["xyz_mm"] = [0, 0, 150]
+    lifted = os.path.join(TMP, "lifted_cell.json")
+    with open(lifted, "w") as f:
+        json.dump(cell, f)
+    job = api.make_job(doc, box, start=(box, ["Face1"]), layer_thickness=5.0, voxel_size=1.0,
+                       cell_file=lifted)
     job.PartPlacement = "Cell"
-    # The box lies on its side with layers growing sideways: the torch really reaches the table
-    # while the first layers are welded (the collision check); this test is about the display.
-    job.AllowCollisions = True
     api.run(job)
     process_events()
     count = api.pose_count(job)
@@ -93,26 +97,28 @@ def run():
         process_events()
         tilts.append(abs(job.PoseA1))
         low, reach = part_in_table_frame(job)
-        check(abs(low) < 1e-6, "point %d (a1 %.1f°, a2 %.1f°): the part's lowest point is on "
-              "the table top (%.2e mm)" % (index, job.PoseA1, job.PoseA2, low))
+        check(abs(low - 150.0) < 1e-6, "point %d (a1 %.1f°, a2 %.1f°): the part's lowest point "
+              "is 150 mm above the table top (%.6f mm)" % (index, job.PoseA1, job.PoseA2, low))
         check(reach <= radius, "point %d: the part's footprint (%.1f mm) is inside the table "
               "disc (%.1f mm)" % (index, reach, radius))
     check(min(tilts) > 45.0, "the poses tilt the table (|a1| %s°)" % [round(t, 1) for t in tilts])
-    show_pose(job, "pose_on_table")
+    show_pose(job, "pose_lifted")
 
-    cell = json.loads(native.default_cell_json())
-    cell["positioner"]["table_to_part"]["xyz_mm"] = [0, 0, 20]
-    lifted = os.path.join(TMP, "lifted_cell.json")
-    with open(lifted, "w") as f:
-        json.dump(cell, f)
-    job.CellFile = lifted
+    # The default cell, placement Auto: on the bare table the torch would reach the table while
+    # the first layers' edges are welded, so the part (turned to stand on its start face) goes
+    # on the lowest riser that clears; the rest on it is derived from the beads, to within the
+    # paths' accuracy (test_motion_options).
+    job.CellFile = ""
+    job.PartPlacement = "Auto"
     api.run(job)
-    api.set_pose(job, count // 2)
+    riser = api.motion(job)["fixture"]["riser_height_mm"]
+    check(riser > 0.0, "placement Auto stands the part on a riser (%.1f mm)" % riser)
+    api.set_pose(job, api.pose_count(job) // 2)
     process_events()
     low, _ = part_in_table_frame(job)
-    check(abs(low - 20.0) < 1e-6, "a cell's table_to_part 20 mm up shows the part 20 mm above "
-          "the table (%.6f mm)" % low)
-    show_pose(job, "pose_lifted")
+    check(abs(low - riser) < 0.5, "the part's lowest point is on the riser's top (%.3f mm, "
+          "riser %.3f mm)" % (low, riser))
+    show_pose(job, "pose_on_riser")
     FreeCAD.closeDocument(doc.Name)
 
 
