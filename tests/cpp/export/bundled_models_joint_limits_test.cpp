@@ -1,4 +1,5 @@
-// Every bundled model, planned coarse from its usual start, moved by each bundled cell: no motion
+// Every bundled model, planned coarse from its usual start, moved by each bundled cell with
+// placement auto and no collision allowed: no motion
 // point (weld, air move or home) leaves the robot's joint ranges, violates one of its
 // interference limits (robot/interference) or folds the forearm onto the upper arm. The checks
 // are computed here from the controller joint angles and the cell file's numbers, not with the
@@ -105,12 +106,12 @@ TEST_P(BundledModelJointLimits, NoMotionPointOfAnyCellLeavesItsJointOrInterferen
     SCOPED_TRACE(file);
     const Cell cell =
         readCell(std::filesystem::path(CURVEDSLICER_SOURCE_DIR) / "resources" / "cells" / file);
-    // The torch still meets the table on the bunny's and the branches' first layers (collision
-    // avoidance is not part of the planner yet); this test is about the joints, so collisions
-    // are reported as warnings here instead of stopping the motion plan.
+    // every model's motion clears table, riser and deposit (a collision would stop planMotion);
+    // placement auto stands a part whose first layers bring the table to the torch on a riser
     MotionOptions options;
-    options.allowCollisions = true;
+    options.placement = PartPlacement::Auto;
     const MotionPlan motion = planMotion(plan, cell, options);
+    EXPECT_TRUE(motion.collisions.empty());
     ASSERT_EQ(motion.paths.size(), plan.pathCount());
     expectWithinJointLimits(motion, cell.robot);
   }
