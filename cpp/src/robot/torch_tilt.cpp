@@ -134,11 +134,13 @@ class TiltPass {
   /// The smallest lean that clears the torch at `f` (see the file comment); `cleared` false
   /// (and no lean) when none at the window's angle does.
   Vec3 search(const TorchFrame& f, const Vec3& preferred, bool& cleared) const {
-    const Vec3 want = preferred.isZero() ? Vec3(Vec3::Zero()) : orthogonalUnit(preferred, f.up);
-    // the window's ring first: where nothing clears there, smaller tilts are not tried
+    Vec3 want = preferred.isZero() ? Vec3(Vec3::Zero()) : orthogonalUnit(preferred, f.up);
+    // the window's ring first: where nothing clears there, smaller tilts are not tried; its
+    // clearing direction guides the smaller rings (tried nearest it first) when nothing else does
     const int widest = clearingDirection(f, maxAngle_, want);
     cleared = widest >= 0;
     if (!cleared) return Vec3::Zero();
+    if (want.isZero()) want = direction(f, widest);
     for (int ring = 1; ring <= rings_; ++ring) {
       const int j = ring < rings_ ? clearingDirection(f, ringAngle(ring), want) : widest;
       if (j < 0) continue;

@@ -11,10 +11,10 @@
 //   2. for a point that collides, tilts of the torch axis about its tip are tried in rings of
 //      16 directions: first the window's angle, where nothing clears the point keeps its torch
 //      along gravity (the collision check then names it); else rings of growing angle (steps of
-//      at most 2.5°); with a previous point's tilt the directions nearest it are tried first
-//      and the first that clears is taken, without one the middle of the longest run of
-//      clearing directions (farthest from what the torch hits); the first ring that clears is
-//      refined by bisection of the angle (two halvings) in that direction;
+//      at most 2.5°), the directions nearest a wanted one tried first and the first that clears
+//      taken: the previous point's tilt, or without one the middle of the longest run of
+//      clearing directions at the window's angle (farthest from what the torch hits); the first
+//      ring that clears is refined by bisection of the angle (two halvings) in that direction;
 //   3. the tilts are made smooth along the path: a tilt spreads to its neighbours, shrinking by
 //      kTiltRate per mm of path; a point that needs a tilt of its own keeps it, any other takes
 //      the largest of its neighbours' spread tilts, is checked with it and, where that collides,
