@@ -364,9 +364,9 @@ TEST(HemisphericalShell, RimOnTheTableExportsCollisionFreeForEveryBundledCell) {
     const ShellClearance c = measureClearance(motion, placed, 0.5 * 3.7);
     std::cout << file << ": riser " << motion.fixture.riserHeight << " mm high, "
               << motion.fixture.riserDiameter << " mm across; smallest clearance of the torch cone "
-              << "from the table " << c.table << " mm, the riser " << c.riser
-              << " mm, the deposit " << c.deposit << " mm; largest torch angle "
-              << motion.total.maxTorchAngle / kDegT << " deg\n";
+              << "from the table " << c.table << " mm, the riser " << c.riser << " mm, the deposit "
+              << c.deposit << " mm; largest torch angle " << motion.total.maxTorchAngle / kDegT
+              << " deg\n";
     EXPECT_GE(c.table, 0.0) << c.where;
     EXPECT_GE(c.riser, 0.0) << c.where;
     EXPECT_GE(c.deposit, 0.0) << c.where;
