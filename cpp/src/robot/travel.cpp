@@ -199,11 +199,17 @@ bool TravelPlanner::routeClears(const Route& route, const MotionPoint& from, con
   }
   const Eigen::Quaterniond q0(from.toolInWorld.linear());
   const Eigen::Quaterniond q1(to.toolInWorld.linear());
-  const double sampleStep = 0.5 * setup_.geometry.torch.radius;
+  const TorchEnvelope& torch = setup_.geometry.torch;
+  const double sampleStep = 0.5 * torch.radius;
   for (std::size_t k = 1; k < route.points.size(); ++k) {
     const Vec3& p = route.points[k - 1];
     const Vec3& q = route.points[k];
-    const int n = std::max(1, static_cast<int>(std::ceil((q - p).norm() / sampleStep)));
+    // samples as the collision check takes them: the tip's way plus the sweep of the torch's far
+    // end where the orientation turns along the segment
+    const double turn =
+        q0.slerp(route.along[k - 1], q1).angularDistance(q0.slerp(route.along[k], q1));
+    const double sweep = (q - p).norm() + turn * (torch.stickout + torch.length);
+    const int n = std::max(1, static_cast<int>(std::ceil(sweep / sampleStep)));
     for (int i = 0; i <= n; ++i) {
       const double u = static_cast<double>(i) / n;
       const double t = route.along[k - 1] + u * (route.along[k] - route.along[k - 1]);
