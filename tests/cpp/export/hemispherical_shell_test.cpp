@@ -15,12 +15,11 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
-#include <map>
-#include <sstream>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
+#include "axis_speeds.hpp"
 #include "common/sanitized_build.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/export/exporter.hpp"
@@ -268,46 +267,6 @@ void expectA2Steps(const MotionPlan& motion) {
   EXPECT_LE(largest, MotionOptions{}.maxA2Step + 1e-9) << largest / kDegT << " deg";
 }
 
-/// Speeds of the six joints and both positioner axes from the CSV's per-point angles and times.
-void expectAxisSpeedsWithinLimits(const MotionPlan& motion, const Cell& placed) {
-  const ExportResult r = exportProgram(motion, placed, ExportFormat::Csv);
-  std::istringstream in(r.files.at(0).text);
-  std::string line;
-  std::getline(in, line);
-  std::map<std::string, std::size_t> column;
-  {
-    std::istringstream header(line);
-    std::string name;
-    for (std::size_t i = 0; std::getline(header, name, ','); ++i) column[name] = i;
-  }
-  const char* names[8] = {"j1_deg", "j2_deg", "j3_deg", "j4_deg",
-                          "j5_deg", "j6_deg", "a1_deg", "a2_deg"};
-  double limits[8];
-  for (int j = 0; j < 6; ++j) limits[j] = placed.robot.joints[j].maxSpeed / kDegT;
-  limits[6] = placed.positioner.tilt.limit.maxSpeed / kDegT;
-  limits[7] = placed.positioner.rotation.limit.maxSpeed / kDegT;
-  std::vector<double> previous;
-  double fastest = 0.0;
-  while (std::getline(in, line)) {
-    std::vector<std::string> fields;
-    std::istringstream row(line);
-    for (std::string f; std::getline(row, f, ',');) fields.push_back(f);
-    std::vector<double> now(9);
-    for (int a = 0; a < 8; ++a) now[a] = std::stod(fields.at(column[names[a]]));
-    now[8] = std::stod(fields.at(column["time_s"]));
-    if (!previous.empty()) {
-      const double dt = now[8] - previous[8] + 2.0 * (std::nextafter(now[8], kInf) - now[8]);
-      for (int a = 0; a < 8; ++a) {
-        const double change = std::abs(now[a] - previous[a]);
-        fastest =
-            std::max(fastest, dt > 0.0 ? change / dt / limits[a] : (change > 0.0 ? kInf : 0.0));
-      }
-    }
-    previous = now;
-  }
-  EXPECT_LE(fastest, 1.0 + 1e-9) << "fastest axis at " << fastest << " of its limit";
-}
-
 /// The program in the cell's own language read back strictly: one weld per path, the stated
 /// configuration constant within each weld and consistent with the planned joints.
 void expectOwnLanguageReadsBack(const MotionPlan& motion, const Cell& placed, ExportFormat format) {
@@ -371,7 +330,7 @@ TEST(HemisphericalShell, RimOnTheTableExportsCollisionFreeForEveryBundledCell) {
     EXPECT_GE(c.riser, 0.0) << c.where;
     EXPECT_GE(c.deposit, 0.0) << c.where;
     expectOwnLanguageReadsBack(motion, placed, language);
-    expectAxisSpeedsWithinLimits(motion, placed);
+    expectAxisSpeedsFromCsv(motion, placed);
     expectA2Steps(motion);
   }
 }
