@@ -20,7 +20,9 @@
 //    §2.2.3) and fig. 9(b)
 //    ("propagation along the shorter side"); the reading above achieves that purpose.
 //  * Step 9: the loop ends when no unknown cell borders B; inside cells never reached are reported.
-//  * Seeds (step 1) get the exact distance to the start surface rather than 0, as the issue asks.
+//  * Seeds (step 1) get the exact distance to the start surface rather than 0, so a start surface
+//  between
+//    voxel centres does not shift every distance by up to half a voxel.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
