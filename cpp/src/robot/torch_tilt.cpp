@@ -156,7 +156,8 @@ class TiltPass {
   }
 
   void planPath(const MotionPathSpan& span);
-  std::vector<Vec3> spread(const MotionPathSpan& span, const std::vector<Vec3>& need) const;
+  std::vector<Vec3> spread(const MotionPathSpan& span, const std::vector<TorchFrame>& frames,
+                           const std::vector<Vec3>& need) const;
   void record(std::size_t k, const TorchFrame& f, const Vec3& lean);
 
   MotionPlan& motion_;
@@ -173,6 +174,7 @@ class TiltPass {
 /// that needs a lean of its own keeps it (it was searched so that it clears there), any other
 /// takes the longest of the spread ones (turned orthogonal to its torch axis).
 std::vector<Vec3> TiltPass::spread(const MotionPathSpan& span,
+                                   const std::vector<TorchFrame>& frames,
                                    const std::vector<Vec3>& need) const {
   const std::size_t n = span.end - span.begin;
   std::vector<double> s(n, 0.0);
@@ -189,12 +191,7 @@ std::vector<Vec3> TiltPass::spread(const MotionPathSpan& span,
       const double reduced = angle - kTiltRate * std::abs(s[j] - s[i]);
       if (reduced <= 0.0) return false;
       if (need[j].isZero() && reduced > lean[j].norm()) {
-        const Vec3 up = -(computePartInWorld(cell_.positioner, motion_.points[span.begin + j].a1,
-                                             motion_.points[span.begin + j].a2)
-                              .linear()
-                              .transpose() *
-                          gravity_);
-        lean[j] = leanAt(need[i] * (reduced / angle), up.normalized());
+        lean[j] = leanAt(need[i] * (reduced / angle), frames[j].up);
       }
       return true;
     };
@@ -248,7 +245,7 @@ void TiltPass::planPath(const MotionPathSpan& span) {
     }
     previous = need[i];
   }
-  std::vector<Vec3> lean = spread(span, need);
+  std::vector<Vec3> lean = spread(span, frames, need);
   for (int round = 0; round < kRounds; ++round) {
     bool changed = false;
     for (std::size_t i = 0; i < need.size(); ++i) {
@@ -261,7 +258,7 @@ void TiltPass::planPath(const MotionPathSpan& span) {
       changed = true;
     }
     if (!changed) break;
-    lean = spread(span, need);
+    lean = spread(span, frames, need);
   }
   for (std::size_t i = 0; i < need.size(); ++i) {
     record(span.begin + i, frames[i], lean[i]);
