@@ -87,6 +87,12 @@ void collisionCheck(benchmark::State& state) {
   std::size_t pathPoints = 0;
   for (const MotionPathSpan& span : motion.paths) pathPoints += span.end - span.begin;
   Cell cell = defaultCell();
+  // second argument 0: the torch alone (a version-2 cell without the arm's capsules and the
+  // positioner's body), the peer of the whole-cell check (1)
+  if (state.range(1) == 0) {
+    cell.robot.links = ArmEnvelope{};
+    cell.positioner.geometry.bodyRadius = 0.0;
+  }
   PlanParameters parameters;
   parameters.beadSpacing = 3.7;
   const double beadRadius = depositBeadRadius(parameters);
@@ -200,8 +206,9 @@ BENCHMARK(motionAvoidance)
 
 BENCHMARK(collisionCheck)
     ->Name("collision/check")
-    ->Arg(100000)
-    ->Arg(1000000)
+    ->Args({100000, 1})
+    ->Args({1000000, 0})
+    ->Args({1000000, 1})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)

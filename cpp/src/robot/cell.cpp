@@ -360,7 +360,53 @@ std::vector<JointInequality> readInterference(Field& r, std::string_view origin,
   return limits;
 }
 
-RobotDescription readRobot(Field& top, std::string_view origin, RobotVendor vendor,
+/// A link or body radius of a cell version 3: positive and below 1 m (larger is no arm's link
+/// and is taken for a unit slip).
+double readRadius(Field& f, std::string_view key, std::string_view hint) {
+  constexpr double kMaxRadius = 1000.0;
+  const double v = f.positive(key, hint);
+  if (v > kMaxRadius) {
+    f.fail(key, "must be at most 1000 mm", formatNumber(v), hint);
+  }
+  return v;
+}
+
+/// robot/link_capsules_mm: required from cell version 3 (the arm's collision capsules); in a
+/// version-2 file the arm is not checked and a note says so.
+ArmEnvelope readLinks(Field& r, int version, std::vector<std::string>& notes) {
+  if (version < 3) {
+    if (r.has("link_capsules_mm")) {
+      r.fail("link_capsules_mm", "needs cell version 3", "\"version\": " + std::to_string(version),
+             "set \"version\": 3 at the top of the cell file");
+    }
+    notes.push_back(
+        "cell version " + std::to_string(version) +
+        ": robot/link_capsules_mm not given, so the robot arm is not checked for collisions "
+        "(only the torch); add robot/link_capsules_mm (cell version 3, see "
+        "resources/cells/README.md)");
+    return {};
+  }
+  const char* hint =
+      "give the arm's collision capsules in mm: radii column, upper_arm, elbow, forearm, wrist "
+      "and upper_arm_offset (from the robot's published description; see "
+      "resources/cells/README.md)";
+  Field l = r.object("link_capsules_mm", hint);
+  ArmEnvelope links;
+  links.column = readRadius(l, "column", hint);
+  links.upperArm = readRadius(l, "upper_arm", hint);
+  links.upperArmOffset = l.number("upper_arm_offset", hint);
+  if (std::abs(links.upperArmOffset) > 1000.0) {
+    l.fail("upper_arm_offset", "must be within +-1000 mm", formatNumber(links.upperArmOffset),
+           hint);
+  }
+  links.elbow = readRadius(l, "elbow", hint);
+  links.forearm = readRadius(l, "forearm", hint);
+  links.wrist = readRadius(l, "wrist", hint);
+  l.rejectUnknown();
+  return links;
+}
+
+RobotDescription readRobot(Field& top, std::string_view origin, RobotVendor vendor, int version,
                            std::vector<std::string>& notes) {
   Field r = top.object("robot", "describe the robot");
   RobotDescription robot;
@@ -370,6 +416,7 @@ RobotDescription readRobot(Field& top, std::string_view origin, RobotVendor vend
   robot.controllerFrame = readControllerFrame(r, vendor, robot.kinematics, notes);
   readJoints(r, robot, origin);
   robot.interference = readInterference(r, origin, notes);
+  robot.links = readLinks(r, version, notes);
   robot.j3RelativeToHorizontal =
       r.boolean("j3_relative_to_horizontal", false,
                 "true when the controller's J3 is the forearm's angle to the horizontal (Fanuc)");
@@ -445,6 +492,18 @@ PositionerGeometry readGeometry(Field& p, int version, std::vector<std::string>&
   geo.maxPartRadius =
       g.positive("max_part_radius_mm", "largest part radius about the rotation axis in mm");
   geo.maxPartHeight = g.positive("max_part_height_mm", "largest part height over the table in mm");
+  if (version >= 3) {
+    geo.bodyRadius = readRadius(g, "body_radius_mm",
+                                "give the radius of the positioner's body under the table (the "
+                                "rotation drive housing, table underside to tilt axis) in mm");
+  } else if (g.has("body_radius_mm")) {
+    g.fail("body_radius_mm", "needs cell version 3", "\"version\": " + std::to_string(version),
+           "set \"version\": 3 at the top of the cell file");
+  } else {
+    notes.push_back("cell version " + std::to_string(version) +
+                    ": positioner/geometry/body_radius_mm not given, so the positioner's body "
+                    "under the table is not checked for collisions; add it (cell version 3)");
+  }
   g.rejectUnknown();
   return geo;
 }
@@ -891,13 +950,13 @@ Cell readCellDocument(const Json& root, std::string_view origin) {
              "this is not a cell description");
   }
   const int version = top.integer("version", 1, 1, kCellFormatVersion,
-                                  "versions 1 and 2 are known; write 2 (see "
+                                  "versions 1 to 3 are known; write 3 (see "
                                   "resources/schema/cell.schema.json)");
   cell.name = top.string("name", "give the cell a name");
   cell.vendor = readVendor(top, cell.notes);
   cell.description = top.string("description", "", "free text");
   cell.gravity = top.direction("gravity", "give gravity as a direction in world, e.g. [0, 0, -1]");
-  cell.robot = readRobot(top, origin, cell.vendor, cell.notes);
+  cell.robot = readRobot(top, origin, cell.vendor, version, cell.notes);
   cell.tool = readTool(top, version, cell.notes);
   cell.positioner = readPositioner(top, version, cell.notes, origin);
   cell.process = readProcess(top, origin);
@@ -1057,15 +1116,8 @@ Cell readCell(const std::filesystem::path& path) {
   return parseCell(text.str(), path.filename().string());
 }
 
-std::string writeCellJson(const Cell& cell) {
-  Json j;
-  j["format"] = "curvedslicer-cell";
-  j["version"] = kCellFormatVersion;
-  j["name"] = cell.name;
-  if (cell.vendor != RobotVendor::Unknown) j["vendor"] = std::string(toString(cell.vendor));
-  j["description"] = cell.description;
-  j["gravity"] = vecJson(cell.gravity);
-  const RobotDescription& r = cell.robot;
+/// The robot section of writeCellJson.
+Json robotJson(const RobotDescription& r) {
   Json joints = Json::array();
   for (int i = 0; i < 6; ++i) {
     Json jj = limitJson(r.joints[i]);
@@ -1075,20 +1127,20 @@ std::string writeCellJson(const Cell& cell) {
     joints.push_back(jj);
   }
   const RobotKinematics& k = r.kinematics;
-  j["robot"] = Json{{"model", r.model},
-                    {"base", poseJson(r.base)},
-                    {"kinematics_mm",
-                     {{"a1", k.a1},
-                      {"a2", k.a2},
-                      {"b", k.b},
-                      {"c1", k.c1},
-                      {"c2", k.c2},
-                      {"c3", k.c3},
-                      {"c4", k.c4}}},
-                    {"joints", joints}};
-  if (!r.pulsesPerDegree.empty()) j["robot"]["pulses_per_degree"] = r.pulsesPerDegree;
-  if (r.j3RelativeToHorizontal) j["robot"]["j3_relative_to_horizontal"] = true;
-  j["robot"]["controller_frame"] = poseJson(r.controllerFrame);
+  Json j{{"model", r.model},
+         {"base", poseJson(r.base)},
+         {"kinematics_mm",
+          {{"a1", k.a1},
+           {"a2", k.a2},
+           {"b", k.b},
+           {"c1", k.c1},
+           {"c2", k.c2},
+           {"c3", k.c3},
+           {"c4", k.c4}}},
+         {"joints", joints}};
+  if (!r.pulsesPerDegree.empty()) j["pulses_per_degree"] = r.pulsesPerDegree;
+  if (r.j3RelativeToHorizontal) j["j3_relative_to_horizontal"] = true;
+  j["controller_frame"] = poseJson(r.controllerFrame);
   Json interference = Json::array();
   for (const JointInequality& limit : r.interference) {
     Json c = Json::array();
@@ -1096,7 +1148,31 @@ std::string writeCellJson(const Cell& cell) {
     interference.push_back(
         Json{{"name", limit.name}, {"coefficients", c}, {"max_deg", clean(limit.max / kDeg)}});
   }
-  j["robot"]["interference"] = interference;
+  j["interference"] = interference;
+  if (r.links.known()) {
+    j["link_capsules_mm"] = Json{{"column", clean(r.links.column)},
+                                 {"upper_arm", clean(r.links.upperArm)},
+                                 {"upper_arm_offset", clean(r.links.upperArmOffset)},
+                                 {"elbow", clean(r.links.elbow)},
+                                 {"forearm", clean(r.links.forearm)},
+                                 {"wrist", clean(r.links.wrist)}};
+  }
+  return j;
+}
+
+std::string writeCellJson(const Cell& cell) {
+  Json j;
+  j["format"] = "curvedslicer-cell";
+  // A cell whose arm and positioner body are not known (read from a version-2 file, or built in
+  // code without them) is written as version 2, which reads back the same; otherwise version 3,
+  // whose reader names whichever of the two is missing.
+  const bool wholeCell = cell.robot.links.known() || cell.positioner.geometry.bodyRadius > 0.0;
+  j["version"] = wholeCell ? kCellFormatVersion : 2;
+  j["name"] = cell.name;
+  if (cell.vendor != RobotVendor::Unknown) j["vendor"] = std::string(toString(cell.vendor));
+  j["description"] = cell.description;
+  j["gravity"] = vecJson(cell.gravity);
+  j["robot"] = robotJson(cell.robot);
   const TorchEnvelope& env = cell.tool.envelope;
   j["tool"] = Json{{"name", cell.tool.name},
                    {"number", cell.tool.number},
@@ -1123,6 +1199,9 @@ std::string writeCellJson(const Cell& cell) {
              {"table_thickness_mm", clean(p.geometry.tableThickness)},
              {"max_part_radius_mm", clean(p.geometry.maxPartRadius)},
              {"max_part_height_mm", clean(p.geometry.maxPartHeight)}}}};
+  if (p.geometry.bodyRadius > 0.0) {
+    j["positioner"]["geometry"]["body_radius_mm"] = clean(p.geometry.bodyRadius);
+  }
   const FixtureGeometry& f = p.fixture;
   if (f.hasRiser() || f.hasSubstrate() || f.riserDiameter > 0.0 || f.substrateSize > 0.0) {
     j["positioner"]["fixture"] = Json{{"riser_height_mm", clean(f.riserHeight)},
@@ -1247,6 +1326,9 @@ Cell defaultCell() {
   // in which the controller's tool files and the Rx, Ry, Rz of BASE positions are given.
   r.jointSigns = {1, 1, -1, -1, -1, -1};
   r.jointOffsets = {0, 0, 0, 0, 0, 180 * kDeg};
+  // Capsules holding every vertex of the GP25's published collision meshes (no HP20D
+  // description is published; resources/cells/README.md).
+  r.links = ArmEnvelope{364.0, 123.0, -138.6, 381.0, 139.0, 86.0};
   cell.tool.name = "straight WAAM torch, TCP 400 mm along the flange axis";
   cell.tool.number = 1;
   cell.tool.tcp = makePose(Vec3(0, 0, 400), Vec3::Zero());
@@ -1261,7 +1343,7 @@ Cell defaultCell() {
   p.tableToPart = Pose::Identity();
   p.tilt = PositionerAxis{JointLimit{-95 * kDeg, 95 * kDeg, 120 * kDeg}, false, 1994.3, 1};
   p.rotation = PositionerAxis{JointLimit{-360 * kDeg, 360 * kDeg, 180 * kDeg}, true, 1376.7, 1};
-  p.geometry = PositionerGeometry{300.0, 30.0, 350.0, 500.0};
+  p.geometry = PositionerGeometry{300.0, 30.0, 350.0, 500.0, 150.0};
   ProcessDescription& pr = cell.process;
   pr.weldSpeed = 8.0;
   pr.travelSpeed = 50.0;

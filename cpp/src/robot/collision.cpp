@@ -23,14 +23,32 @@ namespace detail {
 // ---- one torch pose -------------------------------------------------------------------------
 
 struct TorchChecker::Fcl {
-  std::vector<std::shared_ptr<fcl::Capsuled>> sections;  // one per TorchChecker::Section
+  std::vector<std::shared_ptr<fcl::Capsuled>> capsules;  // envelope sections, then arm links
   std::shared_ptr<fcl::Cylinderd> table;
   fcl::Transform3d tableInPart = fcl::Transform3d::Identity();
   std::shared_ptr<fcl::Cylinderd> riser;  // null without a riser
   fcl::Transform3d riserInPart = fcl::Transform3d::Identity();
   std::shared_ptr<fcl::Boxd> substrate;  // null without a plate
   fcl::Transform3d substrateInPart = fcl::Transform3d::Identity();
+  std::shared_ptr<fcl::Cylinderd> body;  // null without a positioner body
+  fcl::Transform3d bodyInPart = fcl::Transform3d::Identity();
 };
+
+const char* partName(TorchHit::Part part) {
+  switch (part) {
+    case TorchHit::Part::Torch:
+      return "torch";
+    case TorchHit::Part::Column:
+      return "robot column";
+    case TorchHit::Part::UpperArm:
+      return "upper arm";
+    case TorchHit::Part::Forearm:
+      return "forearm";
+    case TorchHit::Part::Wrist:
+      return "wrist";
+  }
+  return "torch";
+}
 
 namespace {
 
@@ -87,6 +105,48 @@ double capsuleReach(const Vec3& b, const Vec3& t, double radius, Distance&& dist
   return reach;
 }
 
+/// Whether segment [a, b] comes within `reach` of the box (slab clipping of the segment
+/// against the box grown by `reach`; conservative at the grown box's corners).
+bool segmentNearBox(const Vec3& a, const Vec3& b, const Aabb& box, double reach) {
+  if (box.empty()) return false;
+  double t0 = 0.0, t1 = 1.0;
+  const Vec3 d = b - a;
+  for (int i = 0; i < 3; ++i) {
+    const double lo = box.min[i] - reach, hi = box.max[i] + reach;
+    if (std::abs(d[i]) < 1e-12) {
+      if (a[i] < lo || a[i] > hi) return false;
+      continue;
+    }
+    double u0 = (lo - a[i]) / d[i], u1 = (hi - a[i]) / d[i];
+    if (u0 > u1) std::swap(u0, u1);
+    t0 = std::max(t0, u0);
+    t1 = std::min(t1, u1);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+void keepDeeper(TorchHit& worst, const TorchHit& hit) {
+  if (hit.collides() && (!worst.collides() || hit.depth > worst.depth)) worst = hit;
+}
+
+/// The ends of the arm's links in the robot base frame: the column's foot, the column's top
+/// (joint 1's axis at joint 2's height), shoulder and elbow moved by the upper arm's offset along
+/// joint 2's axis, elbow, forearm root, wrist centre, flange. The foot is where joint 1's axis
+/// meets the floor (world z = 0) when the robot stands upright above it (on a pedestal, or with
+/// its base frame at joint 2's height), else the base origin.
+std::vector<Vec3> armPointsInBase(const RobotDescription& robot, const JointVector& joints) {
+  const ArmPoints a = computeArmPoints(robot, joints);
+  const Pose& base = robot.base;
+  const Vec3 axis = base.linear().col(2);
+  const double height = base.translation().z();
+  const Vec3 foot =
+      axis.z() > 0.5 && height > 0.0 ? Vec3(-Vec3::UnitZ() * (height / axis.z())) : Vec3::Zero();
+  const Vec3 offset = robot.links.upperArmOffset * a.side;
+  return {foot,    a.column, a.shoulder + offset, a.elbow + offset, a.elbow, a.forearmRoot,
+          a.wrist, a.flange};
+}
+
 }  // namespace
 
 /// The cone of the torch envelope covered by capsules along the axis (heights above the TCP):
@@ -109,49 +169,88 @@ std::vector<TorchChecker::Section> envelopeSections(const TorchEnvelope& torch) 
 
 TorchChecker::TorchChecker(const Cell& cell, const CollisionGeometry& geometry,
                            const DepositIndex& deposit)
-    : deposit_(deposit),
+    : cell_(cell),
+      deposit_(deposit),
       sections_(envelopeSections(geometry.torch)),
       partToTable_(cell.positioner.tableToPart),
       tableRadius_(geometry.table.tableRadius),
       fixture_(geometry.fixture),
       fcl_(std::make_unique<Fcl>()) {
   for (const Section& section : sections_) {
-    fcl_->sections.push_back(
+    fcl_->capsules.push_back(
         std::make_shared<fcl::Capsuled>(section.radius, section.to - section.from));
+  }
+  // the arm's links between the points armPointsInBase lists
+  const ArmEnvelope& arm = cell.robot.links;
+  if (arm.known()) {
+    links_ = {{0, 1, arm.column, TorchHit::Part::Column},
+              {2, 3, arm.upperArm, TorchHit::Part::UpperArm},
+              {4, 5, arm.elbow, TorchHit::Part::Forearm},
+              {5, 6, arm.forearm, TorchHit::Part::Forearm},
+              {6, 7, arm.wrist, TorchHit::Part::Wrist}};
+    // the links' lengths do not depend on the joints: taken at the zero pose
+    const std::vector<Vec3> points = armPointsInBase(cell.robot, JointVector{});
+    for (const Link& link : links_) {
+      fcl_->capsules.push_back(std::make_shared<fcl::Capsuled>(
+          link.radius, (points[link.to] - points[link.from]).norm()));
+    }
   }
   fcl_->table =
       std::make_shared<fcl::Cylinderd>(geometry.table.tableRadius, geometry.table.tableThickness);
+  const Pose tableToPartInverse = cell.positioner.tableToPart.inverse();
   // the table disc in the table frame: top face at z = 0, centred on the rotation axis
   fcl::Transform3d tableInTable = fcl::Transform3d::Identity();
   tableInTable.translation() = Vec3(0.0, 0.0, -0.5 * geometry.table.tableThickness);
-  fcl_->tableInPart = cell.positioner.tableToPart.inverse() * tableInTable;
+  fcl_->tableInPart = tableToPartInverse * tableInTable;
+  // the body under the table: from its underside down the rotation axis to the tilt axis
+  const PositionerDescription& p = cell.positioner;
+  const double axisDepth =
+      (p.rotationAxisPoint - p.tiltAxisPoint).dot(p.rotationAxisDirection.normalized());
+  bodyTop_ = -geometry.table.tableThickness;
+  bodyBottom_ = -axisDepth;
+  if (geometry.table.bodyRadius > 0.0 && bodyBottom_ < bodyTop_) {
+    bodyRadius_ = geometry.table.bodyRadius;
+    fcl_->body = std::make_shared<fcl::Cylinderd>(bodyRadius_, bodyTop_ - bodyBottom_);
+    fcl::Transform3d bodyInTable = fcl::Transform3d::Identity();
+    bodyInTable.translation() = Vec3(0.0, 0.0, 0.5 * (bodyTop_ + bodyBottom_));
+    fcl_->bodyInPart = tableToPartInverse * bodyInTable;
+  }
   const FixtureGeometry& f = geometry.fixture;
   if (f.hasRiser()) {
     fcl_->riser = std::make_shared<fcl::Cylinderd>(0.5 * f.riserDiameter, f.riserHeight);
     fcl::Transform3d riserInTable = fcl::Transform3d::Identity();
     riserInTable.translation() = Vec3(0.0, 0.0, 0.5 * f.riserHeight);
-    fcl_->riserInPart = cell.positioner.tableToPart.inverse() * riserInTable;
+    fcl_->riserInPart = tableToPartInverse * riserInTable;
   }
   if (f.hasSubstrate()) {
     fcl_->substrate =
         std::make_shared<fcl::Boxd>(f.substrateSize, f.substrateSize, f.substrateThickness);
     fcl::Transform3d plateInTable = fcl::Transform3d::Identity();
     plateInTable.translation() = Vec3(0.0, 0.0, f.riserHeight + 0.5 * f.substrateThickness);
-    fcl_->substrateInPart = cell.positioner.tableToPart.inverse() * plateInTable;
+    fcl_->substrateInPart = tableToPartInverse * plateInTable;
   }
 }
 
 TorchChecker::~TorchChecker() = default;
 
+TorchChecker::Capsule TorchChecker::section(std::size_t k) const {
+  return {k, sections_[k].radius};
+}
+
+TorchHit TorchChecker::checkCapsule(const Capsule& c, const Vec3& bottom, const Vec3& top) const {
+  TorchHit worst;
+  keepDeeper(worst, checkDeposit(c, bottom, top));
+  keepDeeper(worst, checkTable(c, bottom, top));
+  keepDeeper(worst, checkFixture(c, bottom, top));
+  keepDeeper(worst, checkBody(c, bottom, top));
+  return worst;
+}
+
 TorchHit TorchChecker::check(const Vec3& tip, const Vec3& up) const {
   TorchHit worst;
   for (std::size_t k = 0; k < sections_.size(); ++k) {
-    const Vec3 bottom = tip + sections_[k].from * up;
-    const Vec3 top = tip + sections_[k].to * up;
-    TorchHit hit = checkDeposit(k, bottom, top);
-    if (!hit.collides()) hit = checkTable(k, bottom, top);
-    if (!hit.collides()) hit = checkFixture(k, bottom, top);
-    if (hit.collides() && (!worst.collides() || hit.depth > worst.depth)) worst = hit;
+    keepDeeper(worst,
+               checkCapsule(section(k), tip + sections_[k].from * up, tip + sections_[k].to * up));
   }
   return worst;
 }
@@ -160,41 +259,62 @@ bool TorchChecker::collides(const Vec3& tip, const Vec3& up) const {
   for (std::size_t k = 0; k < sections_.size(); ++k) {
     const Vec3 bottom = tip + sections_[k].from * up;
     const Vec3 top = tip + sections_[k].to * up;
-    if (checkTable(k, bottom, top).collides() || checkFixture(k, bottom, top).collides() ||
-        deposit_.anyWithin(bottom, top, sections_[k].radius)) {
+    const Capsule c = section(k);
+    if (checkTable(c, bottom, top).collides() || checkFixture(c, bottom, top).collides() ||
+        checkBody(c, bottom, top).collides() ||
+        (segmentNearBox(bottom, top, deposit_.extent(), c.radius + deposit_.beadRadius()) &&
+         deposit_.anyWithin(bottom, top, sections_[k].radius))) {
       return true;
     }
   }
   return false;
 }
 
-TorchHit TorchChecker::checkDeposit(std::size_t section, const Vec3& bottom,
-                                    const Vec3& top) const {
+TorchHit TorchChecker::checkArm(const JointVector& joints, double a1, double a2) const {
+  if (links_.empty()) return {};
+  const Pose baseToPart = computePartInWorld(cell_.positioner, a1, a2).inverse() * cell_.robot.base;
+  std::vector<Vec3> points = armPointsInBase(cell_.robot, joints);
+  for (Vec3& x : points) x = baseToPart * x;
+  TorchHit worst;
+  for (std::size_t k = 0; k < links_.size(); ++k) {
+    const Link& link = links_[k];
+    TorchHit hit =
+        checkCapsule({sections_.size() + k, link.radius}, points[link.from], points[link.to]);
+    hit.part = link.part;
+    keepDeeper(worst, hit);
+  }
+  return worst;
+}
+
+TorchHit TorchChecker::checkDeposit(const Capsule& c, const Vec3& bottom, const Vec3& top) const {
+  // the deposit's box first: arm links are long and wide, and mostly far from the part
+  if (!segmentNearBox(bottom, top, deposit_.extent(), c.radius + deposit_.beadRadius())) {
+    return {};
+  }
   // exact capsule distances find the nearest bead; FCL confirms the contact and its depth
-  const double radius = sections_[section].radius;
-  const DepositHit near = deposit_.nearest(bottom, top, radius);
+  const DepositHit near = deposit_.nearest(bottom, top, c.radius);
   if (!near.found()) return {};
   const DepositSegment& bead = deposit_.segments()[near.segment];
   const fcl::Capsuled beadShape(deposit_.beadRadius(), (bead.b - bead.a).norm());
-  const double depth = fclPenetration(fcl_->sections[section].get(), alongSegment(bottom, top),
+  const double depth = fclPenetration(fcl_->capsules[c.shape].get(), alongSegment(bottom, top),
                                       &beadShape, alongSegment(bead.a, bead.b));
   if (depth < 0.0) return {};  // grazing contact FCL does not confirm
   // the depth of two capsules in closed form (FCL 0.7's capsule/capsule contact depth is not
   // the penetration: seen 8.8 mm for 3.85 mm)
-  return {TorchHit::Object::Deposit, radius - near.distance, near.segment};
+  return {TorchHit::Object::Deposit, c.radius - near.distance, near.segment};
 }
 
-TorchHit TorchChecker::checkTable(std::size_t section, const Vec3& bottom, const Vec3& top) const {
+TorchHit TorchChecker::checkTable(const Capsule& c, const Vec3& bottom, const Vec3& top) const {
   // cheap rejection in the table frame: the capsule entirely above the table surface or
   // entirely outside its radius
-  const double radius = sections_[section].radius;
+  const double radius = c.radius;
   const Vec3 b = partToTable_ * bottom;
   const Vec3 t = partToTable_ * top;
   if (std::min(b.z(), t.z()) - radius > 0.0) return {};
   const double radial =
       pointSegmentDistance(Vec3::Zero(), Vec3(b.x(), b.y(), 0.0), Vec3(t.x(), t.y(), 0.0));
   if (radial - radius > tableRadius_) return {};
-  const double fclDepth = fclPenetration(fcl_->sections[section].get(), alongSegment(bottom, top),
+  const double fclDepth = fclPenetration(fcl_->capsules[c.shape].get(), alongSegment(bottom, top),
                                          fcl_->table.get(), fcl_->tableInPart);
   if (fclDepth < 0.0) return {};
   // depth: how far the envelope reaches below the table surface over the disc (axis sampled
@@ -209,10 +329,28 @@ TorchHit TorchChecker::checkTable(std::size_t section, const Vec3& bottom, const
   return {TorchHit::Object::Table, depth > 0.0 ? depth : fclDepth, 0};
 }
 
-TorchHit TorchChecker::checkFixture(std::size_t section, const Vec3& bottom,
-                                    const Vec3& top) const {
+TorchHit TorchChecker::checkBody(const Capsule& c, const Vec3& bottom, const Vec3& top) const {
+  if (!fcl_->body) return {};
+  const Vec3 b = partToTable_ * bottom;
+  const Vec3 t = partToTable_ * top;
+  // cheap rejection: the capsule entirely above the body's top or outside its radius
+  if (std::min(b.z(), t.z()) - c.radius > bodyTop_) return {};
+  const double radial =
+      pointSegmentDistance(Vec3::Zero(), Vec3(b.x(), b.y(), 0.0), Vec3(t.x(), t.y(), 0.0));
+  if (radial - c.radius > bodyRadius_) return {};
+  const double reach = capsuleReach(b, t, c.radius, [&](const Vec3& x) {
+    return cylinderDistance(x, bodyRadius_, bodyBottom_, bodyTop_);
+  });
+  if (reach <= -1e-9) return {};
+  const double fclDepth = fclPenetration(fcl_->capsules[c.shape].get(), alongSegment(bottom, top),
+                                         fcl_->body.get(), fcl_->bodyInPart);
+  if (fclDepth < 0.0) return {};
+  return {TorchHit::Object::PositionerBody, reach > 0.0 ? reach : fclDepth, 0};
+}
+
+TorchHit TorchChecker::checkFixture(const Capsule& c, const Vec3& bottom, const Vec3& top) const {
   if (!fcl_->riser && !fcl_->substrate) return {};
-  const double radius = sections_[section].radius;
+  const double radius = c.radius;
   const Vec3 b = partToTable_ * bottom;
   const Vec3 t = partToTable_ * top;
   // cheap rejection: the capsule entirely above the fixture's top
@@ -225,7 +363,7 @@ TorchHit TorchChecker::checkFixture(std::size_t section, const Vec3& bottom,
                            const fcl::Transform3d& pose, double reach) {
     if (reach <= -1e-9) return;
     const double fclDepth =
-        fclPenetration(fcl_->sections[section].get(), alongSegment(bottom, top), shape, pose);
+        fclPenetration(fcl_->capsules[c.shape].get(), alongSegment(bottom, top), shape, pose);
     if (fclDepth < 0.0) return;
     const double depth = reach > 0.0 ? reach : fclDepth;
     if (!worst.collides() || depth > worst.depth) worst = {object, depth, 0};
@@ -254,28 +392,51 @@ Pose toolInPartAt(const Cell& cell, const JointVector& joints, double a1, double
   return computePartInWorld(cell.positioner, a1, a2).inverse() * toolInWorld;
 }
 
-void keepDeeper(TorchHit& worst, const TorchHit& hit) {
-  if (hit.collides() && (!worst.collides() || hit.depth > worst.depth)) worst = hit;
+}  // namespace
+
+namespace {
+
+/// Samples of a joint-interpolated move: every 0.25° of the axis that moves most.
+int jointMoveSamples(const MotionPoint& from, const MotionPoint& to) {
+  constexpr double kStep = 0.25 * 3.14159265358979323846 / 180.0;
+  double span = std::max(std::abs(to.a1 - from.a1), std::abs(to.a2 - from.a2));
+  for (int j = 0; j < 6; ++j) span = std::max(span, std::abs(to.joints[j] - from.joints[j]));
+  return std::max(1, static_cast<int>(std::ceil(span / kStep)));
+}
+
+JointVector jointsBetween(const MotionPoint& from, const MotionPoint& to, double t) {
+  JointVector q;
+  for (int j = 0; j < 6; ++j) q[j] = from.joints[j] + t * (to.joints[j] - from.joints[j]);
+  return q;
 }
 
 }  // namespace
 
 TorchHit checkJointMove(const Cell& cell, const TorchChecker& checker, const MotionPoint& from,
                         const MotionPoint& to) {
-  constexpr double kStep = 0.25 * 3.14159265358979323846 / 180.0;  // of the fastest axis
-  double span = std::max(std::abs(to.a1 - from.a1), std::abs(to.a2 - from.a2));
-  for (int j = 0; j < 6; ++j) span = std::max(span, std::abs(to.joints[j] - from.joints[j]));
-  const int n = std::max(1, static_cast<int>(std::ceil(span / kStep)));
+  const int n = jointMoveSamples(from, to);
   TorchHit worst;
   for (int k = 1; k <= n; ++k) {
     const double t = static_cast<double>(k) / n;
-    JointVector q;
-    for (int j = 0; j < 6; ++j) q[j] = from.joints[j] + t * (to.joints[j] - from.joints[j]);
+    const JointVector q = jointsBetween(from, to, t);
+    const double a1 = from.a1 + t * (to.a1 - from.a1), a2 = from.a2 + t * (to.a2 - from.a2);
     Vec3 tip, up;
-    torchAxisOf(
-        toolInPartAt(cell, q, from.a1 + t * (to.a1 - from.a1), from.a2 + t * (to.a2 - from.a2)),
-        tip, up);
+    torchAxisOf(toolInPartAt(cell, q, a1, a2), tip, up);
     keepDeeper(worst, checker.check(tip, up));
+    keepDeeper(worst, checker.checkArm(q, a1, a2));
+  }
+  return worst;
+}
+
+TorchHit checkArmAlongMove(const TorchChecker& checker, const MotionPoint& from,
+                           const MotionPoint& to) {
+  if (!checker.checksArm()) return {};
+  const int n = jointMoveSamples(from, to);
+  TorchHit worst;
+  for (int k = 1; k <= n; ++k) {
+    const double t = static_cast<double>(k) / n;
+    keepDeeper(worst, checker.checkArm(jointsBetween(from, to, t), from.a1 + t * (to.a1 - from.a1),
+                                       from.a2 + t * (to.a2 - from.a2)));
   }
   return worst;
 }
@@ -338,15 +499,20 @@ TorchHit checkArcOffMove(const MotionPlan& motion, std::size_t i, const Cell& ce
   if (from.kind == MoveKind::Home || to.kind == MoveKind::Home) {
     return detail::checkJointMove(cell, checker, from, to);
   }
-  return detail::checkLinearMove(checker, torch, from.toolInPart, to.toolInPart);
+  TorchHit hit = detail::checkLinearMove(checker, torch, from.toolInPart, to.toolInPart);
+  const TorchHit arm = detail::checkArmAlongMove(checker, from, to);
+  if (arm.collides() && (!hit.collides() || arm.depth > hit.depth)) hit = arm;
+  return hit;
 }
 
 std::string describeHit(const TorchHit& hit, const DepositIndex& deposit) {
-  if (hit.object == TorchHit::Object::Table) return "torch vs positioner table";
-  if (hit.object == TorchHit::Object::Riser) return "torch vs riser";
-  if (hit.object == TorchHit::Object::Substrate) return "torch vs substrate plate";
+  const std::string part = std::string(detail::partName(hit.part)) + " vs ";
+  if (hit.object == TorchHit::Object::Table) return part + "positioner table";
+  if (hit.object == TorchHit::Object::PositionerBody) return part + "positioner body";
+  if (hit.object == TorchHit::Object::Riser) return part + "riser";
+  if (hit.object == TorchHit::Object::Substrate) return part + "substrate plate";
   const DepositSegment& s = deposit.segments()[hit.segment];
-  return "torch vs deposit of layer " + std::to_string(s.layer) + " path " + std::to_string(s.path);
+  return part + "deposit of layer " + std::to_string(s.layer) + " path " + std::to_string(s.path);
 }
 
 CollisionObstacle obstacleOf(const TorchHit& hit) {
@@ -357,6 +523,8 @@ CollisionObstacle obstacleOf(const TorchHit& hit) {
       return CollisionObstacle::Riser;
     case TorchHit::Object::Substrate:
       return CollisionObstacle::Substrate;
+    case TorchHit::Object::PositionerBody:
+      return CollisionObstacle::PositionerBody;
     default:
       return CollisionObstacle::Deposit;
   }
@@ -366,8 +534,9 @@ CollisionObstacle obstacleOf(const TorchHit& hit) {
 /// table (placement auto), a wider torch window against the deposit, the fixture smaller.
 std::string collisionAdvice(const MotionPlan& motion, double maxTorchAngle) {
   double table = 0.0;
-  bool deposit = false, fixture = false;
+  bool deposit = false, fixture = false, body = false;
   for (const CollisionReport& c : motion.collisions) {
+    body = body || c.obstacle == CollisionObstacle::PositionerBody;
     if (c.obstacle == CollisionObstacle::Table) table = std::max(table, c.depth);
     deposit = deposit || c.obstacle == CollisionObstacle::Deposit;
     fixture = fixture || c.obstacle == CollisionObstacle::Riser ||
@@ -387,6 +556,10 @@ std::string collisionAdvice(const MotionPlan& motion, double maxTorchAngle) {
                               : "change the path order");
   }
   if (fixture) add("use a narrower riser or a smaller substrate plate (positioner/fixture)");
+  if (body) {
+    add("raise the part further from the table (a riser) or check the positioner's body radius "
+        "(positioner/geometry/body_radius_mm)");
+  }
   return advice + (advice.empty() ? "" : ", ") + "use a slimmer torch envelope";
 }
 
@@ -399,8 +572,10 @@ void reportCollisions(MotionPlan& motion, const MotionOptions& options, double m
             fmt(c.depth) + " mm";
   }
   if (motion.collisions.size() > kNamedCollisions) list += "; ...";
-  const std::string text =
-      "torch collides on " + std::to_string(motion.collisions.size()) + " move(s): " + list;
+  const bool arm = std::any_of(motion.collisions.begin(), motion.collisions.end(),
+                               [](const CollisionReport& c) { return c.what.rfind("torch ", 0); });
+  const std::string text = std::string(arm ? "torch or robot arm collide" : "torch collides") +
+                           " on " + std::to_string(motion.collisions.size()) + " move(s): " + list;
   if (!options.allowCollisions) {
     throw InvalidInput(text + "; " + collisionAdvice(motion, maxTorchAngle) +
                        ", or allow collisions (--allow-collisions) to export anyway");
@@ -477,6 +652,8 @@ void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const Collision
       Vec3 tip, up;
       detail::torchAxisOf(m.toolInPart, tip, up);
       hit = checker.check(tip, up);
+      const TorchHit arm = checker.checkArm(m.joints, m.a1, m.a2);
+      if (arm.collides() && (!hit.collides() || arm.depth > hit.depth)) hit = arm;
     } else {
       hit = checkArcOffMove(motion, i, cell, checker, torch);
     }

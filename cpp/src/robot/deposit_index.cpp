@@ -94,6 +94,8 @@ void DepositIndex::add(const DepositSegment& segment, bool newPath) {
   ++chunk.count;
   chunk.box.extend(segment.a);
   chunk.box.extend(segment.b);
+  extent_.extend(segment.a);
+  extent_.extend(segment.b);
   Aabb grown;
   grown.extend(segment.a);
   grown.extend(segment.b);

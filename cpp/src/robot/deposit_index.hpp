@@ -63,6 +63,8 @@ class DepositIndex {
 
   const std::vector<DepositSegment>& segments() const { return segments_; }
   double beadRadius() const { return radius_; }
+  /// Box of the axes of every segment added (visible or not); empty before the first.
+  const Aabb& extent() const { return extent_; }
 
   /// Queries see only the first `count` segments added (the deposit before a given move when
   /// a whole path has been added ahead); SIZE_MAX (the default) sees all.
@@ -89,6 +91,7 @@ class DepositIndex {
   std::vector<std::vector<std::uint32_t>> cells_;  // chunk ids per cell
   std::vector<DepositSegment> segments_;
   std::vector<Chunk> chunks_;
+  Aabb extent_;
   mutable std::vector<std::uint32_t> stamp_;  // per chunk: last query that visited it
   mutable std::uint32_t query_ = 0;
   std::size_t visible_ = static_cast<std::size_t>(-1);

@@ -95,10 +95,15 @@ ArmPoints computeArmPoints(const RobotDescription& robot, const JointVector& joi
   const Mat3 r1 = rotZ(q[0]);
   const Vec3 shoulder(k.a1, k.b, k.c1);
   const Vec3 elbow = shoulder + rotY(q[1]) * Vec3(0, 0, k.c2);
-  const Vec3 wrist = elbow + rotY(q[1] + q[2]) * Vec3(k.c3, 0, k.a2);
+  const Mat3 r23 = rotY(q[1] + q[2]);
+  const Vec3 forearmRoot = elbow + r23 * Vec3(0, 0, k.a2);
+  const Vec3 wrist = forearmRoot + r23 * Vec3(k.c3, 0, 0);
   ArmPoints points;
+  points.column = Vec3(0, 0, k.c1);
   points.shoulder = r1 * shoulder;
   points.elbow = r1 * elbow;
+  points.forearmRoot = r1 * forearmRoot;
+  points.side = r1 * Vec3::UnitY();
   points.wrist = r1 * wrist;
   points.flange = computeFlangePose(robot, joints).translation();
   return points;

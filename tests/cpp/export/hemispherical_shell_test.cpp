@@ -6,7 +6,10 @@
 // of the planner's collision model: the torch cone itself, sampled every 2 mm along its axis and
 // every 15° around, against the table disc and the riser the placement chose, on every motion
 // point and along every move (linear moves every millimetre, moves to and from home through the
-// robot's forward kinematics), and its axis against every bead deposited before the point; and
+// robot's forward kinematics), and its axis against every bead deposited before the point; the
+// robot arm's link capsules (the cell's robot/link_capsules_mm about the joint points of the
+// forward kinematics) sampled every 5 mm along their axes against the table, the positioner's
+// body, the riser and the deposit, at every motion point and along the moves to and from home; and
 // the programs read back strictly (welds, one configuration per weld), the axis speeds from the
 // CSV within the cell's limits, a2 within its step limit between consecutive weld points.
 #include <gtest/gtest.h>
@@ -113,6 +116,7 @@ double shellCylinderDistance(const Vec3& p, double radius, double z0, double z1)
 /// The smallest clearance found, and where.
 struct ShellClearance {
   double table = kInf, riser = kInf, deposit = kInf;
+  double armTable = kInf, armBody = kInf, armRiser = kInf, armDeposit = kInf;
   std::string where;
 };
 
@@ -151,6 +155,8 @@ class ShellDeposit {
   void add(const Vec3& a, const Vec3& b) {
     const std::size_t id = segments_.size();
     segments_.push_back({a, b});
+    lo_ = lo_.cwiseMin(a).cwiseMin(b);
+    hi_ = hi_.cwiseMax(a).cwiseMax(b);
     stamp_.push_back(0);
     const Vec3 lo = a.cwiseMin(b) - Vec3::Constant(radius_);
     const Vec3 hi = a.cwiseMax(b) + Vec3::Constant(radius_);
@@ -176,6 +182,20 @@ class ShellDeposit {
     });
     return best;
   }
+  /// The same for a wide sphere (an arm link): every bead, once `p` is within reach of the box
+  /// of the deposit.
+  double clearanceOfWide(const Vec3& p, double r) const {
+    if (segments_.empty()) return kInf;
+    if ((p.cwiseMax(lo_).cwiseMin(hi_) - p).norm() > r + radius_ + 1.0) return kInf;
+    double best = kInf;
+    for (const auto& [a, b] : segments_) {
+      const Vec3 d = b - a;
+      const double t =
+          d.squaredNorm() > 0 ? std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+      best = std::min(best, (a + t * d - p).norm() - radius_ - r);
+    }
+    return best;
+  }
 
  private:
   template <class F>
@@ -189,6 +209,7 @@ class ShellDeposit {
   }
   static constexpr double kCell = 8.0;
   double radius_;
+  Vec3 lo_ = Vec3::Constant(kInf), hi_ = Vec3::Constant(-kInf);  // box of the segments
   std::vector<std::pair<Vec3, Vec3>> segments_;
   std::unordered_map<long long, std::vector<std::size_t>> cells_;
   std::vector<std::size_t> stamp_;
@@ -206,6 +227,56 @@ void axisAgainstDeposit(const TorchEnvelope& torch, const Pose& toolInPart, Shel
         torch.radius + (torch.topRadius - torch.radius) * (h - torch.stickout) / torch.length;
     const double d = deposit.clearance(tip + h * up, r);
     if (d < c.deposit) c.deposit = d, c.where = where + " (deposit)";
+  }
+}
+
+/// The arm's link capsules at joints q and positioner angles a1, a2 (the model of
+/// resources/cells/README.md, "Collision model of the arm"): each link's axis in the table frame
+/// sampled every 5 mm, each sample's sphere of the link's radius, against the table disc, the
+/// positioner's body (table underside down to the tilt axis), the riser and the deposit.
+void armAgainstCell(const Cell& placed, const FixtureGeometry& fixture, const JointVector& q,
+                    double a1, double a2, ShellDeposit& deposit, const std::string& where,
+                    ShellClearance& c) {
+  const RobotDescription& robot = placed.robot;
+  const ArmEnvelope& links = robot.links;
+  const ArmPoints a = computeArmPoints(robot, q);
+  const Vec3 side = links.upperArmOffset * a.side;
+  // the bundled robots stand upright on the floor or with their base frame above it
+  const Vec3 foot =
+      robot.base.inverse() * Vec3(robot.base.translation().x(), robot.base.translation().y(), 0.0);
+  const struct {
+    Vec3 from, to;
+    double radius;
+  } capsules[] = {{foot, a.column, links.column},
+                  {a.shoulder + side, a.elbow + side, links.upperArm},
+                  {a.elbow, a.forearmRoot, links.elbow},
+                  {a.forearmRoot, a.wrist, links.forearm},
+                  {a.wrist, a.flange, links.wrist}};
+  const Pose baseToTable = placed.positioner.tableToPart *
+                           computePartInWorld(placed.positioner, a1, a2).inverse() * robot.base;
+  const Pose toPart = placed.positioner.tableToPart.inverse();
+  const PositionerGeometry& g = placed.positioner.geometry;
+  const PositionerDescription& p = placed.positioner;
+  const double axisDepth = (p.rotationAxisPoint - p.tiltAxisPoint).dot(p.rotationAxisDirection);
+  for (const auto& capsule : capsules) {
+    const Vec3 from = baseToTable * capsule.from, to = baseToTable * capsule.to;
+    const int n = std::max(1, static_cast<int>(std::ceil((to - from).norm() / 5.0)));
+    for (int k = 0; k <= n; ++k) {
+      const Vec3 x = from + (to - from) * (static_cast<double>(k) / n);
+      const double r = capsule.radius;
+      const auto keep = [&](double d, double& smallest, const char* what) {
+        if (d < smallest) smallest = d, c.where = where + " (arm vs " + what + ")";
+      };
+      keep(shellCylinderDistance(x, g.tableRadius, -g.tableThickness, 0.0) - r, c.armTable,
+           "table");
+      keep(shellCylinderDistance(x, g.bodyRadius, -axisDepth, -g.tableThickness) - r, c.armBody,
+           "body");
+      if (fixture.hasRiser()) {
+        keep(shellCylinderDistance(x, 0.5 * fixture.riserDiameter, 0.0, fixture.riserHeight) - r,
+             c.armRiser, "riser");
+      }
+      keep(deposit.clearanceOfWide(toPart * x, r), c.armDeposit, "deposit");
+    }
   }
 }
 
@@ -229,10 +300,11 @@ ShellClearance measureClearance(const MotionPlan& motion, const Cell& placed, do
           const double t = k / 32.0;
           JointVector q;
           for (int j = 0; j < 6; ++j) q[j] = p.joints[j] + t * (m.joints[j] - p.joints[j]);
-          coneAgainstTableAndRiser(
-              placed, motion.fixture,
-              shellToolInPart(placed, q, p.a1 + t * (m.a1 - p.a1), p.a2 + t * (m.a2 - p.a2)),
-              where + " (move from home)", c);
+          const double a1 = p.a1 + t * (m.a1 - p.a1), a2 = p.a2 + t * (m.a2 - p.a2);
+          coneAgainstTableAndRiser(placed, motion.fixture, shellToolInPart(placed, q, a1, a2),
+                                   where + " (move from home)", c);
+          armAgainstCell(placed, motion.fixture, q, a1, a2, deposit, where + " (move from home)",
+                         c);
         }
       } else {
         const int n = static_cast<int>(
@@ -251,6 +323,7 @@ ShellClearance measureClearance(const MotionPlan& motion, const Cell& placed, do
     }
     coneAgainstTableAndRiser(placed, motion.fixture, m.toolInPart, where, c);
     axisAgainstDeposit(torch, m.toolInPart, deposit, where, c);
+    armAgainstCell(placed, motion.fixture, m.joints, m.a1, m.a2, deposit, where, c);
     if (m.arcOn) deposit.add(motion.points[i - 1].position, m.position);
   }
   return c;
@@ -329,6 +402,14 @@ TEST(HemisphericalShell, RimOnTheTableExportsCollisionFreeForEveryBundledCell) {
     EXPECT_GE(c.table, 0.0) << c.where;
     EXPECT_GE(c.riser, 0.0) << c.where;
     EXPECT_GE(c.deposit, 0.0) << c.where;
+    std::cout << "  robot arm's capsules: smallest clearance from the table " << c.armTable
+              << " mm, the positioner's body " << c.armBody << " mm, the riser " << c.armRiser
+              << " mm, the deposit " << c.armDeposit << " mm\n";
+    ASSERT_TRUE(placed.robot.links.known());
+    EXPECT_GE(c.armTable, 0.0) << c.where;
+    EXPECT_GE(c.armBody, 0.0) << c.where;
+    EXPECT_GE(c.armRiser, 0.0) << c.where;
+    EXPECT_GE(c.armDeposit, 0.0) << c.where;
     expectOwnLanguageReadsBack(motion, placed, language);
     expectAxisSpeedsFromCsv(motion, placed);
     expectA2Steps(motion);

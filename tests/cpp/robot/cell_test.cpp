@@ -121,7 +121,16 @@ TEST(Cell, EachBadFieldHasItsOwnError) {
       {"/export/max_lines_per_job", 5, "between 20"},
       {"/export/coordinated", "yes", "true or false"},
       // version 2 fields
-      {"/version", 3, "between 1 and 2"},
+      {"/version", 4, "between 1 and 3"},
+      // the whole-cell collision model (cell version 3)
+      {"/robot/link_capsules_mm", nullptr, "is missing"},
+      {"/robot/link_capsules_mm/forearm", nullptr, "is missing"},
+      {"/robot/link_capsules_mm/wrist", -5, "must be positive"},
+      {"/robot/link_capsules_mm/elbow", 5000, "must be at most 1000 mm"},
+      {"/robot/link_capsules_mm/upper_arm_offset", 1e9, "within +-1000 mm"},
+      {"/robot/link_capsules_mm/shoulder", 100, "is not a known field"},
+      {"/positioner/geometry/body_radius_mm", nullptr, "is missing"},
+      {"/positioner/geometry/body_radius_mm", 0, "must be positive"},
       {"/tool/envelope", nullptr, "is missing"},
       {"/tool/envelope", 12, "must be an object"},
       {"/tool/envelope/radius_mm", 0, "must be positive"},
@@ -230,9 +239,19 @@ TEST(Cell, InterferenceLimitsRoundTripAndGuardTheHome) {
 Json versionOneJson() {
   Json j = defaultJson();
   j["version"] = 1;
+  j["robot"].erase("link_capsules_mm");
   j["tool"].erase("envelope");
   j["positioner"].erase("geometry");
   j.erase("home");
+  return j;
+}
+
+/// The default cell as a version-2 file: without the arm's capsules and the positioner's body.
+Json versionTwoJson() {
+  Json j = defaultJson();
+  j["version"] = 2;
+  j["robot"].erase("link_capsules_mm");
+  j["positioner"]["geometry"].erase("body_radius_mm");
   return j;
 }
 
@@ -250,24 +269,26 @@ TEST(Cell, VersionOneLoadsWithStatedDefaultsAndNotes) {
   // Everything else as read; the defaults are stated in one note per section.
   EXPECT_EQ(v1.robot.model, v2.robot.model);
   EXPECT_TRUE(v1.tool.tcp.isApprox(v2.tool.tcp));
-  ASSERT_EQ(v1.notes.size(), 3u);
-  EXPECT_NE(v1.notes[0].find("cell version 1: default torch envelope assumed"), std::string::npos)
-      << v1.notes[0];
-  EXPECT_NE(v1.notes[0].find("radius 12.5 mm"), std::string::npos) << v1.notes[0];
-  EXPECT_NE(v1.notes[0].find("add tool/envelope"), std::string::npos) << v1.notes[0];
-  EXPECT_NE(v1.notes[1].find("positioner/geometry"), std::string::npos) << v1.notes[1];
-  EXPECT_NE(v1.notes[2].find("home pose"), std::string::npos) << v1.notes[2];
+  ASSERT_EQ(v1.notes.size(), 4u);
+  EXPECT_NE(v1.notes[0].find("robot arm is not checked"), std::string::npos) << v1.notes[0];
+  EXPECT_NE(v1.notes[1].find("cell version 1: default torch envelope assumed"), std::string::npos)
+      << v1.notes[1];
+  EXPECT_NE(v1.notes[1].find("radius 12.5 mm"), std::string::npos) << v1.notes[1];
+  EXPECT_NE(v1.notes[1].find("add tool/envelope"), std::string::npos) << v1.notes[1];
+  EXPECT_NE(v1.notes[2].find("positioner/geometry"), std::string::npos) << v1.notes[2];
+  EXPECT_NE(v1.notes[3].find("home pose"), std::string::npos) << v1.notes[3];
   EXPECT_TRUE(v2.notes.empty());
   EXPECT_TRUE(readCell(defaultCellFile()).notes.empty());
   // Without "version" a file is version 1 (as before version 2 existed).
   Json noVersion = versionOneJson();
   noVersion.erase("version");
-  EXPECT_EQ(parseCell(noVersion.dump()).notes.size(), 3u);
-  // Written again, a version-1 cell becomes version 2 with the defaults spelled out.
+  EXPECT_EQ(parseCell(noVersion.dump()).notes.size(), 4u);
+  // Written again, a version-1 cell becomes version 2 with the defaults spelled out (its arm
+  // stays unknown, which version 2 reads as such).
   const Json rewritten = Json::parse(writeCellJson(v1));
   EXPECT_EQ(rewritten["version"], 2);
   EXPECT_EQ(rewritten["tool"]["envelope"]["length_mm"], 385.0);
-  EXPECT_TRUE(parseCell(rewritten.dump()).notes.empty());
+  EXPECT_EQ(parseCell(rewritten.dump()).notes.size(), 2u);  // the arm and the body unchecked
 }
 
 TEST(Cell, VersionOneRefusesVersionTwoFields) {
@@ -282,17 +303,45 @@ TEST(Cell, VersionOneRefusesVersionTwoFields) {
   expectInvalid(j, {"/positioner/geometry", "needs cell version 2"});
 }
 
-TEST(Cell, VersionTwoRoundTripKeepsEnvelopeGeometryAndHome) {
+// A version-2 file (before the arm model) loads with the arm and the positioner's body
+// unchecked, each named in a note; version-3 fields in it are refused.
+TEST(Cell, VersionTwoLoadsWithoutTheArmAndSaysSo) {
+  const Cell v2 = parseCell(versionTwoJson().dump(), "v2.json");
+  EXPECT_FALSE(v2.robot.links.known());
+  EXPECT_EQ(v2.positioner.geometry.bodyRadius, 0.0);
+  ASSERT_EQ(v2.notes.size(), 2u);
+  EXPECT_NE(v2.notes[0].find("cell version 2: robot/link_capsules_mm not given, so the robot arm "
+                             "is not checked for collisions"),
+            std::string::npos)
+      << v2.notes[0];
+  EXPECT_NE(v2.notes[1].find("positioner/geometry/body_radius_mm not given"), std::string::npos)
+      << v2.notes[1];
+  EXPECT_EQ(Json::parse(writeCellJson(v2))["version"], 2);
+  Json j = versionTwoJson();
+  j["robot"]["link_capsules_mm"] = defaultJson()["robot"]["link_capsules_mm"];
+  expectInvalid(j, {"/robot/link_capsules_mm", "needs cell version 3", "\"version\": 3"});
+  j = versionTwoJson();
+  j["positioner"]["geometry"]["body_radius_mm"] = 150;
+  expectInvalid(j, {"/positioner/geometry/body_radius_mm", "needs cell version 3"});
+}
+
+TEST(Cell, VersionThreeRoundTripKeepsEnvelopeGeometryArmAndHome) {
   Cell cell = defaultCell();
   cell.tool.envelope = TorchEnvelope{18.0, 11.0, 31.5, 290.0};
-  cell.positioner.geometry = PositionerGeometry{225.0, 25.0, 260.0, 410.5};
+  cell.positioner.geometry = PositionerGeometry{225.0, 25.0, 260.0, 410.5, 0.0};
   cell.home.robot = {0.1, -0.2, 0.3, -0.4, -1.5, 0.6};
   cell.home.a1 = -0.5;
   cell.home.a2 = 7.0;  // the rotation axis is endless: beyond its ±360° is fine
+  cell.robot.links = ArmEnvelope{301.5, 99.0, 12.25, 250.0, 120.0, 70.5};
+  cell.positioner.geometry.bodyRadius = 140.0;
   const std::string text = writeCellJson(cell);
-  EXPECT_NE(text.find("\"version\": 2"), std::string::npos);
+  EXPECT_NE(text.find("\"version\": 3"), std::string::npos);
   const Cell back = parseCell(text);
   EXPECT_EQ(writeCellJson(back), text);
+  EXPECT_DOUBLE_EQ(back.robot.links.column, 301.5);
+  EXPECT_DOUBLE_EQ(back.robot.links.upperArmOffset, 12.25);
+  EXPECT_DOUBLE_EQ(back.robot.links.wrist, 70.5);
+  EXPECT_DOUBLE_EQ(back.positioner.geometry.bodyRadius, 140.0);
   EXPECT_DOUBLE_EQ(back.tool.envelope.stickout, 18.0);
   EXPECT_DOUBLE_EQ(back.tool.envelope.topRadius, 31.5);
   EXPECT_DOUBLE_EQ(back.positioner.geometry.maxPartHeight, 410.5);

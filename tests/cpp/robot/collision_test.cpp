@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <string>
@@ -14,6 +15,8 @@
 
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/robot/motion.hpp"
+#include "curvedslicer/robot/positioner.hpp"
+#include "curvedslicer/robot/robot_kinematics.hpp"
 #include "curvedslicer/robot/travel.hpp"
 #include "robot_test_support.hpp"
 
@@ -206,6 +209,125 @@ TEST(Collision, TorchAgainstThePositionerTable) {
   for (const CollisionReport& c : outside.collisions) {
     EXPECT_FALSE(contains(c.what, "table")) << describeMove(outside, c.point) << ": " << c.what;
   }
+}
+
+TEST(Collision, ArmLinksAgainstTheTableNameTheLinkAndTheDepth) {
+  // A weld point 10 mm above the table centre with the torch vertical, but the robot's joint L
+  // swung forward by 90°: the upper arm lies level at the height of joint 2 (505 mm, the table's
+  // top is at 530 mm), the elbow housing over the table's near edge and the forearm points down
+  // through the table. The torch is clear; the arm is not. The depth, as for the torch, is how far
+  // the capsules reach below the table's top face over the disc (the riser that would lift the
+  // table's top above them): from the links' axes sampled every 0.5 mm here.
+  const Cell cell = defaultCell();
+  ASSERT_TRUE(cell.robot.links.known());
+  MotionPlan motion;
+  for (int i = 0; i < 2; ++i) {
+    MotionPoint m;
+    m.index = i;
+    m.pathStart = i == 0;
+    m.pathEnd = i == 1;
+    m.arcOn = i == 1;
+    m.position = Vec3(2.0 * i, 0, 10);
+    m.toolInPart = Pose::Identity();
+    m.toolInPart.linear() = Eigen::AngleAxisd(M_PI, Vec3::UnitX()).toRotationMatrix();
+    m.toolInPart.translation() = m.position;
+    m.joints = {0.0, i == 1 ? M_PI / 2 : 0.0, 0.0, 0.0, 0.0, 0.0};
+    motion.points.push_back(m);
+  }
+  motion.paths.push_back({0, 0, 0, motion.points.size(), {}});
+  const CollisionGeometry geometry = collisionGeometryOf(cell);
+  try {
+    checkMotionCollisions(motion, cell, geometry, 1.85, MotionOptions{});
+    FAIL() << "no collision reported";
+  } catch (const InvalidInput& e) {
+    EXPECT_TRUE(contains(e.what(), "torch or robot arm collide on 1 move(s)")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "vs positioner table")) << e.what();
+  }
+  MotionOptions allow;
+  allow.allowCollisions = true;
+  checkMotionCollisions(motion, cell, geometry, 1.85, allow);
+  ASSERT_EQ(motion.collisions.size(), 1u);
+  const CollisionReport& hit = motion.collisions.front();
+  EXPECT_EQ(hit.point, 1u);
+  EXPECT_EQ(hit.obstacle, CollisionObstacle::Table);
+  // the second computation: every link's capsule (axis sampled every 0.5 mm) against the disc
+  const ArmEnvelope& links = cell.robot.links;
+  const ArmPoints a = computeArmPoints(cell.robot, motion.points[1].joints);
+  const Vec3 side = links.upperArmOffset * a.side;
+  const std::pair<std::string, std::array<Vec3, 2>> axes[] = {
+      {"robot column", {Vec3::Zero(), a.column}},
+      {"upper arm", {a.shoulder + side, a.elbow + side}},
+      {"forearm", {a.elbow, a.forearmRoot}},
+      {"forearm", {a.forearmRoot, a.wrist}},
+      {"wrist", {a.wrist, a.flange}}};
+  const double radii[] = {links.column, links.upperArm, links.elbow, links.forearm, links.wrist};
+  const Pose baseToTable = computeTableInWorld(cell.positioner, 0.0, 0.0).inverse();
+  double deepest = 0.0;
+  std::string deepestPart;
+  const PositionerGeometry& g = cell.positioner.geometry;
+  for (std::size_t k = 0; k < 5; ++k) {
+    const Vec3 from = baseToTable * axes[k].second[0], to = baseToTable * axes[k].second[1];
+    const int n = std::max(1, static_cast<int>(std::ceil((to - from).norm() / 0.5)));
+    bool touches = false;
+    double reach = 0.0;
+    for (int j = 0; j <= n; ++j) {
+      const Vec3 x = from + (to - from) * (static_cast<double>(j) / n);
+      const double dr = std::hypot(x.x(), x.y()) - g.tableRadius;
+      const double dz = std::max(-g.tableThickness - x.z(), x.z());
+      const double distance = dr <= 0.0 && dz <= 0.0
+                                  ? std::max(dr, dz)
+                                  : std::hypot(std::max(dr, 0.0), std::max(dz, 0.0));
+      touches = touches || distance < radii[k];
+      if (dr <= 0.0) reach = std::max(reach, radii[k] - x.z());
+    }
+    if (touches && reach > deepest) deepest = reach, deepestPart = axes[k].first;
+  }
+  ASSERT_GT(deepest, 500.0);  // the forearm through the table
+  EXPECT_EQ(hit.what, deepestPart + " vs positioner table");
+  EXPECT_NEAR(hit.depth, deepest, 1.0);
+  // with the arm upright again (L = 0) nothing collides; a cell without the arm's capsules (a
+  // version-2 file) checks the torch alone
+  motion.points[1].joints[1] = 0.0;
+  checkMotionCollisions(motion, cell, geometry, 1.85, allow);
+  EXPECT_TRUE(motion.collisions.empty());
+  motion.points[1].joints[1] = M_PI / 2;
+  Cell noArm = cell;
+  noArm.robot.links = ArmEnvelope{};
+  checkMotionCollisions(motion, noArm, geometry, 1.85, allow);
+  EXPECT_TRUE(motion.collisions.empty());
+}
+
+TEST(Collision, TorchAgainstThePositionerBody) {
+  // The torch reaching up under the table, beside the positioner's body (radius 150 mm, from the
+  // table's underside at -30 mm down to the tilt axis at -150 mm in the table frame): a point
+  // 100 mm from the rotation axis at the body's mid-height, the torch leaning in towards it.
+  const Cell cell = defaultCell();
+  MotionPlan motion;
+  for (int i = 0; i < 2; ++i) {
+    MotionPoint m;
+    m.index = i;
+    m.pathStart = i == 0;
+    m.pathEnd = i == 1;
+    m.arcOn = i == 1;
+    m.position = Vec3(200.0 + 2.0 * i, 0, -90);
+    const Vec3 up = Vec3(-1.0, 0.0, 0.0);  // from the tip towards the rotation axis
+    m.toolInPart = Pose::Identity();
+    m.toolInPart.linear() =
+        Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), -up).toRotationMatrix();
+    m.toolInPart.translation() = m.position;
+    m.joints = {};
+    motion.points.push_back(m);
+  }
+  motion.paths.push_back({0, 0, 0, motion.points.size(), {}});
+  MotionOptions allow;
+  allow.allowCollisions = true;
+  checkMotionCollisions(motion, cell, collisionGeometryOf(cell), 1.85, allow);
+  ASSERT_EQ(motion.collisions.size(), 1u);
+  EXPECT_EQ(motion.collisions[0].what, "torch vs positioner body");
+  EXPECT_EQ(motion.collisions[0].obstacle, CollisionObstacle::PositionerBody);
+  // the torch's axis runs through the body at its mid-height, 60 mm from its top and bottom
+  // faces: the envelope reaches in by 60 mm and its radius
+  EXPECT_GT(motion.collisions[0].depth, 60.0 + 12.5);
 }
 
 TEST(Collision, BeadRadiusFromThePlan) {

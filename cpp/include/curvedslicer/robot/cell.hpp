@@ -91,6 +91,26 @@ struct JointInequality {
   double max = 0.0;                      ///< rad
 };
 
+/// The robot arm for collision checks: capsules around the arm's kinematic segments
+/// (computeArmPoints), in mm. The column on joint 1's axis from the floor (or the robot base
+/// origin, when it is below the floor or the axis is not upright) to the height of joint 2; the
+/// upper arm from joint 2 to joint 3, shifted `upperArmOffset` along joint 2's axis (industrial
+/// upper arms sit beside the arm plane); the elbow housing from joint 3 up the forearm offset a2
+/// to the forearm's axis (its radius also covers what reaches behind joint 3); the forearm along
+/// that axis to the wrist centre; the wrist from the wrist centre to the flange. Every vertex of
+/// the robot's published collision meshes lies in one of them (resources/cells/README.md gives
+/// the source of each number). JSON robot/link_capsules_mm, required from cell version 3; all 0:
+/// not known (a version-2 file), the arm is not checked.
+struct ArmEnvelope {
+  double column = 0.0;          ///< mm, radius: base and joint-1 housing
+  double upperArm = 0.0;        ///< mm, radius: joint 2 to joint 3
+  double upperArmOffset = 0.0;  ///< mm, signed, along joint 2's axis (model y at joint 1 = 0)
+  double elbow = 0.0;           ///< mm, radius: joint-3 housing, joint 3 to the forearm's axis
+  double forearm = 0.0;         ///< mm, radius: forearm's axis to the wrist centre
+  double wrist = 0.0;           ///< mm, radius: wrist centre to the flange (joints 5 and 6)
+  bool known() const { return column > 0.0; }
+};
+
 struct RobotDescription {
   std::string model;             ///< e.g. "Yaskawa Motoman HP20D"
   Pose base = Pose::Identity();  ///< robot base frame in world
@@ -113,6 +133,9 @@ struct RobotDescription {
   /// Joint interference limits beyond the joint box (JSON robot/interference; when absent the
   /// reader assumes none and notes it).
   std::vector<JointInequality> interference;
+  /// Link capsules for collision checks (JSON robot/link_capsules_mm); not known in version-2
+  /// files.
+  ArmEnvelope links;
 };
 
 /// The largest amount (rad) by which `joints` (controller convention) exceed the robot's
@@ -161,6 +184,10 @@ struct PositionerGeometry {
   double tableThickness = 30.0;  ///< mm, > 0
   double maxPartRadius = 350.0;  ///< mm, > 0, about the rotation axis
   double maxPartHeight = 500.0;  ///< mm, > 0, above the table top
+  /// mm, radius of the positioner's body under the table: a cylinder on the rotation axis from
+  /// the table's underside down to the tilt axis (the rotation drive and its housing), which
+  /// tilts with the table. 0: not known (a version-2 file), not checked.
+  double bodyRadius = 0.0;
 };
 
 /// What the part is built on, between the table and the part, in the table frame: a riser
@@ -324,7 +351,7 @@ struct Cell {
 };
 
 /// The cell format version writeCellJson writes and the newest parseCell reads.
-inline constexpr int kCellFormatVersion = 2;
+inline constexpr int kCellFormatVersion = 3;
 
 /// Reads and validates a cell description file (JSON). Throws IoError if the file cannot be read,
 /// InvalidInput naming the JSON path of a missing or invalid field.

@@ -145,7 +145,7 @@ struct SpeedReduction {
 };
 
 /// What a colliding torch hits.
-enum class CollisionObstacle { Deposit, Table, Riser, Substrate };
+enum class CollisionObstacle { Deposit, Table, Riser, Substrate, PositionerBody };
 
 /// A move that still collides after raising/re-routing (error unless allowCollisions).
 struct CollisionReport {

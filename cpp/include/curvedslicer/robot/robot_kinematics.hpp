@@ -26,14 +26,20 @@ namespace curvedslicer {
 Pose computeFlangePose(const RobotDescription& robot, const JointVector& joints);
 
 /// The arm's joint points in the robot base frame (mm) for controller joint angles (rad), for
-/// drawing the arm: base origin, shoulder (joint 2 axis), elbow (joint 3 axis), wrist centre,
-/// flange origin (= computeFlangePose(robot, joints).translation()).
+/// drawing the arm and checking it for collisions: base origin, joint 1's axis at the height of
+/// joint 2 (c1), shoulder (joint 2 axis), elbow (joint 3 axis), the forearm's root (the elbow
+/// moved by the forearm offset a2, where the joint-4 axis begins), wrist centre, flange origin
+/// (= computeFlangePose(robot, joints).translation()); and `side`, the unit direction of joint 2's
+/// axis (the model's y turned by joint 1).
 struct ArmPoints {
   Vec3 base = Vec3::Zero();
+  Vec3 column = Vec3::Zero();
   Vec3 shoulder = Vec3::Zero();
   Vec3 elbow = Vec3::Zero();
+  Vec3 forearmRoot = Vec3::Zero();
   Vec3 wrist = Vec3::Zero();
   Vec3 flange = Vec3::Zero();
+  Vec3 side = Vec3::UnitY();
 };
 
 /// Joint points of the arm for controller joint angles (rad), robot base frame (mm).
