@@ -17,7 +17,7 @@ import cs_testing  # noqa: E402
 from freecad.curvedslicer import api  # noqa: E402
 from freecad.curvedslicer.core import InvalidInput, native  # noqa: E402
 from freecad.curvedslicer.stages import paths as path_stage  # noqa: E402
-from freecad.curvedslicer.stages import poses, simulation, views  # noqa: E402
+from freecad.curvedslicer.stages import deviations, poses, simulation, views  # noqa: E402
 
 CHECK = '''
 import FreeCAD
@@ -141,6 +141,47 @@ class TestSimulation(cs_testing.DocumentTestCase):
         torch.Placement = FreeCAD.Placement()
         self.assertAlmostEqual(torch.BoundBox.ZMin, -(stickout + length), places=6)
         self.assertAlmostEqual(torch.BoundBox.ZMax, 0.0, places=6)
+
+    def test_deviations_by_range(self):
+        # Five weld moves: each falls into the range of the larger angle of its two ends; moves
+        # below 1 deg are not drawn; a point after an arc-off point starts no weld move.
+        import math
+        deg = math.radians
+        m = {"arc_on": [False, True, True, True, False, True, True],
+             "position": [(float(i), 0.0, 0.0) for i in range(7)],
+             "torch_angle": [0.0, deg(0.5), deg(3.0), deg(7.5), deg(20.0), deg(12.0), 0.0],
+             "residual": [0.0, 0.0, 0.0, deg(1.0), 0.0, 0.0, deg(5.0)]}
+        got = deviations.deviation_segments(m)
+        ends = {key: [int(b[0]) for (_, b) in moves] for key, moves in got.items()}
+        self.assertEqual(ends[("torch", 0)], [2])     # max(0.5, 3) = 3
+        self.assertEqual(ends[("torch", 1)], [3])     # max(3, 7.5) = 7.5
+        self.assertEqual(ends[("torch", 2)], [5, 6])  # 20 (arc-off start) and 12
+        self.assertEqual(ends[("gravity", 0)], [3])   # 1 deg: the first range includes 1
+        self.assertEqual(ends[("gravity", 1)], [6])
+        self.assertEqual(ends[("gravity", 2)], [])
+
+    def test_deviation_features_follow_the_motion(self):
+        # After a run the Job holds one feature per kind and range; each has exactly the weld
+        # moves the motion puts in its range (counted here from the motion dict), and is hidden
+        # when it has none.
+        import math
+        job = self.planned_job()
+        m = api.motion(job)
+        features = deviations.deviation_objects(job)
+        self.assertEqual(sorted(features), [(k, r) for k in ("gravity", "torch")
+                                            for r in range(3)])
+        for (kind, r), feature in features.items():
+            field = "torch_angle" if kind == "torch" else "residual"
+            low, high = deviations.RANGES[r]
+            count = 0
+            for i in range(1, len(m["arc_on"])):
+                angle = math.degrees(max(float(m[field][i - 1]), float(m[field][i])))
+                if m["arc_on"][i] and angle >= low and (high is None or angle < high):
+                    count += 1
+            self.assertEqual(feature.DeviationMoves, count, feature.Label)
+            self.assertEqual(len(feature.Shape.Edges) if count else 0, count, feature.Label)
+            self.assertEqual(bool(feature.Visibility), count > 0, feature.Label)
+            self.assertIn("deg", feature.Label)
 
     def test_saved_and_reopened(self):
         job = self.planned_job()

@@ -23,6 +23,7 @@ import FreeCAD
 
 from .. import defaults
 from ..core import InvalidInput, native
+from . import deviations
 from .features import ensure_group, group_members
 from .pose_placement import part_placement
 from .simulation import update_simulation
@@ -263,4 +264,5 @@ def update_poses(job, progress=None):
     job.PosePath = int(m["path"][index]) + 1
     job.PoseDeposition = world_v
     job.MotionWarnings = list(m["warnings"]) + ["note: " + n for n in m["notes"]]
+    deviations.draw_deviations(job, m)
     return m

@@ -92,6 +92,31 @@ def style_paths(job):
         set_view(travel.ViewObject, "DrawStyle", "Dashed")
     style_cell(poses.pose_objects(job))
     style_voids(job)
+    style_deviations(job)
+
+
+#: Line colours of the deviation features (stages/deviations.py) by kind and range: the torch
+#: angle off gravity from green (1-5 deg) through yellow to red (over 10 deg), the deposition
+#: direction off gravity from light violet to magenta.
+DEVIATION_COLORS = {"torch": ((0.1, 0.75, 0.2), (0.95, 0.8, 0.05), (0.9, 0.1, 0.05)),
+                    "gravity": ((0.7, 0.6, 0.95), (0.6, 0.3, 0.9), (0.9, 0.05, 0.8))}
+
+
+def style_deviations(job):
+    """The deviation lines thick and coloured by kind and range (no-op headless)."""
+    if not FreeCAD.GuiUp:
+        return
+    from ..stages import deviations
+
+    for (kind, index), feature in deviations.deviation_objects(job).items():
+        vobj = feature.ViewObject
+        if vobj is None:
+            continue
+        colours = DEVIATION_COLORS.get(kind)
+        if colours and 0 <= index < len(colours):
+            set_view(vobj, "LineColor", colours[index])
+        set_view(vobj, "LineWidth", 5.0)
+        set_view(vobj, "DrawStyle", "Solid")
 
 
 #: Colour of the uncovered-region markers (stages/voids.py).
