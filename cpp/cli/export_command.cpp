@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <new>
 #include <string>
+#include <system_error>
+#include <utility>
 
 #include "command_errors.hpp"
 #include "curvedslicer/core/error.hpp"
@@ -116,6 +118,14 @@ int runExportCommand(const ExportArguments& args) {
     if (!fs::is_directory(folder)) {
       throw IoError("output folder does not exist: '" + folder.string() +
                     "'; create it or choose another output file");
+    }
+    // the program never replaces one of its inputs (same file, by any name or link)
+    for (const auto& [input, what] : {std::pair{args.plan, "plan"}, std::pair{args.cell, "cell"}}) {
+      std::error_code ec;
+      if (!input.empty() && fs::equivalent(output, fs::path(input), ec)) {
+        throw InvalidInput("the output '" + output.string() + "' is the " + what +
+                           " file being read ('" + input + "'); choose another output file");
+      }
     }
     const Progress progress([&display](double fraction, std::string_view stage) {
       return display.update(fraction, stage);

@@ -1,6 +1,7 @@
 """Hostile files through the workbench API do not take FreeCAD down: a 100,000-deep
-cell.json and a cell with a number beyond the double range are InvalidInput naming the file; an
-export onto a FIFO is an IoError that leaves the FIFO in place."""
+cell.json and a cell with a number beyond the double range are InvalidInput naming the file; a
+cell "file" that is /dev/zero, a FIFO or a folder is InvalidInput before anything is read (FreeCAD
+neither grows nor blocks); an export onto a FIFO is an IoError that leaves the FIFO in place."""
 
 import os
 import stat
@@ -41,6 +42,22 @@ class TestRobustness(cs_testing.DocumentTestCase):
             self.assertFalse(os.path.exists(target))
         # The job is still usable afterwards.
         self.assertGreater(api.export(job, None, format="csv")["motion_count"], 0)
+
+    def test_cell_files_that_are_not_regular_files_are_refused_unread(self):
+        job = self.box_job()
+        fifo = cs_testing.tmp_path("robust_cell_fifo.json")
+        if os.path.lexists(fifo):
+            os.remove(fifo)
+        os.mkfifo(fifo)
+        try:
+            for cell_file, kind in (("/dev/zero", "a device"), (fifo, "a FIFO (named pipe)"),
+                                    (os.path.dirname(fifo), "a folder")):
+                with self.assertRaises(InvalidInput) as caught:
+                    api.export(job, None, format="csv", cell_file=cell_file)
+                self.assertIn("cell file '%s' is %s, not a regular file" % (cell_file, kind),
+                              str(caught.exception))
+        finally:
+            os.remove(fifo)
 
     def test_export_onto_a_fifo_is_refused(self):
         job = self.box_job()

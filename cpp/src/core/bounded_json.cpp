@@ -1,6 +1,8 @@
 #include "core/bounded_json.hpp"
 
+#include <fstream>
 #include <optional>
+#include <system_error>
 #include <utility>
 
 #include "curvedslicer/core/error.hpp"
@@ -179,6 +181,40 @@ std::string abbreviateJson(const Json& value, std::size_t maxChars) {
     out += "...";
   }
   return out;
+}
+
+std::string readInputFile(const std::filesystem::path& path, std::string_view what,
+                          std::uintmax_t maxBytes) {
+  namespace fs = std::filesystem;
+  const std::string name = std::string(what) + " '" + path.string() + "'";
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);  // follows links; never opens the file
+  if (ec || !fs::exists(status)) {
+    throw IoError("cannot open the " + name + ": it does not exist; check the path");
+  }
+  const auto refuse = [&](const char* kind) {
+    throw InvalidInput("the " + name + " is " + kind + ", not a regular file; pass the " +
+                       std::string(what) + " itself");
+  };
+  if (fs::is_directory(status)) refuse("a folder");
+  if (fs::is_fifo(status)) refuse("a FIFO (named pipe)");
+  if (fs::is_character_file(status) || fs::is_block_file(status)) refuse("a device");
+  if (fs::is_socket(status)) refuse("a socket");
+  if (!fs::is_regular_file(status)) refuse("not a file");
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) throw IoError("cannot read the size of the " + name + ": " + ec.message());
+  if (size > maxBytes) {
+    throw InvalidInput("the " + name + " has " + std::to_string(size) + " bytes, more than the " +
+                       std::to_string(maxBytes >> 20) + " MiB a " + std::string(what) +
+                       " may have; check that it is the right file");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError("cannot open the " + name + "; check its permissions");
+  std::string text(static_cast<std::size_t>(size), '\0');
+  if (size > 0 && !in.read(text.data(), static_cast<std::streamsize>(size))) {
+    throw IoError("reading the " + name + " failed; check the file");
+  }
+  return text;
 }
 
 }  // namespace curvedslicer

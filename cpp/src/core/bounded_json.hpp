@@ -6,6 +6,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <filesystem>
 #include <string>
 #include <string_view>
 
@@ -18,6 +20,21 @@ inline constexpr int kMaxJsonDepth = 64;
 
 /// Longest echo of a JSON value in an error message, in characters (before the "...").
 inline constexpr std::size_t kMaxEchoedJson = 60;
+
+/// Largest cell file the reader takes, bytes (16 MiB; a cell is a few kB with its bead model).
+inline constexpr std::uintmax_t kMaxCellFileBytes = std::uintmax_t{16} << 20;
+
+/// Largest plan.json the reader takes, bytes (4 GiB; a bunny at 0.5 mm is about 0.2 GB).
+inline constexpr std::uintmax_t kMaxPlanFileBytes = std::uintmax_t{4} << 30;
+
+/// The whole text of `path` for a JSON reader: only a regular file (a symbolic link to one is
+/// followed) of at most `maxBytes`. What it is is checked before the file is opened, so a FIFO
+/// (whose opening would block), a device (/dev/zero, endless), a socket or a folder is refused
+/// without reading; so is a larger file. `what` names the file in messages ("cell file").
+/// @throws IoError naming the path when it does not exist or cannot be opened or read
+/// @throws InvalidInput naming the path, what it is or its size, and what to pass instead
+std::string readInputFile(const std::filesystem::path& path, std::string_view what,
+                          std::uintmax_t maxBytes);
 
 /// Parses `text` (UTF-8 JSON) into a document.
 /// Throws InvalidInput "<lead>: <problem> at line L, column C; <hint>" when the text is not JSON,

@@ -772,12 +772,8 @@ Plan readPlanJson(std::istream& in, std::string_view origin) {
 }
 
 Plan readPlanJson(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw IoError("cannot open plan file '" + path.string() +
-                  "'; check the path and its permissions");
-  }
-  return readPlanJson(in, path.string());
+  // a regular file of at most 4 GiB: a FIFO, a device or a folder is refused unread
+  return parsePlanJson(readInputFile(path, "plan file", kMaxPlanFileBytes), path.string());
 }
 
 // ---- CSV ----------------------------------------------------------------------------------------

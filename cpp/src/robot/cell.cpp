@@ -1105,15 +1105,8 @@ Cell parseCell(std::string_view text, std::string_view origin) {
 }
 
 Cell readCell(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw IoError("cannot open the cell file: " + path.string() +
-                  "; check the path (examples are in resources/cells/)");
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw IoError("cannot read the cell file: " + path.string() + "; check the file");
-  return parseCell(text.str(), path.filename().string());
+  // a regular file of at most 16 MiB: a FIFO, a device or a folder is refused unread
+  return parseCell(readInputFile(path, "cell file", kMaxCellFileBytes), path.filename().string());
 }
 
 /// The robot section of writeCellJson.

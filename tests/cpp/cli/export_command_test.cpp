@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <sys/stat.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -185,6 +187,50 @@ TEST(ExportCommand, SplitsAJbiProgramIntoSiblingJobFiles) {
   EXPECT_NE(main.find("///DATE 2026/11/22 07:00\r\n"), std::string::npos);
   EXPECT_TRUE(fs::exists(dir / "PART1.JBI"));
   EXPECT_TRUE(fs::exists(dir / "PART2.JBI"));
+}
+
+// Inputs that are not regular files are refused before they are opened or read: a FIFO (whose
+// opening would block until a writer comes), /dev/zero (endless), a folder; the output may not be
+// one of the inputs (the plan, the cell), by any name.
+TEST(ExportCommand, InputsThatAreNotRegularFilesOrAreTheOutputAreRefused) {
+  const fs::path dir = freshTempDir();
+  const fs::path plan = dir / "plan.json";
+  writePlanJson(plan, makeSmallPlan());
+  { std::ofstream(dir / "cell.json") << writeCellJson(defaultCell()); }
+  const fs::path fifo = dir / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const fs::path out = dir / "out.csv";
+  const auto expectRefused = [&](const std::string& arguments, const std::string& needle) {
+    SCOPED_TRACE(arguments);
+    // `timeout` ends a run that would block or read forever: exit 124, not 2
+    EXPECT_EQ(runCli(dir, "export " + arguments + " --format csv -q"), 2);
+    const std::string err = readFile((dir / "stderr.txt").string());
+    EXPECT_NE(err.find(needle), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(out));
+  };
+  const std::string planArg = "'" + plan.string() + "'";
+  const std::string outArg = " -o '" + out.string() + "'";
+  expectRefused(planArg + " --cell '" + fifo.string() + "'" + outArg,
+                "is a FIFO (named pipe), not a regular file");
+  expectRefused("'" + fifo.string() + "'" + outArg, "plan file");
+  expectRefused(planArg + " --cell /dev/zero" + outArg, "is a device, not a regular file");
+  expectRefused(planArg + " --cell '" + dir.string() + "'" + outArg, "is a folder");
+  // the output is the plan, also through a symbolic link: refused, the plan left as it was
+  const std::string before = readFile(plan.string());
+  EXPECT_EQ(runCli(dir, "export " + planArg + " --format json -q -o '" + plan.string() + "'"), 2);
+  EXPECT_NE(readFile((dir / "stderr.txt").string()).find("is the plan file being read"),
+            std::string::npos);
+  fs::create_symlink(plan, dir / "link.json");
+  EXPECT_EQ(runCli(dir, "export " + planArg + " --format json -q -o '" +
+                            (dir / "link.json").string() + "'"),
+            2);
+  EXPECT_EQ(runCli(dir, "export " + planArg + " --cell '" + (dir / "cell.json").string() +
+                            "' --format json -q -o '" + (dir / "cell.json").string() + "'"),
+            2);
+  EXPECT_NE(readFile((dir / "stderr.txt").string()).find("is the cell file being read"),
+            std::string::npos);
+  EXPECT_EQ(readFile(plan.string()), before);
+  EXPECT_NO_THROW(readCell(dir / "cell.json"));
 }
 
 TEST(ExportCommand, BadInputsFailCleanlyWithoutOutput) {
