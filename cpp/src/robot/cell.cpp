@@ -82,6 +82,19 @@ class Field {
     if (!(v > 0.0)) fail(key, "must be positive", formatNumber(v), hint);
     return v;
   }
+  /// A number within [lo, hi] (physical bounds: larger values are unit slips or typos).
+  double within(std::string_view key, double lo, double hi, std::string_view hint) {
+    const double v = number(key, hint);
+    if (!(v >= lo && v <= hi)) {
+      fail(key, "must be between " + formatNumber(lo) + " and " + formatNumber(hi), formatNumber(v),
+           hint);
+    }
+    return v;
+  }
+  double within(std::string_view key, double fallback, double lo, double hi,
+                std::string_view hint) {
+    return has(key) ? within(key, lo, hi, hint) : fallback;
+  }
   double nonNegative(std::string_view key, std::string_view hint) {
     const double v = number(key, hint);
     if (v < 0.0) fail(key, "must not be negative", formatNumber(v), hint);
@@ -193,9 +206,36 @@ Pose readPose(Field& parent, std::string_view key, std::string_view hint) {
   return makePose(xyz, rpy * kDeg);
 }
 
+/// Largest joint or positioner angle a cell may give (limits, home), degrees: ten turns.
+constexpr double kMaxAxisDegrees = 3600.0;
+
+/// Largest pulse count a controller position holds (32-bit signed).
+constexpr double kMaxPulses = 2147483647.0;
+
+/// Encoder pulses per degree of an axis: positive, and small enough that every angle within the
+/// axis's limits (ten turns for an endless axis) is a 32-bit pulse count.
+double readPulsesPerDegree(Field& f, std::string_view key, const JointLimit& limit, bool endless) {
+  const char* hint = "give the encoder pulses per degree from the controller's parameters";
+  const double ppd = f.positive(key, hint);
+  const double reach =
+      endless ? kMaxAxisDegrees : std::max(std::abs(limit.min), std::abs(limit.max)) / kDeg;
+  if (ppd * reach > kMaxPulses) {
+    f.fail(key,
+           "gives pulse counts beyond the controller's 32-bit range at " + formatNumber(reach) +
+               " deg",
+           formatNumber(ppd), hint);
+  }
+  return ppd;
+}
+
 JointLimit readLimit(Field& f, std::string_view what) {
   JointLimit limit;
   const auto range = f.numbers("limits_deg", 2, "give [min, max] in degrees");
+  if (std::abs(range[0]) > kMaxAxisDegrees || std::abs(range[1]) > kMaxAxisDegrees) {
+    f.fail("limits_deg", "must lie within +-3600 degrees (ten turns)",
+           "[" + formatNumber(range[0]) + ", " + formatNumber(range[1]) + "]",
+           "give [min, max] in degrees of " + std::string(what));
+  }
   if (!(range[0] < range[1])) {
     f.fail("limits_deg", "minimum must be below maximum",
            "[" + formatNumber(range[0]) + ", " + formatNumber(range[1]) + "]",
@@ -203,7 +243,8 @@ JointLimit readLimit(Field& f, std::string_view what) {
   }
   limit.min = range[0] * kDeg;
   limit.max = range[1] * kDeg;
-  limit.maxSpeed = f.positive("max_speed_deg_s", "give the maximum joint speed in deg/s") * kDeg;
+  limit.maxSpeed =
+      f.within("max_speed_deg_s", 0.1, 10000.0, "give the maximum joint speed in deg/s") * kDeg;
   return limit;
 }
 
@@ -217,10 +258,9 @@ PositionerAxis readAxis(Field& parent, std::string_view key, bool mayBeEndless) 
   }
   // Pulses are the Yaskawa station's unit (JBI); other controllers take degrees, so a cell may
   // leave them out (0: not known; a JBI export then stops and asks for them).
-  axis.pulsesPerDegree =
-      f.has("pulses_per_degree")
-          ? f.positive("pulses_per_degree", "give the encoder pulses per degree (or leave it out)")
-          : 0.0;
+  axis.pulsesPerDegree = f.has("pulses_per_degree")
+                             ? readPulsesPerDegree(f, "pulses_per_degree", axis.limit, axis.endless)
+                             : 0.0;
   axis.sign = f.sign("sign", "1 if the controller turns the same way as the model axis, else -1");
   f.rejectUnknown();
   return axis;
@@ -422,10 +462,20 @@ RobotDescription readRobot(Field& top, std::string_view origin, RobotVendor vend
                 "true when the controller's J3 is the forearm's angle to the horizontal (Fanuc)");
   if (r.has("pulses_per_degree")) {
     const auto ppd = r.numbers("pulses_per_degree", 6, "give six pulses-per-degree values");
-    for (double v : ppd) {
+    for (std::size_t i = 0; i < ppd.size(); ++i) {
+      const double v = ppd[i];
       if (!(v > 0.0)) {
         r.fail("pulses_per_degree", "must be positive", formatNumber(v),
                "copy them from the controller's parameters");
+      }
+      const JointLimit& limit = robot.joints[i];
+      const double reach = std::max(std::abs(limit.min), std::abs(limit.max)) / kDeg;
+      if (v * reach > kMaxPulses) {
+        r.fail("pulses_per_degree",
+               "gives joint " + std::to_string(i + 1) +
+                   " pulse counts beyond the controller's 32-bit range at " + formatNumber(reach) +
+                   " deg",
+               formatNumber(v), "copy them from the controller's parameters");
       }
     }
     robot.pulsesPerDegree = ppd;
@@ -568,6 +618,12 @@ HomePose readHome(Field& top, int version, const Cell& cell, std::vector<std::st
            abbreviateJson(Json(q)), "give a home pose that satisfies robot/interference");
   }
   const auto a = h.numbers("positioner_deg", 2, "give [tilt, rotation] in degrees");
+  for (double v : a) {
+    if (std::abs(v) > kMaxAxisDegrees) {
+      h.fail("positioner_deg", "must lie within +-3600 degrees (ten turns)", formatNumber(v),
+             "give the home angles in degrees");
+    }
+  }
   home.a1 = a[0] * kDeg;
   home.a2 = a[1] * kDeg;
   const PositionerAxis* axes[2] = {&cell.positioner.tilt, &cell.positioner.rotation};
@@ -591,6 +647,12 @@ ToolDescription readTool(Field& top, int version, std::vector<std::string>& note
   tool.name = t.string("name", "", "tool name");
   tool.number = t.integer("number", 1, 0, 63, "tool number in the controller (0..63)");
   tool.tcp = readPose(t, "tcp", "give the TCP in the flange frame (z along the torch)");
+  if (!(tool.tcp.translation().z() > 0.0)) {
+    t.fail("tcp/xyz_mm", "puts the TCP on or behind the flange (z along the flange axis)",
+           formatNumber(tool.tcp.translation().z()) + " mm",
+           "give the TCP in front of the flange, e.g. xyz_mm [0, 0, 400] for a straight 400 mm "
+           "torch");
+  }
   tool.envelope = readEnvelope(t, version, notes);
   t.rejectUnknown();
   return tool;
@@ -732,8 +794,9 @@ ProcessDescription readProcess(Field& top, std::string_view origin) {
     pr.fail("deposition_efficiency", "must be in (0, 1]", formatNumber(proc.depositionEfficiency),
             "use e.g. 0.95");
   }
-  proc.layerDwell = pr.nonNegative("layer_dwell_s", 0.0, "interlayer dwell in s");
-  proc.pathDwell = pr.nonNegative("path_dwell_s", 0.0, "dwell after each path in s");
+  // at most a day: larger is a unit slip (and would not fit a controller's timer)
+  proc.layerDwell = pr.within("layer_dwell_s", 0.0, 0.0, 86400.0, "interlayer dwell in s");
+  proc.pathDwell = pr.within("path_dwell_s", 0.0, 0.0, 86400.0, "dwell after each path in s");
   const double window =
       pr.number("max_torch_angle_deg", 15.0, "the largest torch angle off gravity, in degrees");
   if (!(window >= 0.0 && window <= 45.0)) {

@@ -97,6 +97,21 @@ void validateInputs(const Plan& plan, const MotionOptions& options) {
     throw InvalidInput("merge tolerance must be zero or positive: " +
                        fmt(options.mergeTolerance, 4) + " mm; use e.g. 0.01 mm");
   }
+  // a merge tolerance as large as the beads would collapse whole welds into single points
+  const double spacing = plan.parameters.beadSpacing;
+  if (spacing > 0.0 && !(options.mergeTolerance < 0.5 * spacing)) {
+    throw InvalidInput("merge tolerance must be below half the bead spacing (" +
+                       fmt(0.5 * spacing, 2) + " mm): " + fmt(options.mergeTolerance, 2) +
+                       " mm; it merges consecutive path points closer than this, use e.g. 0.01 "
+                       "mm");
+  }
+  // the travel planner raises routes in steps of half the clearance up to its largest lift: a
+  // clearance of a few microns would mean millions of steps per move
+  if (!(options.clearance >= 0.5 && options.clearance <= 200.0)) {
+    throw InvalidInput("clearance must be between 0.5 and 200 mm: " + fmt(options.clearance, 6) +
+                       " mm; the torch keeps this distance from the deposit between welds, use "
+                       "e.g. 10 mm");
+  }
   if (!(options.smoothingLength >= 0.0) || !std::isfinite(options.smoothingLength)) {
     throw InvalidInput("smoothing length must be zero or positive: " +
                        fmt(options.smoothingLength) + " mm; use 0 to switch smoothing off");
@@ -217,6 +232,20 @@ MotionEstimate estimatePlan(const Plan& plan, const ProcessDescription& process,
   return total;
 }
 
+namespace {
+
+/// A pulse count rounded, or InvalidInput when it leaves the controller's 32-bit range.
+long long checkedPulses(double pulses, const std::string& what, double angle) {
+  if (!(std::abs(pulses) <= 2147483647.0)) {
+    throw InvalidInput(what + " at " + fmt(angle / kDeg, 3) + " deg gives " + fmt(pulses, 0) +
+                       " pulses, beyond the controller's 32-bit range; check its pulses per "
+                       "degree in the cell");
+  }
+  return std::llround(pulses);
+}
+
+}  // namespace
+
 long long positionerPulses(const PositionerAxis& axis, double angle) {
   if (!(axis.pulsesPerDegree > 0.0)) {
     throw InvalidInput(
@@ -224,7 +253,7 @@ long long positionerPulses(const PositionerAxis& axis, double angle) {
         "positioner/tilt/pulses_per_degree and positioner/rotation/pulses_per_degree (the "
         "station's parameters) to write station pulses");
   }
-  return axis.sign * std::llround(angle / kDeg * axis.pulsesPerDegree);
+  return checkedPulses(axis.sign * (angle / kDeg) * axis.pulsesPerDegree, "positioner axis", angle);
 }
 
 std::array<long long, 6> robotPulses(const RobotDescription& robot, const JointVector& joints) {
@@ -235,7 +264,8 @@ std::array<long long, 6> robotPulses(const RobotDescription& robot, const JointV
   }
   std::array<long long, 6> pulses{};
   for (int i = 0; i < 6; ++i) {
-    pulses[i] = std::llround(joints[i] / kDeg * robot.pulsesPerDegree[i]);
+    pulses[i] = checkedPulses(joints[i] / kDeg * robot.pulsesPerDegree[i],
+                              "robot joint " + std::to_string(i + 1), joints[i]);
   }
   return pulses;
 }

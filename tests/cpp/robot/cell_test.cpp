@@ -92,7 +92,7 @@ TEST(Cell, EachBadFieldHasItsOwnError) {
       {"/robot/kinematics_mm/c2", -760, "must be positive"},
       {"/robot/kinematics_mm/c4", -1, "must not be negative"},
       {"/robot/joints/1/limits_deg", Json::array({10, -10}), "minimum must be below maximum"},
-      {"/robot/joints/4/max_speed_deg_s", 0, "must be positive"},
+      {"/robot/joints/4/max_speed_deg_s", 0, "must be between 0.1 and 10000"},
       {"/robot/joints/2/sign", 2, "must be 1 or -1"},
       {"/robot/joints", Json::array({1, 2}), "array of 6"},
       {"/robot/base/xyz_mm", Json::array({1, 2}), "array of 3"},
@@ -112,7 +112,7 @@ TEST(Cell, EachBadFieldHasItsOwnError) {
       {"/process/wire_diameter_mm", 0, "must be positive"},
       {"/process/speed_unit", "furlong/fortnight", "must be one of"},
       {"/process/deposition_efficiency", 1.5, "must be in (0, 1]"},
-      {"/process/layer_dwell_s", -5, "must not be negative"},
+      {"/process/layer_dwell_s", -5, "must be between 0 and 86400"},
       {"/process/arc/start_condition", 0, "between 1 and 48"},
       {"/process/arc/control", "plasma", "must be one of"},
       {"/export/line_ending", "cr", "must be one of"},
@@ -122,6 +122,14 @@ TEST(Cell, EachBadFieldHasItsOwnError) {
       {"/export/coordinated", "yes", "true or false"},
       // version 2 fields
       {"/version", 4, "between 1 and 3"},
+      // physical bounds: unit slips and values beyond a controller's integer ranges
+      {"/positioner/rotation/pulses_per_degree", 1e300, "32-bit range"},
+      {"/positioner/tilt/pulses_per_degree", 1e12, "32-bit range at 95 deg"},
+      {"/home/positioner_deg", Json::parse("[0, 1e308]"), "within +-3600 degrees"},
+      {"/process/layer_dwell_s", 1e300, "must be between 0 and 86400"},
+      {"/robot/joints/0/max_speed_deg_s", 1e-9, "must be between 0.1 and 10000"},
+      {"/robot/joints/5/limits_deg", Json::parse("[-1e6, 1e6]"), "within +-3600 degrees"},
+      {"/tool/tcp/xyz_mm", Json::parse("[0, 0, -400]"), "on or behind the flange"},
       // the whole-cell collision model (cell version 3)
       {"/robot/link_capsules_mm", nullptr, "is missing"},
       {"/robot/link_capsules_mm/forearm", nullptr, "is missing"},

@@ -379,17 +379,39 @@ TEST(Travel, RetractHeightIsTheClearanceAboveTheBead) {
 }
 
 TEST(Travel, BadClearanceIsRejected) {
+  // a clearance of a few microns would make the travel planner's lifts take millions of steps;
+  // one of kilometres is a unit slip
   const Plan plan = wallPlan(1);
-  for (double clearance : {0.0, -1.0, std::nan("")}) {
+  for (double clearance : {0.0, -1.0, std::nan(""), 1e-20, 0.4, 1e9}) {
     MotionOptions options;
     options.clearance = clearance;
     try {
       planMotion(plan, placedCell(plan), options);
       ADD_FAILURE() << "no error for clearance " << clearance;
     } catch (const InvalidInput& e) {
-      EXPECT_NE(std::string(e.what()).find("travel clearance must be positive"), std::string::npos);
+      EXPECT_NE(std::string(e.what()).find("clearance must be between 0.5 and 200 mm"),
+                std::string::npos)
+          << e.what();
     }
   }
+}
+
+TEST(Travel, MergeToleranceAsLargeAsTheBeadsIsRejected) {
+  // merging consecutive points closer than half a bead spacing or more would collapse welds
+  const Plan plan = wallPlan(1);  // beads 3.7 mm apart
+  MotionOptions options;
+  options.mergeTolerance = 50.0;
+  try {
+    planMotion(plan, placedCell(plan), options);
+    ADD_FAILURE() << "no error for a merge tolerance of 50 mm";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("merge tolerance must be below half the bead spacing "
+                                         "(1.85 mm): 50.00 mm"),
+              std::string::npos)
+        << e.what();
+  }
+  options.mergeTolerance = 0.5;
+  EXPECT_NO_THROW(planMotion(plan, placedCell(plan), options));
 }
 
 TEST(Travel, Deterministic) {
