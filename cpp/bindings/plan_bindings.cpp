@@ -15,6 +15,7 @@
 #include "binding_helpers.hpp"
 #include "curvedslicer/export/exporter.hpp"
 #include "curvedslicer/paths/coverage.hpp"
+#include "curvedslicer/pipeline/export_job.hpp"
 #include "curvedslicer/plan/plan_io.hpp"
 #include "curvedslicer/robot/cell.hpp"
 #include "curvedslicer/robot/configuration.hpp"
@@ -218,27 +219,26 @@ py::dict exportResultDict(const ExportResult& result) {
   return d;
 }
 
-// Plans the motion and writes the program into memory; with `path`, also writes the files all or
-// nothing (writeExportFiles), so nothing is written unless every step succeeded.
+// The export job (pipeline/export_job.hpp): plans the motion and writes the program into
+// memory; with `path`, also writes the files all or nothing, so nothing is written unless every
+// step succeeded.
 py::dict exportProgramPy(const std::string& planJson, const std::string& cellJson,
                          const std::string& format, const std::optional<std::string>& path,
                          ExportOptions options, MotionOptions motion, bool allowForeignCell,
                          const py::object& progress) {
-  const ExportFormat f = parseExportFormat(format);
+  ExportJobOptions job;
+  job.format = parseExportFormat(format);
   if (path) options.programName = programNameForFile(*path, options.programName);  // name rule
+  job.program = options;
+  job.motion = motion;
+  job.allowForeignCell = allowForeignCell;
   const Plan plan = parsePlanJson(planJson, "plan");
-  checkExportSize(plan.pointCount());
   const Cell cell = parseCell(cellJson, "cell");
-  checkCellVendor(cell, toString(f), allowForeignCell);
-  const ExportResult result = runWithProgress(progress, [&](Progress p) {
-    const MotionPlan planned = planMotion(plan, cell, motion, p.sub(0.0, 0.7));
-    ExportResult r = exportProgram(planned, withPartPlacement(cell, planned.tableToPart), f,
-                                   options, p.sub(0.7, 0.95));
-    if (path) writeExportFiles(r, std::filesystem::path(*path));
-    p.report(1.0, "export");
-    return r;
-  });
-  return exportResultDict(result);
+  std::optional<std::filesystem::path> output;
+  if (path) output = std::filesystem::path(*path);
+  const ExportJobResult result = runWithProgress(
+      progress, [&](Progress p) { return runExportJob(plan, cell, job, output, std::move(p)); });
+  return exportResultDict(result.program);
 }
 
 /// A layer's coverage as a dict, or None when not measured.
@@ -462,10 +462,8 @@ void registerPlanBindings(py::module_& m) {
       "export_formats",
       []() {
         py::list out;
-        for (ExportFormat f :
-             {ExportFormat::Jbi, ExportFormat::Krl, ExportFormat::Rapid, ExportFormat::Ls,
-              ExportFormat::Gcode, ExportFormat::Csv, ExportFormat::Json}) {
-          out.append(py::make_tuple(std::string(toString(f)), std::string(fileExtension(f))));
+        for (const ExportFormatInfo& f : exportFormats()) {
+          out.append(py::make_tuple(std::string(f.name), std::string(f.extension)));
         }
         return out;
       },

@@ -12,6 +12,7 @@
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/core/progress.hpp"
 #include "curvedslicer/export/exporter.hpp"
+#include "curvedslicer/pipeline/export_job.hpp"
 #include "curvedslicer/plan/plan_io.hpp"
 #include "curvedslicer/robot/cell.hpp"
 #include "curvedslicer/robot/motion.hpp"
@@ -134,23 +135,19 @@ int runExportCommand(const ExportArguments& args) {
     // ---- read ----------------------------------------------------------------------------------
     progress.report(0.0, "read");
     const Plan plan = readPlanJson(fs::path(args.plan));
-    checkExportSize(plan.pointCount());
     const Cell cell = args.cell.empty() ? defaultCell() : readCell(fs::path(args.cell));
-    checkCellVendor(cell, toString(format), args.allowForeignCell);
 
-    // ---- motion --------------------------------------------------------------------------------
-    MotionOptions motionOptions;
-    if (args.warnUnreachable) motionOptions.unreachable = UnreachablePolicy::Warn;
-    args.motion.applyTo(motionOptions);
-    const MotionPlan motion = planMotion(plan, cell, motionOptions, progress.sub(0.05, 0.7));
-
-    // ---- export --------------------------------------------------------------------------------
-    const ExportResult result = exportProgram(motion, withPartPlacement(cell, motion.tableToPart),
-                                              format, options, progress.sub(0.7, 0.95));
-
-    // ---- write ---------------------------------------------------------------------------------
-    progress.report(0.97, "write");  // last chance to cancel: nothing is in place yet
-    writeExportFiles(result, output);
+    // ---- motion, program, files (pipeline/export_job.hpp) -----------------------------------
+    ExportJobOptions job;
+    job.format = format;
+    job.program = options;
+    job.allowForeignCell = args.allowForeignCell;
+    if (args.warnUnreachable) job.motion.unreachable = UnreachablePolicy::Warn;
+    args.motion.applyTo(job.motion);
+    const MotionOptions& motionOptions = job.motion;
+    const ExportJobResult done = runExportJob(plan, cell, job, output, progress.sub(0.05, 1.0));
+    const MotionPlan& motion = done.motion;
+    const ExportResult& result = done.program;
     display.finishLine();
     if (!args.quiet) {
       for (const std::string& w : motion.warnings) {

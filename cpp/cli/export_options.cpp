@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "curvedslicer/export/exporter.hpp"
 #include "export_command.hpp"
 
 namespace curvedslicer::cli {
@@ -45,6 +46,26 @@ Exit codes: 0 success, 2 invalid input (bad plan or cell, unreachable point, joi
 part below the table or outside the working volume, collision, another vendor's language
 without --allow-foreign-cell; including usage errors),
 3 file I/O error, 130 interrupted (Ctrl-C), 1 other.)";
+
+/// "Output format, required: jbi (Yaskawa INFORM), krl (KUKA KRL), ..." from exportFormats(),
+/// wrapped to the help's width.
+std::string formatHelp() {
+  std::string help = "Output format, required:";
+  std::size_t line = help.size();
+  const auto& formats = exportFormats();
+  for (std::size_t i = 0; i < formats.size(); ++i) {
+    const std::string item = " " + std::string(formats[i].name) + " (" +
+                             std::string(formats[i].description) +
+                             (i + 1 < formats.size() ? ")," : ").");
+    if (line + item.size() > 66) {
+      help += "\n";
+      line = 0;
+    }
+    help += line == 0 ? item.substr(1) : item;
+    line += line == 0 ? item.size() - 1 : item.size();
+  }
+  return help;
+}
 
 /// The motion planner's options: one line each (see docs/ADDING-AN-OPTION.md).
 void addMotionOptions(CLI::App& cmd, OptionBindings<MotionOptions>& b) {
@@ -95,11 +116,7 @@ void addExportOptions(CLI::App& cmd, ExportArguments& args) {
                  "options; see resources/cells/). Default: the paper's cell, a Yaskawa\n"
                  "Motoman HP20D with a two-axis tilt-rotate positioner.")
       ->type_name("FILE");
-  cmd.add_option("--format", args.format,
-                 "Output format, required: jbi (Yaskawa INFORM), krl (KUKA),\n"
-                 "rapid (ABB), ls (Fanuc), gcode (tilt-rotate table), csv, json.")
-      ->required()
-      ->type_name("NAME");
+  cmd.add_option("--format", args.format, formatHelp())->required()->type_name("NAME");
   cmd.add_option("-o,--output", args.output,
                  "Output file, required (its folder must exist). For a split JBI\n"
                  "program the sub-jobs go next to it; see Output below.")

@@ -29,37 +29,44 @@ namespace curvedslicer {
 namespace fs = std::filesystem;
 using export_detail::kRadToDeg;
 
-std::string_view toString(ExportFormat format) {
-  switch (format) {
-    case ExportFormat::Jbi:
-      return "jbi";
-    case ExportFormat::Krl:
-      return "krl";
-    case ExportFormat::Rapid:
-      return "rapid";
-    case ExportFormat::Ls:
-      return "ls";
-    case ExportFormat::Gcode:
-      return "gcode";
-    case ExportFormat::Csv:
-      return "csv";
-    case ExportFormat::Json:
-      return "json";
+const std::vector<ExportFormatInfo>& exportFormats() {
+  static const std::vector<ExportFormatInfo> formats = {
+      {ExportFormat::Jbi, "jbi", ".JBI", "Yaskawa INFORM"},
+      {ExportFormat::Krl, "krl", ".src", "KUKA KRL"},
+      {ExportFormat::Rapid, "rapid", ".mod", "ABB RAPID"},
+      {ExportFormat::Ls, "ls", ".LS", "Fanuc LS"},
+      {ExportFormat::Gcode, "gcode", ".ngc", "G-code for a tilt-rotate table"},
+      {ExportFormat::Csv, "csv", ".csv", "neutral CSV"},
+      {ExportFormat::Json, "json", ".json", "neutral JSON"},
+  };
+  return formats;
+}
+
+namespace {
+
+const ExportFormatInfo& infoOf(ExportFormat format) {
+  for (const ExportFormatInfo& info : exportFormats()) {
+    if (info.format == format) return info;
   }
-  return "jbi";
+  return exportFormats().front();
+}
+
+}  // namespace
+
+std::string_view toString(ExportFormat format) {
+  return infoOf(format).name;
 }
 
 ExportFormat parseExportFormat(std::string_view name) {
   std::string lower(name);
   std::transform(lower.begin(), lower.end(), lower.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  for (ExportFormat f :
-       {ExportFormat::Jbi, ExportFormat::Krl, ExportFormat::Rapid, ExportFormat::Ls,
-        ExportFormat::Gcode, ExportFormat::Csv, ExportFormat::Json}) {
-    if (lower == toString(f)) return f;
+  std::string names;
+  for (const ExportFormatInfo& info : exportFormats()) {
+    if (lower == info.name) return info.format;
+    names += (names.empty() ? "" : ", ") + std::string(info.name);
   }
-  throw InvalidInput("unknown export format: '" + std::string(name) +
-                     "'; use one of jbi, krl, rapid, ls, gcode, csv, json");
+  throw InvalidInput("unknown export format: '" + std::string(name) + "'; use one of " + names);
 }
 
 std::string_view toString(GcodeMode mode) {
@@ -84,23 +91,7 @@ GcodeDialect parseGcodeDialect(std::string_view name) {
 }
 
 std::string_view fileExtension(ExportFormat format) {
-  switch (format) {
-    case ExportFormat::Jbi:
-      return ".JBI";
-    case ExportFormat::Krl:
-      return ".src";
-    case ExportFormat::Rapid:
-      return ".mod";
-    case ExportFormat::Ls:
-      return ".LS";
-    case ExportFormat::Gcode:
-      return ".ngc";
-    case ExportFormat::Csv:
-      return ".csv";
-    case ExportFormat::Json:
-      return ".json";
-  }
-  return "";
+  return infoOf(format).extension;
 }
 
 std::unique_ptr<ProgramExporter> makeExporter(ExportFormat format) {

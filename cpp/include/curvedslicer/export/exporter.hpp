@@ -103,10 +103,24 @@ class ProgramExporter {
                              const ExportOptions& options, const Progress& progress) const = 0;
 };
 
-/// "jbi", "krl", "rapid", "ls", "gcode", "csv", "json".
+/// One program format: its name (as the command line and the workbench take it), the extension
+/// of its main file and what it is for.
+struct ExportFormatInfo {
+  ExportFormat format = ExportFormat::Jbi;
+  std::string_view name;         ///< "jbi"
+  std::string_view extension;    ///< ".JBI"
+  std::string_view description;  ///< "Yaskawa INFORM"
+};
+
+/// Every program format, in the order front ends list them: the one table that format names,
+/// file extensions, the command line's help and the workbench's choices come from.
+const std::vector<ExportFormatInfo>& exportFormats();
+
+/// "jbi", "krl", "rapid", "ls", "gcode", "csv", "json" (exportFormats()).
 std::string_view toString(ExportFormat format);
 
-/// Parses a format name (case-insensitive). @throws InvalidInput listing the valid names.
+/// Parses a format name (case-insensitive). @throws InvalidInput listing the valid names
+/// (exportFormats()).
 ExportFormat parseExportFormat(std::string_view name);
 
 /// "tcp" | "machine".
@@ -122,7 +136,7 @@ std::string_view toString(GcodeDialect dialect);
 GcodeDialect parseGcodeDialect(std::string_view name);
 
 /// The usual file extension of the main file, with the dot (".JBI", ".src", ".mod", ".LS",
-/// ".ngc", ".csv", ".json").
+/// ".ngc", ".csv", ".json"; exportFormats()).
 std::string_view fileExtension(ExportFormat format);
 
 /// The writer of `format`.
