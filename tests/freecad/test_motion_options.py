@@ -106,6 +106,37 @@ class TestMotionOptions(cs_testing.DocumentTestCase):
         api.run(job, progress=False)
         self.assertGreater(api.pose_count(job), 0)
 
+    def test_stale_or_failed_results_are_not_exported(self):
+        # The program is what the 3D view shows, or nothing: after a failed run (the earlier
+        # plan still stored), after an input changed without a rerun (the view shows the old
+        # plan or the old cell's motion), export refuses and says why; after a rerun it writes.
+        job = self.sunken_box_job()
+        api.run(job, progress=False)
+        first = api.export(job, None, format="csv")["files"][0][1]
+        cases = (("LayerThickness", 50.0, "its last run failed"),
+                 ("BeadSpacing", 3.0, "its path inputs changed since the paths were planned"),
+                 ("CellFile", os.path.join(os.environ.get("CURVEDSLICER_SOURCE_DIR", ""),
+                                           "resources", "cells",
+                                           "kuka_kr16_r1610_2_dkp400.json"),
+                  "its cell or robot options changed since its motion was planned"),
+                 ("Clearance", 25.0, "its cell or robot options changed"))
+        for name, value, reason in cases:
+            old = getattr(job, name)
+            setattr(job, name, value)
+            if name == "LayerThickness":
+                with self.assertRaises(CurvedSlicerError):  # thicker than the part
+                    api.run(job, progress=False)
+            with self.assertRaises(InvalidInput) as caught:
+                api.export(job, None, format="csv")
+            self.assertIn("%s is not exported: %s" % (job.Label, reason), str(caught.exception))
+            self.assertIn("run it again", str(caught.exception))
+            setattr(job, name, old)
+            api.run(job, progress=False)
+            self.assertEqual(api.export(job, None, format="csv")["files"][0][1], first, name)
+        # an explicit cell for the export is the caller's choice, not a stale result
+        job.CellFile = cases[2][1]
+        api.export(job, None, format="csv", cell_file="")
+
     def test_auto_placement_reaches_the_motion_and_says_what_it_chose(self):
         job = self.sunken_box_job()
         self.assertIn("Auto", job.getEnumerationsOfProperty("PartPlacement"))

@@ -94,10 +94,10 @@ def gui_session():
 
 
 def replay(macro):
-    """Runs the macro as Macro > Macros… > Execute does: in the console's namespace."""
-    import __main__
-
-    namespace = dict(__main__.__dict__)
+    """Runs the macro as a fresh FreeCAD's Macro > Macros… > Execute does: in a console namespace
+    that holds only FreeCAD's own names (App, Gui), so the macro must import the API itself."""
+    namespace = {"__builtins__": __builtins__, "FreeCAD": FreeCAD, "App": FreeCAD,
+                 "FreeCADGui": FreeCADGui, "Gui": FreeCADGui}
     with open(macro) as f:
         code = compile(f.read(), macro, "exec")
     exec(code, namespace)
@@ -132,8 +132,15 @@ def run():
               "the macro calls freecad.curvedslicer.api.%s...) as a real line" % call)
     check(any("LayerThickness = 2.54" in line for line in lines),
           "the typed 0.1 in is recorded as 2.54 mm")
-    check(any(line.startswith("Gui.getDocument(") and line.endswith(".resetEdit()")
-              for line in lines), "closing the panel is recorded (resetEdit)")
+    check(any(line == "Gui.ActiveDocument.resetEdit()" for line in lines),
+          "closing the panel is recorded (resetEdit)")
+    first_call = min([i for i, line in enumerate(lines) if "freecad.curvedslicer.api." in line
+                      and not line.startswith("import")] or [0])
+    check(any(line == "import freecad.curvedslicer.api" for line in lines[:first_call]),
+          "the macro imports the API before its first call (the API was loaded before recording)")
+    check(not any("getDocument(%r)" % doc.Name in line for line in lines
+                  if "curvedslicer" in line or "setEdit" in line or "resetEdit" in line),
+          "the workbench's lines name the document as App.ActiveDocument, not by its name")
 
     recorded = os.path.join(TMP, "export_recorded")
     shutil.rmtree(recorded, ignore_errors=True)
@@ -148,8 +155,11 @@ def run():
         FreeCADGui.Control.closeDialog()
     FreeCAD.closeDocument(name)
     process_events()
+    # a document holding the session document's name: the replayed one gets another name
+    blocker = FreeCAD.newDocument(name)
 
     replay(macro)
+    check(FreeCAD.ActiveDocument.Name != name, "the replay ran in a document of another name")
     check(not FreeCADGui.Control.activeDialog(), "the replay closed the panel it opened")
     replayed_job = FreeCAD.ActiveDocument.getObject("Job")
     replayed_state = (replayed_job.PosePoint, [o.Visibility for o in api.layers(replayed_job)])
@@ -166,6 +176,7 @@ def run():
           "the replay's export equals the recorded session's byte for byte (different %s)"
           % different)
     screenshot("macro_replayed")
+    del blocker
     for d in FreeCAD.listDocuments():
         FreeCAD.closeDocument(d)
 

@@ -260,7 +260,9 @@ def panel_edits_every_group(job, box):
                 "ToolAlongTravel = True", "PartPlacement = 'Cell'", "Clearance = 15.0",
                 "AddHome = False", "AllowCollisions = True", "MergeTolerance = 0.02",
                 "MaxA2Step = 4.0", "PosePoint = %d" % pose]
-    prefix = "App.getDocument(%r).getObject(%r)." % (job.Document.Name, job.Name)
+    # the Job of the active document through App.ActiveDocument (a macro replays into a document
+    # of another name)
+    prefix = "App.ActiveDocument.getObject(%r)." % job.Name
     check(all(line.startswith(prefix) for line in lines)
           and sorted(line[len(prefix):] for line in lines) == sorted(expected),
           "the changed values become property assignments: %s" % lines)

@@ -411,6 +411,12 @@ def export(job, path=None, format="jbi", program_name="", date="", gcode_mode="t
     jobs = _jobs(job)
     path = arguments.output_path(path)
     arguments.program_date(date)
+    for j in jobs:
+        # the program must be what the 3D view shows: not an earlier plan or another cell's
+        reason = stages.stale_reason(j, motion=cell_file is None)
+        if reason:
+            raise InvalidInput("%s is not exported: %s; run it again (Recompute, or api.run) so "
+                               "the program matches its inputs" % (j.Label, reason))
     text = plan_json(jobs)
     if cell_file is None:
         cell = poses.cell_json(jobs[0])

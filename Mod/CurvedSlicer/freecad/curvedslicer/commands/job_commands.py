@@ -5,8 +5,9 @@ the robot program (a dialog with file, format, program name and G-code mode; the
 folder by default), step and animate the positioner poses, and preferences.
 
 Document changes are made by running the macro API's own lines through FreeCADGui.doCommand
-(after FreeCADGui.addModule("freecad.curvedslicer.api")), so a recorded macro holds exactly the
-calls that ran — ``freecad.curvedslicer.api.run(...)``, ``...export(...)``, ``...set_pose(...)``
+(each after its own "import freecad.curvedslicer.api" line, so a macro recorded after the API was
+first loaded still imports it; objects of the active document through App.ActiveDocument, so it
+replays into a document of another name), so a recorded macro holds exactly the calls that ran — ``freecad.curvedslicer.api.run(...)``, ``...export(...)``, ``...set_pose(...)``
 — and replays them; errors are shown in a message box saying what to do, never as a crash."""
 
 import os
@@ -42,7 +43,7 @@ def do_api(call):
     """Runs `call` (an expression on freecad.curvedslicer.api, e.g. "run(<job>)") in FreeCAD's
     console namespace: recorded in the macro as the real line, echoed to the Python console.
     Exceptions of the call propagate to the caller."""
-    FreeCADGui.addModule(API)
+    FreeCADGui.doCommand("import " + API)
     FreeCADGui.doCommand("%s.%s" % (API, call))
 
 
@@ -59,7 +60,9 @@ def selected_job():
 
 
 def _ref(obj):
-    return "App.getDocument(%r).getObject(%r)" % (obj.Document.Name, obj.Name)
+    from ..taskpanels.job_fields import object_ref
+
+    return object_ref(obj.Document.Name, obj.Name)
 
 
 class CreateJob:
@@ -95,7 +98,7 @@ class CreateJob:
             show_error("cannot create a Job", error)
             return
         FreeCAD.ActiveDocument.openTransaction("Create CurvedSlicer Job")
-        FreeCADGui.addModule("freecad.curvedslicer.api")
+        FreeCADGui.doCommand("import " + API)
         FreeCADGui.doCommand("job = freecad.curvedslicer.api.make_job(App.ActiveDocument, %s, "
                              "start=%s)" % (_ref(solid), start))
         FreeCAD.ActiveDocument.commitTransaction()
@@ -117,7 +120,9 @@ class EditJob:
 
 def edit_job(job):
     """Opens the Job's task panel, recorded as Gui.getDocument(...).setEdit(...)."""
-    FreeCADGui.doCommand("Gui.getDocument(%r).setEdit(%r)" % (job.Document.Name, job.Name))
+    from ..taskpanels.job_fields import document_ref
+
+    FreeCADGui.doCommand("%s.setEdit(%r)" % (document_ref(job.Document.Name, "Gui"), job.Name))
 
 
 class RunJob:

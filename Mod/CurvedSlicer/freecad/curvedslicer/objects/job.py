@@ -232,6 +232,8 @@ PROPERTIES = [
      "SHA-256 of the inputs the current layers were computed from", ""),
     ("App::PropertyString", "PlanDigest", "Internal",
      "SHA-256 of the inputs the current plan was computed from", ""),
+    ("App::PropertyString", "MotionDigest", "Internal",
+     "SHA-256 of the plan, cell and robot options the shown motion was planned with", ""),
     ("App::PropertyString", "PlanJson", "Internal",
      "The deposition plan, versioned JSON (plan/plan_io.hpp)", ""),
     ("App::PropertyLink", "LayersGroup", "Internal", "The group holding the layer meshes", None),
@@ -267,8 +269,8 @@ def add_missing_properties(obj):
             setattr(obj, name, default)
     for name in RESULT_PROPERTIES:
         obj.setEditorMode(name, 1)  # read-only
-    for name in ("InputsDigest", "LayersGroup", "PlanDigest", "PlanJson", "PathsGroup",
-                 "PosesGroup"):
+    for name in ("InputsDigest", "LayersGroup", "MotionDigest", "PlanDigest", "PlanJson",
+                 "PathsGroup", "PosesGroup"):
         obj.setEditorMode(name, 2)  # hidden
     return added
 

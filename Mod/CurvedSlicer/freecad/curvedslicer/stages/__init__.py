@@ -47,6 +47,24 @@ def update_job(job, progress=None, force=False, prune=True):
     return ran_layers, ran_paths
 
 
+def stale_reason(job, motion=True):
+    """Why the Job's stored results do not belong to its current inputs, or "" when they do: its
+    last run failed, or an input of its layers, its paths or (`motion`) its motion — the cell
+    and the robot options — changed since they were computed. The 3D view then shows, and an
+    export would write, the earlier results."""
+    if "Invalid" in job.State:
+        status = job.PathsStatus if job.PathsStatus.startswith(("Invalid", "Resource", "Io")) \
+            else job.Status
+        return "its last run failed (%s)" % status
+    if job.PlanKind == "CurvedLayers" and layers.layer_inputs(job)[2] != job.InputsDigest:
+        return "its layer inputs changed since the layers were computed"
+    if paths.path_inputs(job)[1] != job.PlanDigest:
+        return "its path inputs changed since the paths were planned"
+    if motion and job.MotionDigest and poses.motion_digest(job) != job.MotionDigest:
+        return "its cell or robot options changed since its motion was planned"
+    return ""
+
+
 def report_failure(job, error):
     """A layer-stage error in Status and the Report view."""
     kind = type(error).__name__

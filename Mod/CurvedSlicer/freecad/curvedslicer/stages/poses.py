@@ -81,13 +81,21 @@ def motion_options(job, **overrides):
     return native.MotionOptions(**values)
 
 
+def motion_digest(job, cell=None, options=None):
+    """Digest of what the Job's motion is planned from: its plan, its cell (CellFile), its robot
+    options."""
+    cell = cell_json(job) if cell is None else cell
+    options = motion_options(job, unreachable="warn") if options is None else options
+    return _digest(job.PlanJson, cell, repr(options))
+
+
 def motion(job, progress=None):
     """planMotion of the Job's plan in its cell (cached): dict of columns (see plan_motion)."""
     if not job.PlanJson:
         raise InvalidInput("no plan: %s has no paths yet; run the Job first" % job.Label)
     cell = cell_json(job)
     options = motion_options(job, unreachable="warn")
-    digest = _digest(job.PlanJson, cell, repr(options))
+    digest = motion_digest(job, cell, options)
     key = (job.Document.Name, job.Name)
     cached = _motion_cache.get(key)
     if cached is not None and cached[0] == digest:
@@ -265,4 +273,7 @@ def update_poses(job, progress=None):
     job.PoseDeposition = world_v
     job.MotionWarnings = list(m["warnings"]) + ["note: " + n for n in m["notes"]]
     deviations.draw_deviations(job, m)
+    digest = motion_digest(job)
+    if job.MotionDigest != digest:
+        job.MotionDigest = digest
     return m

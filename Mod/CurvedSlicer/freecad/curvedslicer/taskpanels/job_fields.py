@@ -201,9 +201,19 @@ def cell_problem(path):
     return ""
 
 
+def document_ref(doc_name, module="App"):
+    """The macro expression of a document: App.ActiveDocument (Gui.ActiveDocument) when it is the
+    active one, so a recorded macro replays into a document of another name; else by name."""
+    active = FreeCAD.ActiveDocument
+    if active is not None and active.Name == doc_name:
+        return "%s.ActiveDocument" % module
+    return "%s.getDocument(%r)" % (module, doc_name)
+
+
 def object_ref(doc_name, obj_name):
-    """The macro expression of a document object."""
-    return "App.getDocument(%r).getObject(%r)" % (doc_name, obj_name)
+    """The macro expression of a document object (in the active document: through
+    App.ActiveDocument, see document_ref)."""
+    return "%s.getObject(%r)" % (document_ref(doc_name), obj_name)
 
 
 def candidate_objects(job):

@@ -28,8 +28,8 @@ from ..core import CurvedSlicerError, InvalidInput
 from ..objects import job as job_module
 from .job_fields import (FileField, LinkSubField, ObjectCombo, QuantityField, VectorField,
                          candidate_objects, cell_problem, combo, degrees, enum_value,
-                         faces_problem, mm, object_ref, parse_faces, selected_object_and_faces,
-                         single_shot_timer, spin, split_names)
+                         document_ref, faces_problem, mm, object_ref, parse_faces,
+                         selected_object_and_faces, single_shot_timer, spin, split_names)
 
 LENGTH_LIMIT = 1000.0  # mm, the largest thickness, voxel, spacing the panel accepts
 INT_MAX = 2 ** 31 - 1
@@ -649,7 +649,7 @@ class TaskPanelJob:
 
     def close(self):
         """Closes the panel, recorded as Gui.getDocument(...).resetEdit()."""
-        FreeCADGui.doCommand("Gui.getDocument(%r).resetEdit()" % self.doc_name)
+        FreeCADGui.doCommand("%s.resetEdit()" % document_ref(self.doc_name, "Gui"))
 
     def clicked(self, button):
         if enum_value(button) == enum_value(QtGui.QDialogButtonBox.Apply):
