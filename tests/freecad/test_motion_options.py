@@ -98,6 +98,7 @@ class TestMotionOptions(cs_testing.DocumentTestCase):
         self.assertIn("weld points below the table top", job.PathsStatus)
         self.assertIn("mm below the table", job.PathsStatus)
         self.assertIn("PartPlacement Rest", job.PathsStatus)
+        self.assertNotIn("--placement", job.PathsStatus)  # the workbench's words, not the CLI's
         with self.assertRaises(InvalidInput) as caught:
             api.export(job, None, format="csv")
         self.assertIn("layer 0 path", str(caught.exception))
@@ -136,6 +137,20 @@ class TestMotionOptions(cs_testing.DocumentTestCase):
         # an explicit cell for the export is the caller's choice, not a stale result
         job.CellFile = cases[2][1]
         api.export(job, None, format="csv", cell_file="")
+
+    def test_messages_name_the_workbench_controls_not_command_line_options(self):
+        job = self.sunken_box_job()
+        api.run(job, progress=False)
+        with self.assertRaises(InvalidInput) as caught:
+            api.export(job, None, format="krl")  # KUKA's language, the default Yaskawa cell
+        text = str(caught.exception)
+        self.assertIn("tick \"Write it for another vendor's cell\" in the export dialog", text)
+        self.assertNotIn("--allow-foreign-cell", text)
+        # each of the core's phrasings is rewritten without a command-line option
+        from freecad.curvedslicer import messages
+        for core, workbench in messages._OPTIONS:
+            self.assertIn("--", core)
+            self.assertNotIn("--", messages.for_workbench("text " + core + " text"))
 
     def test_auto_placement_reaches_the_motion_and_says_what_it_chose(self):
         job = self.sunken_box_job()

@@ -13,7 +13,7 @@ App side: no GUI imports (a progress dialog and view providers come through hook
 
 import FreeCAD
 
-from . import arguments, defaults, geometry, hooks, preferences, stages
+from . import arguments, defaults, geometry, hooks, messages, preferences, stages
 from .core import (Cancelled, CurvedSlicerError, InvalidInput, IoError, NotAvailable,
                    ResourceLimit, native)
 from .objects import job as job_module
@@ -431,8 +431,11 @@ def export(job, path=None, format="jbi", program_name="", date="", gcode_mode="t
     motion = poses.motion_options(jobs[0],
                                   unreachable="warn" if warn_unreachable else "throw",
                                   tool_along_travel=bool(tool_along_travel))
-    return native.export_program(text, cell, format=format, path=path, options=options,
-                                 motion=motion, allow_foreign_cell=bool(allow_foreign_cell))
+    try:
+        return native.export_program(text, cell, format=format, path=path, options=options,
+                                     motion=motion, allow_foreign_cell=bool(allow_foreign_cell))
+    except CurvedSlicerError as error:
+        raise messages.rephrased(error) from None
 
 
 def path_features(job):

@@ -9,6 +9,7 @@ call ``update_job``; it is App side: no GUI imports (docs/WORKBENCH.md).
 import FreeCAD
 
 from ..core import Cancelled, CurvedSlicerError
+from ..messages import rephrased
 from . import layers, paths, poses, voids
 
 
@@ -30,8 +31,9 @@ def update_job(job, progress=None, force=False, prune=True):
             ran_layers = layers.update_layers(job, progress=_scaled(progress, 0.0, 0.85),
                                               force=force, prune=prune)
         except CurvedSlicerError as error:
+            error = rephrased(error)
             report_failure(job, error)
-            raise
+            raise error from None
     else:
         job.Status = "Thin wall: no volume layers (the wall's beads are the plan layers)"
     try:
@@ -39,8 +41,9 @@ def update_job(job, progress=None, force=False, prune=True):
                                        force=force or ran_layers, prune=prune)
         poses.update_poses(job)
     except CurvedSlicerError as error:
+        error = rephrased(error)
         report_paths_failure(job, error)
-        raise
+        raise error from None
     job.PathsStatus = "%s: %d paths (%d points) on %d plan layers%s" % (
         "Planned" if ran_paths else "Up to date", job.PathCount, job.PathPointCount,
         job.PlanLayerCount, "" if ran_paths else " (inputs unchanged, not rerun)")

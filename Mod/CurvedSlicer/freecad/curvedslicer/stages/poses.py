@@ -23,6 +23,7 @@ import FreeCAD
 
 from .. import defaults
 from ..core import InvalidInput, native
+from ..messages import for_workbench
 from . import deviations
 from .features import ensure_group, group_members
 from .pose_placement import part_placement
@@ -271,7 +272,8 @@ def update_poses(job, progress=None):
     job.PoseLayer = int(m["layer"][index]) + 1
     job.PosePath = int(m["path"][index]) + 1
     job.PoseDeposition = world_v
-    job.MotionWarnings = list(m["warnings"]) + ["note: " + n for n in m["notes"]]
+    job.MotionWarnings = [for_workbench(w) for w in m["warnings"]] + \
+        ["note: " + for_workbench(n) for n in m["notes"]]
     deviations.draw_deviations(job, m)
     digest = motion_digest(job)
     if job.MotionDigest != digest:
