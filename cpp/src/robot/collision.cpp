@@ -470,7 +470,7 @@ using detail::TorchHit;
 
 constexpr std::size_t kNamedCollisions = 5;
 
-std::string fmt(double value, int precision = 2) {
+std::string collisionFmt(double value, int precision = 2) {
   std::ostringstream out;
   out.setf(std::ios::fixed);
   out.precision(precision);
@@ -545,15 +545,16 @@ std::string collisionAdvice(const MotionPlan& motion, double maxTorchAngle) {
   std::string advice;
   const auto add = [&](const std::string& text) { advice += (advice.empty() ? "" : "; ") + text; };
   if (table > 0.0) {
-    add("raise the part on a riser of at least " + fmt(table + 2.0, 1) +
+    add("raise the part on a riser of at least " + collisionFmt(table + 2.0, 1) +
         " mm (--placement auto finds the lowest)");
   }
   if (deposit) {
-    add(maxTorchAngle < 0.785 ? "widen the torch window (the cell's process/max_torch_angle_deg, "
-                                "now " +
-                                    fmt(maxTorchAngle * 180.0 / 3.14159265358979323846, 1) +
-                                    " deg, at most 45), change the path order"
-                              : "change the path order");
+    add(maxTorchAngle < 0.785
+            ? "widen the torch window (the cell's process/max_torch_angle_deg, "
+              "now " +
+                  collisionFmt(maxTorchAngle * 180.0 / 3.14159265358979323846, 1) +
+                  " deg, at most 45), change the path order"
+            : "change the path order");
   }
   if (fixture) add("use a narrower riser or a smaller substrate plate (positioner/fixture)");
   if (body) {
@@ -569,7 +570,7 @@ void reportCollisions(MotionPlan& motion, const MotionOptions& options, double m
   for (std::size_t k = 0; k < std::min(kNamedCollisions, motion.collisions.size()); ++k) {
     const CollisionReport& c = motion.collisions[k];
     list += (k ? "; " : "") + describeMove(motion, c.point) + ": " + c.what + " by " +
-            fmt(c.depth) + " mm";
+            collisionFmt(c.depth) + " mm";
   }
   if (motion.collisions.size() > kNamedCollisions) list += "; ...";
   const bool arm = std::any_of(motion.collisions.begin(), motion.collisions.end(),
@@ -623,9 +624,10 @@ void validateCollisionGeometry(const CollisionGeometry& geometry, double beadRad
     throw InvalidInput(
         "torch envelope, table and bead sizes must be positive (envelope length "
         "over twice its widest radius): stick-out " +
-        fmt(torch.stickout) + ", radius " + fmt(torch.radius) + " to " + fmt(torch.topRadius) +
-        ", length " + fmt(torch.length) + ", table " + fmt(geometry.table.tableRadius) + " x " +
-        fmt(geometry.table.tableThickness) + ", bead radius " + fmt(beadRadius) +
+        collisionFmt(torch.stickout) + ", radius " + collisionFmt(torch.radius) + " to " +
+        collisionFmt(torch.topRadius) + ", length " + collisionFmt(torch.length) + ", table " +
+        collisionFmt(geometry.table.tableRadius) + " x " +
+        collisionFmt(geometry.table.tableThickness) + ", bead radius " + collisionFmt(beadRadius) +
         " mm; fix the cell's tool envelope / positioner geometry");
   }
 }
