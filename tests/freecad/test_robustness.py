@@ -43,36 +43,33 @@ class TestRobustness(cs_testing.DocumentTestCase):
         # The job is still usable afterwards.
         self.assertGreater(api.export(job, None, format="csv")["motion_count"], 0)
 
-    def test_cell_files_that_are_not_regular_files_are_refused_unread(self):
-        job = self.box_job()
-        fifo = cs_testing.tmp_path("robust_cell_fifo.json")
+    def fresh_fifo(self, name):
+        """A new FIFO in the test folder, removed when the test ends."""
+        fifo = cs_testing.tmp_path(name)
         if os.path.lexists(fifo):
             os.remove(fifo)
         os.mkfifo(fifo)
-        try:
-            for cell_file, kind in (("/dev/zero", "a device"), (fifo, "a FIFO (named pipe)"),
-                                    (os.path.dirname(fifo), "a folder")):
-                with self.assertRaises(InvalidInput) as caught:
-                    api.export(job, None, format="csv", cell_file=cell_file)
-                self.assertIn("cell file '%s' is %s, not a regular file" % (cell_file, kind),
-                              str(caught.exception))
-        finally:
-            os.remove(fifo)
+        self.addCleanup(os.remove, fifo)
+        return fifo
+
+    def test_cell_files_that_are_not_regular_files_are_refused_unread(self):
+        job = self.box_job()
+        fifo = self.fresh_fifo("robust_cell_fifo.json")
+        for cell_file, kind in (("/dev/zero", "a device"), (fifo, "a FIFO (named pipe)"),
+                                (os.path.dirname(fifo), "a folder")):
+            with self.assertRaises(InvalidInput) as caught:
+                api.export(job, None, format="csv", cell_file=cell_file)
+            self.assertIn("cell file '%s' is %s, not a regular file" % (cell_file, kind),
+                          str(caught.exception))
 
     def test_export_onto_a_fifo_is_refused(self):
         job = self.box_job()
-        fifo = cs_testing.tmp_path("robust_fifo.jbi")
-        if os.path.lexists(fifo):
-            os.remove(fifo)
-        os.mkfifo(fifo)
-        try:
-            with self.assertRaises(IoError) as caught:
-                api.export(job, fifo, format="jbi")
-            self.assertIn("output path is a FIFO (named pipe), not a regular file",
-                          str(caught.exception))
-            self.assertTrue(stat.S_ISFIFO(os.lstat(fifo).st_mode))
-        finally:
-            os.remove(fifo)
+        fifo = self.fresh_fifo("robust_fifo.jbi")
+        with self.assertRaises(IoError) as caught:
+            api.export(job, fifo, format="jbi")
+        self.assertIn("output path is a FIFO (named pipe), not a regular file",
+                      str(caught.exception))
+        self.assertTrue(stat.S_ISFIFO(os.lstat(fifo).st_mode))
 
 
 cs_testing.main(__name__)

@@ -211,6 +211,29 @@ TEST(Collision, TorchAgainstThePositionerTable) {
   }
 }
 
+/// One weld move: a path start at `start` and a weld point 2 mm further along x, the torch's body
+/// along unit `up` from the tip (part frame), the robot at `joints` at the weld point (all joints
+/// 0 at the start).
+MotionPlan oneWeldMove(const Vec3& start, const Vec3& up, const JointVector& joints) {
+  MotionPlan motion;
+  for (int i = 0; i < 2; ++i) {
+    MotionPoint m;
+    m.index = i;
+    m.pathStart = i == 0;
+    m.pathEnd = i == 1;
+    m.arcOn = i == 1;
+    m.position = start + Vec3(2.0 * i, 0, 0);
+    m.toolInPart = Pose::Identity();
+    m.toolInPart.linear() =
+        Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), -up).toRotationMatrix();
+    m.toolInPart.translation() = m.position;
+    if (i == 1) m.joints = joints;
+    motion.points.push_back(m);
+  }
+  motion.paths.push_back({0, 0, 0, motion.points.size(), {}});
+  return motion;
+}
+
 TEST(Collision, ArmLinksAgainstTheTableNameTheLinkAndTheDepth) {
   // A weld point 10 mm above the table centre with the torch vertical, but the robot's joint L
   // swung forward by 90°: the upper arm lies level at the height of joint 2 (505 mm, the table's
@@ -220,21 +243,8 @@ TEST(Collision, ArmLinksAgainstTheTableNameTheLinkAndTheDepth) {
   // table's top above them): from the links' axes sampled every 0.5 mm here.
   const Cell cell = defaultCell();
   ASSERT_TRUE(cell.robot.links.known());
-  MotionPlan motion;
-  for (int i = 0; i < 2; ++i) {
-    MotionPoint m;
-    m.index = i;
-    m.pathStart = i == 0;
-    m.pathEnd = i == 1;
-    m.arcOn = i == 1;
-    m.position = Vec3(2.0 * i, 0, 10);
-    m.toolInPart = Pose::Identity();
-    m.toolInPart.linear() = Eigen::AngleAxisd(M_PI, Vec3::UnitX()).toRotationMatrix();
-    m.toolInPart.translation() = m.position;
-    m.joints = {0.0, i == 1 ? M_PI / 2 : 0.0, 0.0, 0.0, 0.0, 0.0};
-    motion.points.push_back(m);
-  }
-  motion.paths.push_back({0, 0, 0, motion.points.size(), {}});
+  MotionPlan motion =
+      oneWeldMove(Vec3(0, 0, 10), Vec3::UnitZ(), {0.0, M_PI / 2, 0.0, 0.0, 0.0, 0.0});
   const CollisionGeometry geometry = collisionGeometryOf(cell);
   try {
     checkMotionCollisions(motion, cell, geometry, 1.85, MotionOptions{});
@@ -302,23 +312,8 @@ TEST(Collision, TorchAgainstThePositionerBody) {
   // table's underside at -30 mm down to the tilt axis at -150 mm in the table frame): a point
   // 100 mm from the rotation axis at the body's mid-height, the torch leaning in towards it.
   const Cell cell = defaultCell();
-  MotionPlan motion;
-  for (int i = 0; i < 2; ++i) {
-    MotionPoint m;
-    m.index = i;
-    m.pathStart = i == 0;
-    m.pathEnd = i == 1;
-    m.arcOn = i == 1;
-    m.position = Vec3(200.0 + 2.0 * i, 0, -90);
-    const Vec3 up = Vec3(-1.0, 0.0, 0.0);  // from the tip towards the rotation axis
-    m.toolInPart = Pose::Identity();
-    m.toolInPart.linear() =
-        Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), -up).toRotationMatrix();
-    m.toolInPart.translation() = m.position;
-    m.joints = {};
-    motion.points.push_back(m);
-  }
-  motion.paths.push_back({0, 0, 0, motion.points.size(), {}});
+  // the torch's body from the tip towards the rotation axis
+  MotionPlan motion = oneWeldMove(Vec3(200, 0, -90), Vec3(-1, 0, 0), JointVector{});
   MotionOptions allow;
   allow.allowCollisions = true;
   checkMotionCollisions(motion, cell, collisionGeometryOf(cell), 1.85, allow);
