@@ -70,9 +70,9 @@ std::string formatHelp() {
 /// The motion planner's options: one line each (see docs/ADDING-AN-OPTION.md).
 void addMotionOptions(CLI::App& cmd, OptionBindings<MotionOptions>& b) {
   b.addLength(cmd, "--clearance", &MotionOptions::clearance, "clearance",
-              "Arc-off moves leave along the layer normal to this height above the\n"
-              "part and everything deposited so far, travel there and approach\n"
-              "along the normal, mm");
+              "Arc-off moves leave back up the torch's axis to this height above\n"
+              "the part and everything deposited so far, travel there and approach\n"
+              "down the torch's axis, mm");
   b.addFlag(cmd, "--allow-collisions", &MotionOptions::allowCollisions, true,
             "Write the program although torch or positioner still collide with the\n"
             "part or the deposit after re-routing: each collision becomes a warning\n"

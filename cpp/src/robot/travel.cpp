@@ -33,6 +33,15 @@ struct Route {
   std::vector<double> along;  // arc-length fraction of each point (0 .. 1)
 };
 
+/// The direction (part frame, unit) an arc-off move leaves a path point along: back up the
+/// torch's own axis. The layer normal can differ from it by any angle on small layer patches
+/// (a blade tip's islands), and a move along it then drives the torch sideways or into the table.
+Vec3 retreatOf(const MotionPoint& at) {
+  Vec3 tip, up;
+  detail::torchAxisOf(at.toolInPart, tip, up);
+  return up.norm() > 1e-9 ? Vec3(up.normalized()) : at.normal;
+}
+
 Route makeRoute(std::vector<Vec3> points) {
   Route route;
   route.points = std::move(points);
@@ -70,7 +79,7 @@ class TravelPlanner {
   void appendHome(const MotionPoint& neighbour);
   void clearHomeMove(std::size_t home, std::size_t neighbour, const MotionPoint& owner);
   void appendArcOff(const MotionPoint* from, const MotionPoint* to);
-  MotionPoint normalPoint(MoveKind kind, const MotionPoint& at);
+  MotionPoint axisPoint(MoveKind kind, const MotionPoint& at);
   void appendPath(const MotionPathSpan& span, std::vector<MotionPathSpan>& spans);
   double clearHeight(const MotionPoint& at) const;
   std::optional<std::vector<MotionPoint>> tryRoute(const Route& route, const MotionPoint& from,
@@ -171,13 +180,13 @@ Pose TravelPlanner::toolInPart(const Vec3& position, double a1, double a2,
   return partInWorld.inverse() * toolInWorld;
 }
 
-/// Lowest height along the point's normal (from clearance + bead radius up) where the TCP
+/// Lowest height up the point's torch axis (from clearance + bead radius up) where the TCP
 /// keeps the clearance from the deposit and the torch clears; the highest tried if none does.
 double TravelPlanner::clearHeight(const MotionPoint& at) const {
   const Mat3 rotation = at.toolInWorld.linear();
   double h = options_.clearance + radius_;
   for (; h <= options_.clearance + radius_ + setup_.maxLift; h += step_) {
-    const Vec3 p = at.position + h * at.normal;
+    const Vec3 p = at.position + h * retreatOf(at);
     if (deposit_.anyWithin(p, p, options_.clearance)) continue;
     Vec3 tip, up;
     detail::torchAxisOf(toolInPart(p, at.a1, at.a2, rotation), tip, up);
@@ -319,14 +328,14 @@ void TravelPlanner::appendHome(const MotionPoint& neighbour) {
 
 /// Where the joint move between the home pose out_[home] and the arc-off point out_[neighbour]
 /// (retract or approach of `owner`) would collide, inserts a travel point lifted above the
-/// neighbour along owner's normal: the lowest lift whose straight move and joint move clear.
+/// neighbour up owner's torch axis: the lowest lift whose straight move and joint move clear.
 void TravelPlanner::clearHomeMove(std::size_t home, std::size_t neighbour,
                                   const MotionPoint& owner) {
   const MotionPoint& h = out_[home];
   const MotionPoint& n = out_[neighbour];
   if (!detail::checkJointMove(cell_, checker_, n, h).collides()) return;
   for (double d = step_; d <= setup_.maxLift + 1e-9; d += step_) {
-    MotionPoint via = arcOffPoint(MoveKind::Travel, owner, n.position + d * owner.normal, n.a1,
+    MotionPoint via = arcOffPoint(MoveKind::Travel, owner, n.position + d * retreatOf(owner), n.a1,
                                   n.a2, n.toolInWorld.linear());
     if (!solveJoints(via, n.joints, n.configuration)) break;  // higher is not reachable either
     if (detail::checkLinearMove(checker_, setup_.geometry.torch, n.toolInPart, via.toolInPart)
@@ -340,12 +349,12 @@ void TravelPlanner::clearHomeMove(std::size_t home, std::size_t neighbour,
   // nothing clears: the collision check names the home move
 }
 
-/// Retract (from a path end) or approach (above a path start) point along the point's normal at
+/// Retract (from a path end) or approach (above a path start) point up the point's torch axis at
 /// the lowest clear height, with the path point's positioner angles and tool orientation.
-MotionPoint TravelPlanner::normalPoint(MoveKind kind, const MotionPoint& at) {
+MotionPoint TravelPlanner::axisPoint(MoveKind kind, const MotionPoint& at) {
   const double h = clearHeight(at);
   MotionPoint m =
-      arcOffPoint(kind, at, at.position + h * at.normal, at.a1, at.a2, at.toolInWorld.linear());
+      arcOffPoint(kind, at, at.position + h * retreatOf(at), at.a1, at.a2, at.toolInWorld.linear());
   if (!solveJoints(m, at.joints, at.configuration)) {
     unreachable(m, at.joints,
                 std::string(toString(kind)) + " point of layer " + std::to_string(at.layer) +
@@ -358,13 +367,13 @@ MotionPoint TravelPlanner::normalPoint(MoveKind kind, const MotionPoint& at) {
 /// start / end): retract, travel via points, approach.
 void TravelPlanner::appendArcOff(const MotionPoint* from, const MotionPoint* to) {
   std::optional<MotionPoint> retract, approach;
-  if (from) retract = normalPoint(MoveKind::Retract, *from);
-  if (to) approach = normalPoint(MoveKind::Approach, *to);
+  if (from) retract = axisPoint(MoveKind::Retract, *from);
+  if (to) approach = axisPoint(MoveKind::Approach, *to);
   if (retract) out_.push_back(*retract);
   if (from && to) {
     const Vec3 r = retract->position, p = approach->position;
-    Vec3 lift = from->normal + to->normal;
-    lift = lift.norm() > 1e-6 ? Vec3(lift.normalized()) : from->normal;
+    Vec3 lift = retreatOf(*from) + retreatOf(*to);
+    lift = lift.norm() > 1e-6 ? Vec3(lift.normalized()) : retreatOf(*from);
     double shortfall = options_.clearance;
     bool planned = false;
     for (double d = 0.0; d <= setup_.maxLift + 1e-9 && !planned; d += step_) {

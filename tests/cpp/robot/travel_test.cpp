@@ -2,7 +2,7 @@
 // travel move comes closer than the clearance to the material deposited before it — checked by
 // an independent brute-force distance (the TCP polyline in the part frame sampled every 0.2 mm
 // against every previously welded segment, minus the bead radius); the program starts and ends
-// at home; retract and approach run along the normals; arc-off joints reproduce their TCP
+// at home; retract and approach run along the torch's axis; arc-off joints reproduce their TCP
 // poses; a travel over a wall is lifted; options and bad input.
 #include "curvedslicer/robot/travel.hpp"
 
@@ -223,7 +223,7 @@ double smallestTorchGap(const MotionPlan& motion, const TorchEnvelope& torch, do
 }
 
 /// Structure every motion with travel must have: home at both ends, spans over path points
-/// only, arc-off points with index -1, retract/approach along the normals, joints that
+/// only, arc-off points with index -1, retract/approach back up the torch's axis, joints that
 /// reproduce the TCP pose.
 void expectTravelStructure(const MotionPlan& motion, const Plan& plan, const Cell& cell) {
   ASSERT_GE(motion.points.size(), 2u);
@@ -241,19 +241,22 @@ void expectTravelStructure(const MotionPlan& motion, const Plan& plan, const Cel
       EXPECT_EQ(motion.points[k].kind, MoveKind::Path);
     }
     pathPoints += span.end - span.begin;
-    // retract from the previous path end along its normal; approach along this start's normal
+    // retract from the previous path end and approach this start back up the torch's axis (the
+    // tool's -z in the part frame), the way the torch can always go
     const MotionPoint& before = motion.points[span.begin - 1];
     const MotionPoint& start = motion.points[span.begin];
     EXPECT_EQ(before.kind, MoveKind::Approach);
     const Vec3 down = before.position - start.position;
-    EXPECT_LT(down.cross(start.normal).norm(), 1e-9 * down.norm());
-    EXPECT_GT(down.dot(start.normal), 0.0);
+    const Vec3 startAxis = -start.toolInPart.linear().col(2);
+    EXPECT_LT(down.cross(startAxis).norm(), 1e-9 * down.norm());
+    EXPECT_GT(down.dot(startAxis), 0.0);
     const MotionPoint& after = motion.points[span.end];
     const MotionPoint& end = motion.points[span.end - 1];
     EXPECT_EQ(after.kind, MoveKind::Retract);
     const Vec3 up = after.position - end.position;
-    EXPECT_LT(up.cross(end.normal).norm(), 1e-9 * up.norm());
-    EXPECT_GT(up.dot(end.normal), 0.0);
+    const Vec3 endAxis = -end.toolInPart.linear().col(2);
+    EXPECT_LT(up.cross(endAxis).norm(), 1e-9 * up.norm());
+    EXPECT_GT(up.dot(endAxis), 0.0);
   }
   std::size_t arcOff = 0;
   for (const MotionPoint& m : motion.points) {

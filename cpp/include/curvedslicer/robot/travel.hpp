@@ -1,21 +1,24 @@
 // Arc-off moves that clear the part: between two welds the torch retracts from the path end
-// along the layer normal, travels at the clearance above everything deposited so far and
-// approaches the next path start along its normal; the program starts and ends at the home pose.
+// back up its own axis, travels at the clearance above everything deposited so far and
+// approaches the next path start down its axis there; the program starts and ends at the home
+// pose.
 //
 // Method (docs/METHODS.md, "Travel and collisions"): the deposit so far is the capsules of the
-// welded segments (robot/collision.hpp). The retract and approach heights along the normals are
+// welded segments (robot/collision.hpp). The retract and approach heights along the torch axes
+// (the torch's own direction in the part frame: the layer normal can point anywhere on a small
+// layer patch such as a blade tip's island, the torch's axis is where the torch came from) are
 // the lowest (from clearance + bead radius up, in steps of clearance / 2) whose TCP keeps the
 // clearance from the deposit and whose torch clears it and the table. The travel between them
 // is the straight segment, or, where that comes closer than the clearance to the deposit or the
 // torch would collide on the way, a route lifted by the smallest multiple of clearance / 2 along
-// the mean normal (via points above both ends). Positioner angles of arc-off points are linear
-// in the route's arc length between the path end and the next path start; robot joints come from
-// inverse kinematics, continuous with the previous point (the approach: with the next path
-// start). A route whose via points the robot cannot reach is skipped for the next lift; when no
-// lift up to TravelSetup::maxLift clears and is reachable, the straight route stays and a warning
-// names the move (the collision check then reports what the torch hits). A retract or approach
-// point the robot cannot reach is an InvalidInput naming it (UnreachablePolicy::Warn: a warning,
-// joints held).
+// the mean of the two torch axes (via points above both ends). Positioner angles of arc-off points
+// are linear in the route's arc length between the path end and the next path start; robot joints
+// come from inverse kinematics, continuous with the previous point (the approach: with the next
+// path start). A route whose via points the robot cannot reach is skipped for the next lift; when
+// no lift up to TravelSetup::maxLift clears and is reachable, the straight route stays and a
+// warning names the move (the collision check then reports what the torch hits). A retract or
+// approach point the robot cannot reach is an InvalidInput naming it (UnreachablePolicy::Warn: a
+// warning, joints held).
 //
 // Preconditions: `motion` holds the path points with positioner angles, TCP poses and joints
 // (planMotion's kinematics pass); MotionPlan::paths covers them. Cost: per arc-off move a few

@@ -150,8 +150,8 @@ PROPERTIES = [
      "Torch x axis along the travel direction; off keeps the torch orientation fixed while the "
      "positioner turns the part (default; no wrist wind-up on long rings)", False),
     ("App::PropertyLength", "Clearance", "Robot",
-     "Arc-off moves leave along the layer normal to this height above the part and the "
-     "deposit, travel there and approach along the normal, mm", defaults.CLEARANCE),
+     "Arc-off moves leave back up the torch's axis to this height above the part and the "
+     "deposit, travel there and approach down the torch's axis, mm", defaults.CLEARANCE),
     ("App::PropertyBool", "AllowCollisions", "Robot",
      "Plan the motion although torch or positioner still collide after re-routing (each "
      "collision a warning in MotionWarnings); off: a collision is an error",

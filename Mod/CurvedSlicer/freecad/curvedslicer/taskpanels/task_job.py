@@ -312,7 +312,7 @@ class TaskPanelJob:
         self.clearance = QuantityField(mm(job.Clearance), "mm", "clearance", 0.0, LENGTH_LIMIT,
                                        exclusive_minimum=False, example="10 mm")
         self.clearance.setToolTip("Arc-off moves travel this high above the part and the "
-                                  "deposit (leaving and approaching along the layer normal)")
+                                  "deposit (leaving and approaching along the torch's axis)")
         f.addRow("Clearance", self.clearance.widget)
         self.add_home = QtGui.QCheckBox("Start and end at home")
         self.add_home.setToolTip("Start and end the program at the cell's home pose")
