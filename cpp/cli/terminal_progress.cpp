@@ -24,6 +24,8 @@ void installInterruptHandlers() {
   action.sa_flags = SA_RESETHAND;  // a second signal terminates at once
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
+  // the terminal closing (SSH dropped, window closed) cancels as Ctrl+C does
+  sigaction(SIGHUP, &action, nullptr);
 }
 
 int interruptSignal() {

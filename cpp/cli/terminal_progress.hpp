@@ -1,4 +1,4 @@
-// Progress display of the command line on stderr, and SIGINT/SIGTERM handling.
+// Progress display of the command line on stderr, and SIGINT/SIGTERM/SIGHUP handling.
 //
 // On a terminal one line is redrawn with carriage returns (at most ten times a second); otherwise
 // a plain line is printed when the stage changes and at most every two seconds within a stage.
@@ -14,7 +14,8 @@
 
 namespace curvedslicer::cli {
 
-/// Installs the SIGINT and SIGTERM handlers (one-shot: the second signal has its default effect).
+/// Installs the SIGINT, SIGTERM and SIGHUP handlers (one-shot: the second signal has its default
+/// effect).
 void installInterruptHandlers();
 
 /// The signal received so far (0 if none).

@@ -1,6 +1,6 @@
 // The `curvedslicer layers` binary end to end on the bundled models: exit code, the files it
 // writes (layer surfaces and the voxel-set cloud parse and agree with report.json), re-runs into
-// the same folder, --quiet, and interruption by SIGINT.
+// the same folder, --quiet, and interruption by SIGINT, SIGTERM or SIGHUP.
 #include <gtest/gtest.h>
 
 #include <signal.h>
@@ -377,9 +377,17 @@ TEST(CliEndToEndCases, QuietPrintsNothing) {
   EXPECT_EQ(loud.err.find('\r'), std::string::npos);
 }
 
-TEST(CliEndToEndCases, InterruptCancelsWithoutOutput) {
+/// Ctrl+C (SIGINT), a kill (SIGTERM) and the terminal closing (SIGHUP) each cancel a running job:
+/// exit code 128 + the signal, nothing written.
+class InterruptSignals : public ::testing::TestWithParam<int> {};
+
+INSTANTIATE_TEST_SUITE_P(CliEndToEndCases, InterruptSignals,
+                         ::testing::Values(SIGINT, SIGTERM, SIGHUP));
+
+TEST_P(InterruptSignals, CancelWithoutOutput) {
+  const int signal = GetParam();
   const fs::path model = modelPath("bunny_closed_low_res.stl");
-  const fs::path out = freshTempDir();
+  const fs::path out = freshTempDir(std::to_string(signal));
   testing::CliProcess process(layersArgs(model, kSanitized ? 1.5 : 0.8, 4.0, out));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
   bool started = false;
@@ -391,9 +399,9 @@ TEST(CliEndToEndCases, InterruptCancelsWithoutOutput) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   ASSERT_TRUE(started) << "the job ended or never reached the voxelize stage";
-  ASSERT_EQ(::kill(process.pid(), SIGINT), 0);
+  ASSERT_EQ(::kill(process.pid(), signal), 0);
   const CliRun run = process.wait();
-  EXPECT_EQ(run.exitCode, 130) << run.err;
+  EXPECT_EQ(run.exitCode, 128 + signal) << run.err;
   EXPECT_TRUE(contains(run.err, "curvedslicer: interrupted; nothing was written"));
   EXPECT_TRUE(listFolder(out).empty());
 }
