@@ -108,6 +108,32 @@ void checkCoverage(const LayerCoverage& c, const std::string& where, const std::
   }
 }
 
+/// Layers are deposited in the plan's order, so their heights (distance from the start surface)
+/// grow: a plan of several Jobs deposited one after the other starts again at each Job's first
+/// layer, but a plan whose heights fall more often than they rise runs top-down (its layers
+/// reversed) and would be welded from the top, into the air.
+void checkLayerOrder(const Plan& plan, const std::string& origin) {
+  const auto mm = [](double value) {
+    std::string text;
+    appendNumber(text, value);
+    return text;
+  };
+  std::size_t rising = 0, falling = 0;
+  for (std::size_t l = 1; l < plan.layers.size(); ++l) {
+    const double step = plan.layers[l].height - plan.layers[l - 1].height;
+    (step < 0.0 ? falling : rising) += step != 0.0 ? 1 : 0;
+  }
+  if (falling > rising) {
+    throw InvalidInput(origin + ": the layer heights fall from /layers/0 (" +
+                       mm(plan.layers.front().height) + " mm) to the last layer (" +
+                       mm(plan.layers.back().height) + " mm) on " + std::to_string(falling) +
+                       " of " + std::to_string(plan.layers.size() - 1) +
+                       " steps: the layers are in reverse order, and would be deposited from the "
+                       "top down; " +
+                       kRegenerate);
+  }
+}
+
 void checkPlan(const Plan& plan, const std::string& origin) {
   const PlanParameters& p = plan.parameters;
   const std::initializer_list<std::pair<const char*, double>> params = {
@@ -168,6 +194,7 @@ void checkPlan(const Plan& plan, const std::string& origin) {
       }
     }
   }
+  checkLayerOrder(plan, origin);
 }
 
 // ---- JSON reading helpers -----------------------------------------------------------------------

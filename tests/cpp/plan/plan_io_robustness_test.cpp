@@ -107,6 +107,31 @@ TEST(PlanIoRobustness, NegativeLengthsAreRefusedAsTheSchemaDoes) {
                "/parameters/voxel_size_mm must not be negative"));
 }
 
+TEST(PlanIoRobustness, LayersInReverseOrderAreRefused) {
+  // three layers renumbered top-down: welded in that order the first bead would hang in the air
+  const auto layers = [](std::initializer_list<double> heights) {
+    return [heights](Json& d) {
+      const Json layer = d["layers"][0];
+      d["layers"] = Json::array();
+      int index = 0;
+      for (double h : heights) {
+        Json copy = layer;
+        copy["index"] = index;
+        copy["height_mm"] = h;
+        for (Json& path : copy["paths"]) path["layer"] = index;
+        d["layers"].push_back(copy);
+        ++index;
+      }
+    };
+  };
+  EXPECT_TRUE(contains(readError(editedPlan(layers({4.5, 3.0, 1.5}))),
+                       "plan.json: the layer heights fall from /layers/0 (4.5 mm) to the last "
+                       "layer (1.5 mm) on 2 of 2 steps: the layers are in reverse order"));
+  // two Jobs deposited one after the other start again at the second Job's first layer
+  EXPECT_EQ(readError(editedPlan(layers({1.5, 3.0, 4.5, 1.5, 3.0}))), "");
+  EXPECT_EQ(readError(editedPlan(layers({1.5, 1.5, 3.0}))), "");
+}
+
 TEST(PlanIoRobustness, HugeValuesAreEchoedShort) {
   const std::string huge(1000000, 'x');
   const std::string format = readError(editedPlan([&](Json& d) { d["format"] = huge; }));
