@@ -212,6 +212,18 @@ void runStagesUpToField(const TriMesh& rawModel, const LayerJobOptions& options,
   progress.report(0.0, "clean");
   clock.start("clean");
   result.clean = cleanMesh(rawModel, options.clean);
+  // A closed, consistently oriented surface whose triangles all face inward (saved inside out,
+  // or a reversed CAD solid: negative volume) is turned to face outward before anything reads
+  // its orientation: start surfaces chosen by face direction, the layers' normals, the side of
+  // a layer's boundary the beads keep to.
+  double inwardVolume = 0.0;
+  if (signedVolume(result.clean.mesh) < 0.0) {
+    const MeshReport cleaned = analyzeMesh(result.clean.mesh);
+    if (cleaned.closed() && cleaned.consistentlyOriented()) {
+      for (Vec3i& t : result.clean.mesh.triangles) std::swap(t[1], t[2]);
+      inwardVolume = cleaned.volume;
+    }
+  }
   clock.stop();
 
   // ---- start surface -------------------------------------------------------------------------
@@ -249,6 +261,13 @@ void runStagesUpToField(const TriMesh& rawModel, const LayerJobOptions& options,
   validateGrid(result.voxelization, result.meshReport, result.capping, options);
   result.warnings =
       geometryWarnings(result.voxelization.stats, result.meshReport, options.capHoles);
+  if (inwardVolume < 0.0) {
+    result.warnings.insert(
+        result.warnings.begin(),
+        "the model's triangles all face inward (a signed volume of " + formatNumber(inwardVolume) +
+            " mm^3: the surface was saved inside out); they were turned to face outward, so the "
+            "part is the solid they enclose: check the normals of the program that wrote it");
+  }
   clock.stop();
 
   // ---- field ---------------------------------------------------------------------------------

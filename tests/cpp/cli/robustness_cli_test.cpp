@@ -180,6 +180,39 @@ TEST(CliRobustness, FlippedTriangleIsFilledByParityWithAWarningThatSaysWhere) {
   EXPECT_EQ(report["warnings"].size(), 1u);
 }
 
+TEST(CliRobustness, InsideOutModelIsTurnedOutwardAndPlansAsTheBoxDoes) {
+  // every triangle of a closed box reversed (a negative volume): the plan is the box's, with a
+  // warning that says what was turned
+  const fs::path dir = testing::freshTempDir();
+  const TriMesh box = testing::makeBox(Vec3(0, 0, 0), Vec3(20, 16, 10));
+  TriMesh inverted = box;
+  for (Vec3i& t : inverted.triangles) std::swap(t[1], t[2]);
+  testing::writeBinaryStl(dir / "box.stl", testing::trianglesOf(box));
+  testing::writeBinaryStl(dir / "inverted.stl", testing::trianglesOf(inverted));
+  const auto plan = [&dir](const std::string& name) {
+    return runCli({"plan", (dir / (name + ".stl")).string(), "--layer-thickness", "2", "--voxel",
+                   "1", "--bead-spacing", "3.7", "-o", (dir / name).string(), "-q"});
+  };
+  const CliRun normal = plan("box");
+  const CliRun run = plan("inverted");
+  ASSERT_EQ(normal.exitCode, 0) << normal.err;
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  EXPECT_TRUE(contains(run.err,
+                       "curvedslicer: warning: the model's triangles all face inward (a signed "
+                       "volume of -3200 mm^3: the surface was saved inside out); they were turned "
+                       "to face outward"))
+      << run.err;
+  const auto read = [&dir](const std::string& name) {
+    std::ifstream in(dir / name / "plan.json");
+    return nlohmann::json::parse(in);
+  };
+  const nlohmann::json a = read("box"), b = read("inverted");
+  ASSERT_EQ(a["layers"].size(), b["layers"].size());
+  for (std::size_t l = 0; l < a["layers"].size(); ++l) {
+    EXPECT_EQ(a["layers"][l]["paths"], b["layers"][l]["paths"]) << "layer " << l;
+  }
+}
+
 TEST(CliRobustness, OpenTubeSaysTheModelIsOpenNotThatTheVoxelIsTooCoarse) {
   const fs::path dir = testing::freshTempDir();
   TriMesh tube = testing::makeCylinder(Vec3(50, 0, 0), 10.0, 20.0, 32);
