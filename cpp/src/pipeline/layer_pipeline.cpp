@@ -122,6 +122,35 @@ std::vector<std::string> geometryWarnings(const VoxelizeStats& stats, const Mesh
   return warnings;
 }
 
+/// Inside voxels the field cannot reach from the start surface get no layer. Where the model is
+/// several bodies (surface components) and they make up 1 % of the inside voxels or more, that is
+/// an error: a body that neither touches the start surface nor joins the rest (a detached body,
+/// two bodies meeting at a point) would be left out of the plan. Otherwise a warning says where:
+/// on one body they are cut off by the voxel grid (a neck narrower than a voxel).
+void checkReached(const UnreachedVoxels& unreached, std::size_t inside, std::size_t bodies,
+                  const std::string& start, std::vector<std::string>& warnings) {
+  if (unreached.count == 0) return;
+  const double share = static_cast<double>(unreached.count) / static_cast<double>(inside);
+  const std::string what =
+      std::to_string(unreached.count) + " of " + std::to_string(inside) + " inside voxels (" +
+      formatNumber(100.0 * share) + " %), in " + std::to_string(unreached.components) +
+      " piece(s) around " + describeRegion(unreached.bounds) +
+      ", are not connected to the start surface (" + start + ") through the part";
+  if (bodies > 1 && share >= 0.01) {
+    throw InvalidInput("part not reachable from the start surface: " + what + " (the model is " +
+                       std::to_string(bodies) +
+                       " separate bodies), so no layer would cover them; give each body a start "
+                       "surface of its own (e.g. --start faces:... naming faces on every body), "
+                       "plan the bodies as separate Jobs, or join them with material");
+  }
+  warnings.push_back(what + ": no layer covers them; " +
+                     (bodies > 1 ? std::string("the model is ") + std::to_string(bodies) +
+                                       " separate bodies: give each a start surface of its own"
+                                 : std::string("the voxel grid cuts them off from the rest (a "
+                                               "neck narrower than a voxel): use a smaller voxel "
+                                               "size")));
+}
+
 /// A voxel size giving roughly `cells` inside voxels for a solid of `volume` mm³.
 double voxelSizeForCells(double volume, double cells) {
   return std::cbrt(volume / cells);
@@ -276,6 +305,8 @@ void runStagesUpToField(const TriMesh& rawModel, const LayerJobOptions& options,
   // With the model surface: exact line of sight and pivots on its concave edges.
   result.field = computeGeodesicField(result.voxelization.grid, model, result.source,
                                       options.geodesic, progress.sub(0.2, 0.8));
+  checkReached(result.field.unreached, result.voxelization.grid.insideCount,
+               result.meshReport.components, result.startDescription, result.warnings);
   clock.stop();
   const double h = options.layers.layerThickness;
   if (!(result.field.maxDistance >= h)) {

@@ -213,6 +213,35 @@ TEST(CliRobustness, InsideOutModelIsTurnedOutwardAndPlansAsTheBoxDoes) {
   }
 }
 
+TEST(CliRobustness, BodyNotConnectedToTheStartSurfaceIsAnErrorAndASliverAWarning) {
+  // a second box floating 5 mm above the first: the bottom plane reaches only the first, so half
+  // the part would have no layer
+  const fs::path dir = testing::freshTempDir();
+  TriMesh two = testing::makeBox(Vec3(0, 0, 0), Vec3(20, 16, 10));
+  appendMesh(two, testing::makeBox(Vec3(0, 0, 15), Vec3(20, 16, 25)));
+  testing::writeBinaryStl(dir / "two.stl", testing::trianglesOf(two));
+  const CliRun run = runCli({"layers", (dir / "two.stl").string(), "--layer-thickness", "2",
+                             "--voxel", "1", "-o", (dir / "two").string(), "-q"});
+  EXPECT_EQ(run.exitCode, 2) << run.err;
+  EXPECT_TRUE(contains(run.err,
+                       "curvedslicer: error: part not reachable from the start surface: 3200 of "
+                       "6400 inside voxels (50 %), in 1 piece(s) around x 0.5..19.5, y 0.5..15.5, "
+                       "z 15..24 mm, are not connected to the start surface"))
+      << run.err;
+  EXPECT_FALSE(fs::exists(dir / "two"));
+  // a 2 mm cube beside it: 8 of 3208 voxels, a warning naming the separate bodies
+  TriMesh sliver = testing::makeBox(Vec3(0, 0, 0), Vec3(20, 16, 10));
+  appendMesh(sliver, testing::makeBox(Vec3(30, 0, 5), Vec3(32, 2, 7)));
+  testing::writeBinaryStl(dir / "sliver.stl", testing::trianglesOf(sliver));
+  const CliRun small =
+      runCli({"layers", (dir / "sliver.stl").string(), "--layer-thickness", "2", "--voxel", "1",
+              "--grid", "model", "-o", (dir / "sliver").string(), "-q"});
+  EXPECT_EQ(small.exitCode, 0) << small.err;
+  EXPECT_TRUE(contains(small.err, "curvedslicer: warning: 8 of 3208 inside voxels")) << small.err;
+  EXPECT_TRUE(contains(small.err, "no layer covers them; the model is 2 separate bodies"))
+      << small.err;
+}
+
 TEST(CliRobustness, OpenTubeSaysTheModelIsOpenNotThatTheVoxelIsTooCoarse) {
   const fs::path dir = testing::freshTempDir();
   TriMesh tube = testing::makeCylinder(Vec3(50, 0, 0), 10.0, 20.0, 32);
