@@ -68,9 +68,9 @@ LayerJobArguments parseLayerJobArguments(const LayersArguments& args) {
   job.start = parseStartSurfaceSpec(args.start);
   if (!args.memoryBudgetMb.empty()) {
     const double budgetMb = parseLength(args.memoryBudgetMb, "memory budget");
-    if (!std::isfinite(budgetMb) || budgetMb < 0.0) {
-      throw InvalidInput("memory budget must be 0 (automatic) or a positive number of MB: '" +
-                         args.memoryBudgetMb + "'; pass e.g. --memory-budget 4096");
+    if (!std::isfinite(budgetMb) || budgetMb < 0.0 || (budgetMb > 0.0 && budgetMb < 1.0)) {
+      throw InvalidInput("memory budget must be 0 (automatic) or at least 1 MB: '" +
+                         args.memoryBudgetMb.substr(0, 40) + "'; pass e.g. --memory-budget 4096");
     }
     o.voxelize.memoryBudgetBytes = budgetMb * 1024.0 * 1024.0;
   }

@@ -134,11 +134,16 @@ TriMesh resolveStartSurface(const TriMesh& model, const StartSurface& start) {
       for (int id : wanted)
         if (!found.count(id)) missing.push_back(id);
       if (!missing.empty()) {
-        int maxId = model.faceIds.empty()
-                        ? -1
-                        : *std::max_element(model.faceIds.begin(), model.faceIds.end());
+        // STL/OBJ ids count triangles from 0, CAD ids (FreeCAD's FaceN) faces from 1: the range
+        // the model has
+        const auto [low, high] =
+            model.faceIds.empty()
+                ? std::pair<int, int>{0, -1}
+                : std::pair<int, int>{
+                      *std::min_element(model.faceIds.begin(), model.faceIds.end()),
+                      *std::max_element(model.faceIds.begin(), model.faceIds.end())};
         throw InvalidInput("start face ids not found in the model: " + joinIds(missing) +
-                           "; valid ids are 0.." + std::to_string(maxId) +
+                           "; valid ids are " + std::to_string(low) + ".." + std::to_string(high) +
                            " (triangles removed as degenerate or duplicate have no id)");
       }
       break;

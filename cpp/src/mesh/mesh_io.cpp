@@ -200,7 +200,29 @@ bool binaryStlSizeMatches(std::string_view data) {
   return data.size() == kStlHeaderBytes + kStlRecordBytes * std::uint64_t{count};
 }
 
+/// The CAD exchange format `data` is in (STEP, BREP, IGES), or null: CAD files hold surfaces,
+/// not triangles, and read as a mesh they would be taken for a corrupt binary STL.
+const char* cadFormatOf(std::string_view data) {
+  std::size_t i = 0;
+  while (i < data.size() && i < 64 && std::isspace(static_cast<unsigned char>(data[i]))) ++i;
+  const std::string_view head = data.substr(i, 32);
+  if (head.starts_with("ISO-10303-21")) return "STEP";
+  if (head.starts_with("DBRep_DrawableShape") || head.starts_with("CASCADE Topology")) {
+    return "OpenCASCADE BREP";
+  }
+  if (data.size() >= 80 && data.substr(72, 1) == "S" && data.substr(73, 7) == "      1") {
+    return "IGES";
+  }
+  return nullptr;
+}
+
 MeshFormat detectFormat(std::string_view data, const fs::path& path) {
+  if (const char* cad = cadFormatOf(data)) {
+    throw InvalidInput(quoted(path) + " is " + (cad[0] == 'O' ? "an " : "a ") + cad +
+                       " file (CAD surfaces), not a triangle mesh (STL or OBJ); pass CAD models "
+                       "as the part (with --start faces:N to start from its faces), or export "
+                       "this surface as STL");
+  }
   if (binaryStlSizeMatches(data)) return MeshFormat::StlBinary;
   if (looksLikeAsciiStl(data)) return MeshFormat::StlAscii;
   if (hasExtension(path, ".obj") || looksLikeObj(data)) return MeshFormat::Obj;

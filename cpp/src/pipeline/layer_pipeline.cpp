@@ -204,6 +204,11 @@ void validateLayerJobOptions(const LayerJobOptions& options) {
     throw InvalidInput("memory budget must be zero (automatic) or positive: " +
                        formatNumber(budget) + " bytes; pass a positive size or 0");
   }
+  // below a megabyte no grid and no plan fits; advice computed from such a budget is absurd
+  if (budget > 0.0 && budget < kMinMemoryBudgetBytes) {
+    throw InvalidInput("memory budget must be 0 (automatic) or at least 1 MB: " +
+                       formatNumber(budget) + " bytes; pass 0 or e.g. 4096 MB");
+  }
   if (options.voxelize.padding < 1) {
     throw InvalidInput("grid padding must be at least one cell: " +
                        std::to_string(options.voxelize.padding) + "; pass 1 or more");

@@ -204,7 +204,10 @@ TEST(CliErrors, GridBeyondTheMemoryBudget) {
   expectFailure(ws, args, kResourceLimit,
                 {"cells at voxel size 0.01 mm", "memory budget", "use a voxel size of at least"});
   expectFailure(ws, ws.layers(ws.box, {"--memory-budget=-5"}), kInvalidInput,
-                {"memory budget must be 0 (automatic) or a positive number of MB: '-5'"});
+                {"memory budget must be 0 (automatic) or at least 1 MB: '-5'"});
+  // a budget no grid fits would only give absurd advice (a point spacing of 4.7e+302 mm)
+  expectFailure(ws, ws.layers(ws.box, {"--memory-budget=1e-300"}), kInvalidInput,
+                {"memory budget must be 0 (automatic) or at least 1 MB: '1e-300'"});
 }
 
 /// The voxel size in "use a voxel size of at least X mm" (0 when the message has none).

@@ -36,6 +36,20 @@ TEST(MeshIoRobustness, CoordinatesBeyondABillionMillimetresAreRefused) {
   EXPECT_EQ(mesh.triangleCount(), 1u);
 }
 
+TEST(MeshIoRobustness, CadFilesAreNamedAsCadNotTakenForACorruptStl) {
+  // e.g. a STEP given as a start surface mesh: read as binary STL its header declared 1.4 billion
+  // triangles
+  const std::string step =
+      parseError("ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('x'),'2;1');\n", "boss.step");
+  EXPECT_NE(step.find("'boss.step' is a STEP file (CAD surfaces), not a triangle mesh (STL or "
+                      "OBJ); pass CAD models as the part"),
+            std::string::npos)
+      << step;
+  const std::string brep =
+      parseError("DBRep_DrawableShape\n\nCASCADE Topology V1, (c) Matra-Datavision\n", "box.brep");
+  EXPECT_NE(brep.find("is an OpenCASCADE BREP file"), std::string::npos) << brep;
+}
+
 TEST(MeshIoRobustness, ParseMeshMatchesTheFileReadersErrors) {
   EXPECT_NE(parseError("v 0 0 0\nf 1 2 3\n", "bad.obj").find("bad.obj"), std::string::npos);
   EXPECT_NE(parseError("", "empty.stl").find("empty.stl"), std::string::npos);

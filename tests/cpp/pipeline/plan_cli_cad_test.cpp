@@ -79,6 +79,7 @@ TEST(PlanCliCad, StartFacesAreFreeCadFaceNumbers) {
         {"layers", (kData / "cad_box.brep").string(), "--start", ids, "--layer-thickness", "3",
          "--voxel", "1", "-o", (dir / "out").string(), "-q"});
     EXPECT_EQ(run.exitCode, 2) << ids << ": " << run.err;
+    EXPECT_NE(run.err.find("valid ids are 1..6"), std::string::npos) << run.err;
     EXPECT_FALSE(fs::exists(dir / "out"));
   }
 }

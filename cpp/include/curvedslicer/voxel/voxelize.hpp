@@ -26,11 +26,15 @@
 
 namespace curvedslicer {
 
+/// The smallest memory budget other than 0 (automatic) a job accepts: 1 MiB.
+inline constexpr double kMinMemoryBudgetBytes = 1024.0 * 1024.0;
+
 struct VoxelizeOptions {
   double voxelSize = 1.0;  ///< L, mm (> 0)
   GridAlignment alignment = GridAlignment::Pca;
   int padding = 2;  ///< empty cells added around the model's box on each side (≥ 1)
-  /// Bytes the whole pipeline may use; 0 = 80 % of physical memory.
+  /// Bytes the whole pipeline may use; 0 = 80 % of physical memory, else at least
+  /// kMinMemoryBudgetBytes.
   double memoryBudgetBytes = 0.0;
   /// Bytes the pipeline needs per grid cell (mask, clearance, field, parents, queue).
   double bytesPerCell = 16.0;
