@@ -124,5 +124,51 @@ class TestApiArguments(cs_testing.DocumentTestCase):
         result = api.export(job, None, format="jbi", date="2026/11/22 07:00")
         self.assertGreater(result["motion_count"], 0)
 
+    def test_object_of_another_document_is_refused_before_a_job_is_made(self):
+        other = FreeCAD.newDocument("OtherDocument")
+        try:
+            box = other.addObject("Part::Box", "ElsewhereBox")
+            other.recompute()
+            message = self.refused_for(box)
+            self.assertIn("solid ElsewhereBox is in the document 'OtherDocument', not in %r"
+                          % self.doc.Name, message)
+            own = self.box(10, 10, 10, name="Own")
+            message = self.refused_for(own, start=(box, ["Face5"]))
+            self.assertIn("start ElsewhereBox is in the document 'OtherDocument'", message)
+        finally:
+            FreeCAD.closeDocument(other.Name)
+
+    def refused_for(self, solid, **kwargs):
+        before = len(self.doc.Objects)
+        with self.assertRaises(InvalidInput) as caught:
+            api.make_job(self.doc, solid, **kwargs)
+        self.assertEqual(len(self.doc.Objects), before)  # no half-made Job
+        return str(caught.exception)
+
+    def test_progress_callback_answers_and_pose_indices_are_checked(self):
+        box = self.box(20, 16, 6)
+        job = api.make_job(self.doc, box, layer_thickness=2.0, voxel_size=1.0, bead_spacing=4.0,
+                           point_spacing=2.0, cell_file="")
+        # a callback that answers neither True nor False: a clear error, the Job marked failed
+        with self.assertRaises(InvalidInput) as caught:
+            api.run(job, progress=lambda stage, fraction: "yes")
+        self.assertIn("the progress callback must return True (go on) or False (cancel): it "
+                      "returned 'yes'", str(caught.exception))
+        self.assertIn("Invalid", job.State)
+        with self.assertRaises(InvalidInput) as caught:
+            api.run(job, progress="dialog")
+        self.assertIn("progress must be None, False or a callable", str(caught.exception))
+        # a callback returning nothing (None) goes on
+        api.run(job, progress=lambda stage, fraction: None)
+        self.assertNotIn("Invalid", job.State)
+        count = api.pose_count(job)
+        for index in (count, -1, 1e12, "3", True):
+            with self.assertRaises(InvalidInput) as caught:
+                api.set_pose(job, index)
+            self.assertIn("no motion point %s: %s has %d; pick 0 to %d"
+                          % (repr(index)[:60], job.Label, count, count - 1),
+                          str(caught.exception))
+        self.assertEqual(api.set_pose(job, count - 1), (job.PoseA1, job.PoseA2))
+
 
 cs_testing.main(__name__)

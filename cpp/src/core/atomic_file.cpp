@@ -2,10 +2,13 @@
 
 #include <atomic>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <system_error>
+#include <vector>
 
+#include <signal.h>
 #include <unistd.h>
 
 #include "curvedslicer/core/error.hpp"
@@ -16,11 +19,61 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path temporarySibling(const fs::path& path) {
+constexpr const char* kTmpMarker = ".tmp-";
+
+/// The longest file name the folder's file system takes (NAME_MAX, usually 255 bytes).
+std::size_t nameLimit(const fs::path& folder) {
+  const long limit = ::pathconf(folder.c_str(), _PC_NAME_MAX);
+  return limit > 0 ? static_cast<std::size_t>(limit) : 255;
+}
+
+/// "NAME.tmp-PID-N" beside `path`, NAME cut so the whole stays within the file system's name
+/// limit (an output name near the limit must not fail on its temporary file).
+fs::path temporarySibling(const fs::path& path, const fs::path& folder) {
   static std::atomic<unsigned> counter{0};
-  fs::path tmp = path;
-  tmp += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-  return tmp;
+  const std::string suffix =
+      kTmpMarker + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+  std::string name = path.filename().string();
+  const std::size_t limit = nameLimit(folder);
+  if (name.size() > limit) {
+    throw InvalidInput("output file name is " + std::to_string(name.size()) +
+                       " bytes long, more than the " + std::to_string(limit) +
+                       " the file system allows: '" + name.substr(0, 40) +
+                       "...'; choose a shorter name");
+  }
+  if (name.size() + suffix.size() > limit) name.resize(limit - suffix.size());
+  return path.parent_path() / (name + suffix);
+}
+
+/// Removes the temporary files an earlier run writing `path` left when it was killed: siblings
+/// "NAME.tmp-PID-N" (NAME: the output's name, or its start where it was cut) whose process no
+/// longer exists. Files of running processes and of other outputs are left alone.
+void removeDeadTemporaries(const fs::path& path, const fs::path& folder) {
+  const std::string name = path.filename().string();
+  const std::size_t limit = nameLimit(folder);
+  std::error_code ec;
+  std::vector<fs::path> dead;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string entry = it->path().filename().string();
+    const std::size_t marker = entry.rfind(kTmpMarker);
+    if (marker == std::string::npos || marker == 0 ||
+        name.compare(0, marker, entry, 0, marker) != 0 ||
+        (marker < name.size() && entry.size() < limit)) {
+      continue;  // not this output's, or a cut name that was not cut at the limit
+    }
+    const std::string tail = entry.substr(marker + std::strlen(kTmpMarker));
+    const std::size_t dash = tail.find('-');
+    if (dash == std::string::npos || dash == 0 ||
+        tail.find_first_not_of("0123456789-") != std::string::npos) {
+      continue;
+    }
+    const long pid = std::strtol(tail.substr(0, dash).c_str(), nullptr, 10);
+    // kill(pid, 0) fails with ESRCH only when no such process exists (EPERM: it exists)
+    if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) {
+      dead.push_back(it->path());
+    }
+  }
+  for (const fs::path& file : dead) fs::remove(file, ec);
 }
 
 /// "a FIFO (named pipe)", "a character device", ... for messages.
@@ -88,12 +141,14 @@ void writeFileAtomically(const fs::path& requested, const std::function<void(std
     throw IoError("output folder does not exist: '" + parent.string() +
                   "'; create it or choose another output path");
   }
-  const fs::path tmp = temporarySibling(path);
+  const fs::path tmp = temporarySibling(path, parent);
+  removeDeadTemporaries(path, parent);
   try {
     {
       std::ofstream out(tmp, binary ? std::ios::binary | std::ios::trunc : std::ios::trunc);
       if (!out) {
-        throw IoError("cannot create file '" + tmp.string() + "': " + std::strerror(errno) +
+        throw IoError("cannot write '" + path.string() + "' (through the temporary file '" +
+                      tmp.filename().string() + "'): " + std::strerror(errno) +
                       "; check that the folder is writable");
       }
       write(out);

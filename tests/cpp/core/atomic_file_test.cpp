@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 #include <sys/un.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -61,6 +62,49 @@ TEST(AtomicFile, RegularFilesAndNewPathsAreWritten) {
   EXPECT_EQ(resolveOutputPath(dir / "a.txt"), dir / "a.txt");
   EXPECT_EQ(resolveOutputPath(dir / "missing.txt"), dir / "missing.txt");
   EXPECT_EQ(entryCount(dir), 1u);
+}
+
+TEST(AtomicFile, NamesUpToTheFileSystemsLimitAreWritten) {
+  // the temporary file "NAME.tmp-PID-N" must not push a long name past NAME_MAX
+  const fs::path dir = testing::freshTempDir();
+  const std::string longest(255, 'a');
+  writeTextFileAtomically(dir / longest, "one");
+  EXPECT_EQ(readText(dir / longest), "one");
+  EXPECT_EQ(entryCount(dir), 1u);
+  try {
+    writeTextFileAtomically(dir / std::string(300, 'b'), "two");
+    ADD_FAILURE() << "a 300-byte name was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_TRUE(contains(e.what(),
+                         "output file name is 300 bytes long, more than the 255 the "
+                         "file system allows: 'bbbb"));
+  }
+  EXPECT_EQ(entryCount(dir), 1u);
+}
+
+TEST(AtomicFile, TemporariesOfKilledRunsAreRemovedByTheNextWrite) {
+  const fs::path dir = testing::freshTempDir();
+  // a process that has ended: its pid names no process any more
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ASSERT_EQ(::waitpid(child, nullptr, 0), child);
+  const std::string dead = std::to_string(child), alive = std::to_string(::getpid());
+  for (const std::string name :
+       {"a.txt.tmp-" + dead + "-0", "a.txt.tmp-" + dead + "-17", "a.txt.tmp-" + alive + "-99",
+        "b.txt.tmp-" + dead + "-0", std::string("a.txt.tmp-x-0")}) {
+    writeTextFileAtomically(dir / (name + ".seed"), "left");
+    fs::rename(dir / (name + ".seed"), dir / name);
+  }
+  writeTextFileAtomically(dir / "a.txt", "new");
+  EXPECT_EQ(readText(dir / "a.txt"), "new");
+  // the dead run's temporaries of a.txt are gone; a live process's, another output's and names
+  // that only look alike stay
+  EXPECT_FALSE(fs::exists(dir / ("a.txt.tmp-" + dead + "-0")));
+  EXPECT_FALSE(fs::exists(dir / ("a.txt.tmp-" + dead + "-17")));
+  EXPECT_TRUE(fs::exists(dir / ("a.txt.tmp-" + alive + "-99")));
+  EXPECT_TRUE(fs::exists(dir / ("b.txt.tmp-" + dead + "-0")));
+  EXPECT_TRUE(fs::exists(dir / "a.txt.tmp-x-0"));
 }
 
 TEST(AtomicFile, FifoIsRefusedAndKept) {

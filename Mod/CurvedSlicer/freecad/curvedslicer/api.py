@@ -11,6 +11,8 @@ replays what the user did. Lengths are mm. Errors are the classes of ``freecad.c
 App side: no GUI imports (a progress dialog and view providers come through hooks.py).
 """
 
+import operator
+
 import FreeCAD
 
 from . import arguments, defaults, geometry, hooks, messages, preferences, stages
@@ -154,7 +156,41 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
     if initial_plane is not None:
         initial_plane = (arguments.vector(initial_plane[0], "initial_plane point"),
                          arguments.vector(initial_plane[1], "initial_plane normal"))
+    for what, value in (("solid", solid), ("start", start), ("wall_surface", wall_surface),
+                        ("initial_surface", initial_surface)):
+        _check_same_document(value, doc, what)
     obj = doc.addObject("App::DocumentObjectGroupPython", name)
+    try:
+        _fill_job(obj, locals())
+    except Exception:
+        doc.removeObject(obj.Name)  # no half-made Job left behind
+        raise
+    return obj
+
+
+def _check_same_document(value, doc, what):
+    """InvalidInput when `value` (an object, (object, sub-elements) or a list of them) holds an
+    object of another document: a Job links only objects of its own document."""
+    if isinstance(value, (list, tuple)):
+        for item in value:
+            _check_same_document(item, doc, what)
+        return
+    other = getattr(value, "Document", None)
+    if other is not None and hasattr(value, "isDerivedFrom") and other is not doc:
+        raise InvalidInput("%s %s is in the document %r, not in %r where the Job is made; pass an "
+                           "object of the Job's document (copy it there first)"
+                           % (what, value.Label, other.Name, doc.Name))
+
+
+def _fill_job(obj, a):
+    """Sets the new Job's properties from make_job's arguments `a` (its locals)."""
+    solid, plan_kind, wall_surface, wall_axis = (a["solid"], a["plan_kind"], a["wall_surface"],
+                                                 a["wall_axis"])
+    layer_thickness, voxel_size, bead_spacing = (a["layer_thickness"], a["voxel_size"],
+                                                 a["bead_spacing"])
+    min_feature_width, min_gap_area, initial_plane = (a["min_feature_width"], a["min_gap_area"],
+                                                      a["initial_plane"])
+    initial_surface, cell_file, start = a["initial_surface"], a["cell_file"], a["start"]
     job_module.JobProxy(obj)
     obj.Solid = solid
     obj.PlanKind = plan_kind
@@ -164,42 +200,41 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
     obj.LayerThickness = layer_thickness
     if voxel_size is not None:
         obj.VoxelSize = voxel_size
-    obj.Method = method
-    obj.GridAlignment = grid_alignment
-    obj.CapHoles = cap_holes
-    obj.SimplifyLayers = bool(simplify_layers)
-    obj.Deflection = deflection
-    obj.MemoryBudget = memory_budget_mb
+    obj.Method = a["method"]
+    obj.GridAlignment = a["grid_alignment"]
+    obj.CapHoles = a["cap_holes"]
+    obj.SimplifyLayers = bool(a["simplify_layers"])
+    obj.Deflection = a["deflection"]
+    obj.MemoryBudget = a["memory_budget_mb"]
     obj.BeadSpacing = bead_spacing
-    obj.PointSpacing = point_spacing
-    obj.FitTolerance = fit_tolerance
-    obj.CornerAngle = corner_angle
-    obj.SurfaceMethod = surface_method
-    obj.NarrowStrips = narrow_strips
+    obj.PointSpacing = a["point_spacing"]
+    obj.FitTolerance = a["fit_tolerance"]
+    obj.CornerAngle = a["corner_angle"]
+    obj.SurfaceMethod = a["surface_method"]
+    obj.NarrowStrips = a["narrow_strips"]
     obj.MinFeatureWidth = (0.5 * float(bead_spacing) if min_feature_width is None
                            else float(min_feature_width))
-    obj.BeadWidthMin, obj.BeadWidthMax = (float(bead_width_range[0]),
-                                          float(bead_width_range[1]))
-    obj.ConnectInsets = bool(connect_insets)
-    obj.FillGaps = bool(fill_gaps)
+    obj.BeadWidthMin, obj.BeadWidthMax = (float(a["bead_width_range"][0]),
+                                          float(a["bead_width_range"][1]))
+    obj.ConnectInsets = bool(a["connect_insets"])
+    obj.FillGaps = bool(a["fill_gaps"])
     obj.MinGapArea = (float(bead_spacing) ** 2 if min_gap_area is None else float(min_gap_area))
-    obj.CornerFill = bool(corner_fill)
-    obj.CornerFillAngle = float(corner_fill_angle)
-    obj.MeasureCoverage = bool(measure_coverage)
-    obj.InitialPath = initial_path
+    obj.CornerFill = bool(a["corner_fill"])
+    obj.CornerFillAngle = float(a["corner_fill_angle"])
+    obj.MeasureCoverage = bool(a["measure_coverage"])
+    obj.InitialPath = a["initial_path"]
     if initial_plane is not None:
         obj.InitialPlanePoint = FreeCAD.Vector(*initial_plane[0])
         obj.InitialPlaneNormal = FreeCAD.Vector(*initial_plane[1])
     if initial_surface is not None:
         obj.InitialSurface = _link_sub(initial_surface)
-    obj.PathDisplay = path_display
-    obj.ToolAlongTravel = tool_along_travel
+    obj.PathDisplay = a["path_display"]
+    obj.ToolAlongTravel = a["tool_along_travel"]
     obj.CellFile = preferences.default_cell_file() if cell_file is None else cell_file
     if plan_kind == "CurvedLayers":
         _set_start(obj, start)
         layer_stage.ensure_layers_group(obj)
     hooks.attach_view(obj)
-    return obj
 
 
 def run(job, progress=None, force=False):
@@ -219,11 +254,21 @@ def run(job, progress=None, force=False):
         owned = progress = hooks.make_progress()
     if progress is False:
         progress = None
+    elif not callable(progress):
+        raise InvalidInput("progress must be None, False or a callable (stage, fraction) -> "
+                           "bool: %s; pass e.g. lambda stage, fraction: True"
+                           % arguments.short_repr(progress))
+    elif owned is None:
+        progress = _CheckedProgress(progress)
     try:
         ran = stages.update_job(job, progress=progress, force=force, prune=True)
-    except CurvedSlicerError as error:
+    except Exception as error:
         hooks.close_progress(owned)
         owned = None
+        bad_answer = getattr(progress, "error", None)
+        if bad_answer is not None:
+            job_module.mark_failed(job, bad_answer)
+            raise bad_answer from None
         if not isinstance(error, Cancelled):
             job_module.mark_failed(job, error)  # FreeCAD's error state, message in the tree
         raise
@@ -232,6 +277,26 @@ def run(job, progress=None, force=False):
     job_module.clear_failed(job)
     job.purgeTouched()
     return ran
+
+
+class _CheckedProgress:
+    """The caller's progress callable with its answer checked: True (or None, from a function
+    that returns nothing) goes on, False cancels; any other answer cancels the run and is kept
+    as `error`, an InvalidInput naming it, which api.run raises instead of Cancelled (the core
+    could only have reported a value it cannot read as a bool)."""
+
+    def __init__(self, progress):
+        self.progress = progress
+        self.error = None
+
+    def __call__(self, stage, fraction):
+        answer = self.progress(stage, fraction)
+        if answer is None or isinstance(answer, bool):
+            return answer is not False
+        self.error = InvalidInput("the progress callback must return True (go on) or False "
+                                  "(cancel): it returned %s; return a bool"
+                                  % arguments.short_repr(answer))
+        return False
 
 
 def recompute(job):
@@ -465,9 +530,21 @@ def pose_count(job):
 
 
 def set_pose(job, index):
-    """Shows the positioner at motion point `index` (0-based, clamped); returns the point's
-    (a1, a2) in degrees."""
-    job.PosePoint = int(index)
+    """Shows the positioner at motion point `index` (0-based, 0 .. pose_count(job) - 1); returns
+    the point's (a1, a2) in degrees. InvalidInput for an index outside the motion (as
+    layer_info for a layer outside the plan)."""
+    count, given = pose_count(job), index
+    try:
+        index = None if isinstance(index, bool) else operator.index(index)  # ints, numpy ints
+    except TypeError:
+        index = None
+    if index is None or not 0 <= index < count:
+        raise InvalidInput("no motion point %s: %s has %d; pick 0 to %d"
+                           % (arguments.short_repr(given), job.Label, count, max(count - 1, 0))
+                           if count else
+                           "no motion point %s: %s has no motion; run it first"
+                           % (arguments.short_repr(given), job.Label))
+    job.PosePoint = index
     poses.update_poses(job)
     job.purgeTouched()
     return job.PoseA1, job.PoseA2

@@ -22,6 +22,12 @@ def _shown(value, precision):
     return ("%." + str(precision) + "g") % number if number is not None else repr(value)
 
 
+def short_repr(value, limit=60):
+    """repr(value) cut to `limit` characters, for messages (a huge value is not echoed whole)."""
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit] + "..."
+
+
 def positive_mm(value, what, example, precision=6, unit="millimetres"):
     """value as a float > 0 and finite, else InvalidInput "<what> must be a positive number of
     <unit>: <value>; pass a value such as <example>" (the core's text; precision as it prints)."""
