@@ -6,11 +6,15 @@
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <system_error>
 #include <unordered_set>
 
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include "curvedslicer/core/atomic_file.hpp"
@@ -128,6 +132,35 @@ void writeVoxelSetsPly(std::ostream& out, const LayersResult& layers, const Dist
 
 // ---- OutputStaging ----------------------------------------------------------------------------
 
+namespace {
+
+/// The commit journal in a staging folder: written (atomically) before the first move, one line
+/// per step: "move NAME" (staging -> folder) and "remove NAME" (a stale file of the folder).
+constexpr const char* kCommitJournal = ".commit";
+
+/// Finishes the commit of a dead run from its journal: moves the staged files still there and
+/// removes the stale files listed (regular files only).
+void finishCommit(const fs::path& staging, const fs::path& dir) {
+  std::ifstream in(staging / kCommitJournal);
+  std::string line;
+  std::error_code ec;
+  while (std::getline(in, line)) {
+    const std::size_t space = line.find(' ');
+    if (space == std::string::npos) continue;
+    const std::string step = line.substr(0, space), name = line.substr(space + 1);
+    if (name.empty() || name.find('/') != std::string::npos || name == "." || name == "..") {
+      continue;  // the journal names plain files of this folder only
+    }
+    if (step == "move" && fs::is_regular_file(staging / name, ec)) {
+      fs::rename(staging / name, dir / name, ec);
+    } else if (step == "remove" && fs::is_regular_file(fs::symlink_status(dir / name, ec))) {
+      fs::remove(dir / name, ec);
+    }
+  }
+}
+
+}  // namespace
+
 OutputStaging::OutputStaging(fs::path dir) : dir_(std::move(dir)) {}
 
 OutputStaging::~OutputStaging() {
@@ -150,6 +183,7 @@ void OutputStaging::prepare() {
     }
     createdDir_ = true;
   }
+  lock();
   removeDeadStagings();
   static std::atomic<unsigned> counter{0};
   staging_ = dir_ / (".curvedslicer-staging-" + std::to_string(::getpid()) + "-" +
@@ -164,6 +198,37 @@ void OutputStaging::prepare() {
   prepared_ = true;
 }
 
+void OutputStaging::lock() {
+  lockFd_ = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (lockFd_ < 0) {
+    throw IoError("cannot open the output folder '" + dir_.string() + "': " + std::strerror(errno) +
+                  "; check its permissions");
+  }
+  if (::flock(lockFd_, LOCK_EX | LOCK_NB) == 0) return;
+  const int error = errno;
+  unlock();
+  if (error != EWOULDBLOCK) {
+    throw IoError("cannot lock the output folder '" + dir_.string() + "': " + std::strerror(error) +
+                  "; choose a folder on a local file system");
+  }
+  // the other run's staging folder names its process
+  std::string who;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir_, ec), end; !ec && it != end; it.increment(ec)) {
+    const long pid = stagingFolderPid(it->path().filename().string());
+    if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) == 0)
+      who = " (process " + std::to_string(pid) + ")";
+  }
+  throw IoError("another curvedslicer run" + who + " is writing into the output folder '" +
+                dir_.string() +
+                "' now; wait for it to finish, or choose another output folder (-o)");
+}
+
+void OutputStaging::unlock() noexcept {
+  if (lockFd_ >= 0) ::close(lockFd_);  // closing the folder releases the flock
+  lockFd_ = -1;
+}
+
 void OutputStaging::removeDeadStagings() {
   std::error_code ec;
   std::vector<fs::path> dead;
@@ -174,6 +239,7 @@ void OutputStaging::removeDeadStagings() {
     if (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) dead.push_back(it->path());
   }
   for (const fs::path& p : dead) {
+    if (fs::exists(p / kCommitJournal, ec)) finishCommit(p, dir_);
     fs::remove_all(p, ec);
     if (!ec) removedStagings_.push_back(p.filename().string());
   }
@@ -197,6 +263,22 @@ void OutputStaging::commit(const std::function<bool(const std::string&)>& isStal
   // Every target is checked before the first move: never onto a device, FIFO, socket or folder.
   std::vector<fs::path> targets;
   for (const std::string& name : names_) targets.push_back(resolveOutputPath(dir_ / name));
+  // the stale files, and the journal of the whole commit: a run killed while moving leaves it
+  // for the next run into this folder to finish (removeDeadStagings)
+  std::vector<fs::path> stale;
+  if (isStale) {
+    const std::unordered_set<std::string> fresh(names_.begin(), names_.end());
+    for (fs::directory_iterator it(dir_, ec), end; !ec && it != end; it.increment(ec)) {
+      const std::string name = it->path().filename().string();
+      if (!fresh.count(name) && isStale(name) && it->is_regular_file(ec)) {
+        stale.push_back(it->path());
+      }
+    }
+  }
+  std::ostringstream journal;
+  for (const std::string& name : names_) journal << "move " << name << '\n';
+  for (const fs::path& p : stale) journal << "remove " << p.filename().string() << '\n';
+  if (prepared_) writeTextFileAtomically(staging_ / kCommitJournal, journal.str());
   for (std::size_t k = 0; k < names_.size(); ++k) {
     fs::rename(staging_ / names_[k], targets[k], ec);
     if (ec) {
@@ -205,24 +287,16 @@ void OutputStaging::commit(const std::function<bool(const std::string&)>& isStal
     }
   }
   committed_ = true;
-  if (isStale) {
-    const std::unordered_set<std::string> fresh(names_.begin(), names_.end());
-    std::vector<fs::path> stale;
-    for (fs::directory_iterator it(dir_, ec), end; !ec && it != end; it.increment(ec)) {
-      const std::string name = it->path().filename().string();
-      if (!fresh.count(name) && isStale(name) && it->is_regular_file(ec)) {
-        stale.push_back(it->path());
-      }
-    }
-    for (const fs::path& p : stale) fs::remove(p, ec);
-  }
+  for (const fs::path& p : stale) fs::remove(p, ec);
   if (prepared_) fs::remove_all(staging_, ec);
+  unlock();
 }
 
 void OutputStaging::discard() noexcept {
   std::error_code ec;
   if (!staging_.empty()) fs::remove_all(staging_, ec);
   if (createdDir_) fs::remove(dir_, ec);  // only succeeds while empty
+  unlock();
 }
 
 void checkOutputFolder(const fs::path& dir) {

@@ -144,6 +144,69 @@ TEST(LayerOutput, StagingFoldersOfDeadRunsAreRemovedOthersKept) {
   EXPECT_EQ(listFolder(dir), (Names{alive, ".curvedslicer-staging-x", "report.json"}));
 }
 
+TEST(LayerOutput, OneRunWritesIntoAFolderAtATime) {
+  const fs::path dir = freshTempDir();
+  {
+    OutputStaging first(dir);
+    first.stage("report.json", [](const fs::path& p) { writeText(p, "first"); });
+    try {
+      OutputStaging second(dir);
+      second.stage("report.json", [](const fs::path& p) { writeText(p, "second"); });
+      ADD_FAILURE() << "two runs staged into one folder at once";
+    } catch (const IoError& e) {
+      EXPECT_NE(std::string(e.what()).find(
+                    "another curvedslicer run (process " + std::to_string(::getpid()) +
+                    ") is writing into the output folder '" + dir.string() + "' now"),
+                std::string::npos)
+          << e.what();
+    }
+    first.commit();
+  }
+  // the lock ends with the commit
+  OutputStaging third(dir);
+  third.stage("report.json", [](const fs::path& p) { writeText(p, "third"); });
+  third.commit();
+  EXPECT_EQ(readWholeFile(dir / "report.json"), "third");
+  EXPECT_EQ(listFolder(dir), (Names{"report.json"}));
+}
+
+TEST(LayerOutput, CommitOfARunKilledWhileCommittingIsFinishedByTheNextRun) {
+  // the folder as SIGKILL left it in the middle of a commit: layer 1 already moved, layer 2 and
+  // plan.json still in the staging folder, the stale layer 3 not yet removed
+  const fs::path dir = freshTempDir();
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ASSERT_EQ(::waitpid(child, nullptr, 0), child);
+  const fs::path staging = dir / (".curvedslicer-staging-" + std::to_string(child) + "-0");
+  fs::create_directory(staging);
+  writeText(dir / "layer_0001.ply", "new 1");
+  writeText(dir / "layer_0002.ply", "old 2");
+  writeText(dir / "layer_0003.ply", "old 3");
+  writeText(dir / "plan.json", "old plan");
+  writeText(dir / "notes.txt", "the user's");
+  writeText(staging / "layer_0002.ply", "new 2");
+  writeText(staging / "plan.json", "new plan");
+  writeText(staging / ".commit",
+            "move layer_0001.ply\nmove layer_0002.ply\nmove plan.json\nremove layer_0003.ply\n"
+            "remove ../escape\n");
+  // and a run killed before its commit: its staged files never reach the folder
+  const fs::path early = dir / (".curvedslicer-staging-" + std::to_string(child) + "-1");
+  fs::create_directory(early);
+  writeText(early / "plan.json", "never committed");
+  {
+    OutputStaging next(dir);
+    next.reserve("report.json");  // the first write clears what dead runs left
+    EXPECT_EQ(next.removedStagings().size(), 2u);
+    EXPECT_EQ(readWholeFile(dir / "layer_0001.ply"), "new 1");
+    EXPECT_EQ(readWholeFile(dir / "layer_0002.ply"), "new 2");
+    EXPECT_EQ(readWholeFile(dir / "plan.json"), "new plan");
+    EXPECT_FALSE(fs::exists(dir / "layer_0003.ply"));
+    EXPECT_EQ(readWholeFile(dir / "notes.txt"), "the user's");
+  }
+  EXPECT_EQ(listFolder(dir), (Names{"layer_0001.ply", "layer_0002.ply", "notes.txt", "plan.json"}));
+}
+
 TEST(LayerOutput, CommitNeverRenamesOntoAFifoNamedLikeALayerFile) {
   const fs::path dir = freshTempDir();
   writeText(dir / "layer_0001.ply", "old");

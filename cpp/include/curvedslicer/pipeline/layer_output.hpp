@@ -49,8 +49,15 @@ void appendVoxelSetPly(std::ostream& out, const VoxelLayerSet& set, const GridGe
 long stagingFolderPid(const std::string& name);
 
 /// A set of files staged inside `dir` and published together. Nothing touches the disk until the
-/// first `stage` call, which also removes the staging folders of dead runs in `dir` (a run killed
-/// with SIGKILL leaves its ".curvedslicer-staging-PID-N"; removed when no process PID exists).
+/// first `stage` call, which also
+/// - takes the folder's lock (flock on `dir` itself), held until the commit ends or the staging
+///   is discarded: one run writes into a folder at a time, another gets an IoError saying so
+///   (so two runs' commits never interleave into a mixed set);
+/// - clears what dead runs in `dir` left (a run killed with SIGKILL leaves its
+///   ".curvedslicer-staging-PID-N"; done when no process PID exists): a staging folder without
+///   a commit journal is removed (the old set was never touched); one with a journal (killed
+///   while committing) has its commit finished first (the remaining moves and removals the
+///   journal lists), so the folder holds the whole new set.
 /// Destroying an uncommitted staging removes everything it created.
 class OutputStaging {
  public:
@@ -84,8 +91,10 @@ class OutputStaging {
 
  private:
   void prepare();
+  void lock();
   void removeDeadStagings();
   void discard() noexcept;
+  void unlock() noexcept;
 
   std::filesystem::path dir_;
   std::filesystem::path staging_;
@@ -94,6 +103,7 @@ class OutputStaging {
   bool createdDir_ = false;
   bool prepared_ = false;
   bool committed_ = false;
+  int lockFd_ = -1;  // the open folder holding the flock, -1 when not held
 };
 
 /// Checks before any heavy work that `dir` can become an output folder: it is a folder (or does
