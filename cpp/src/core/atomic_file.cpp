@@ -132,6 +132,13 @@ fs::path resolveOutputPath(const fs::path& path) {
   return resolved;
 }
 
+fs::path prepareTemporaryFor(const fs::path& path) {
+  const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  fs::path tmp = temporarySibling(path, folder);
+  removeDeadTemporaries(path, folder);
+  return tmp;
+}
+
 void writeFileAtomically(const fs::path& requested, const std::function<void(std::ostream&)>& write,
                          bool binary) {
   const fs::path path = resolveOutputPath(requested);
@@ -141,8 +148,7 @@ void writeFileAtomically(const fs::path& requested, const std::function<void(std
     throw IoError("output folder does not exist: '" + parent.string() +
                   "'; create it or choose another output path");
   }
-  const fs::path tmp = temporarySibling(path, parent);
-  removeDeadTemporaries(path, parent);
+  const fs::path tmp = prepareTemporaryFor(path);
   try {
     {
       std::ofstream out(tmp, binary ? std::ios::binary | std::ios::trunc : std::ios::trunc);

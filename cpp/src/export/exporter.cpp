@@ -289,7 +289,6 @@ void writeExportFiles(const ExportResult& result, const fs::path& mainFile) {
     target = resolveOutputPath(target);  // no devices, FIFOs or sockets; through symlinks
   }
   checkMainFileName(result, mainFile);
-  static std::atomic<unsigned> counter{0};
   std::vector<fs::path> temps;
   const auto removeTemps = [&temps]() noexcept {
     std::error_code ignored;
@@ -297,12 +296,12 @@ void writeExportFiles(const ExportResult& result, const fs::path& mainFile) {
   };
   try {
     for (std::size_t k = 0; k < targets.size(); ++k) {
-      fs::path tmp = targets[k];
-      tmp += ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+      const fs::path tmp = prepareTemporaryFor(targets[k]);
       temps.push_back(tmp);
       std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
       if (!out) {
-        throw IoError("cannot create file '" + tmp.string() + "': " + std::strerror(errno) +
+        throw IoError("cannot write '" + targets[k].string() + "' (through the temporary file '" +
+                      tmp.filename().string() + "'): " + std::strerror(errno) +
                       "; check that the folder is writable");
       }
       const std::string& text = result.files[k].text;

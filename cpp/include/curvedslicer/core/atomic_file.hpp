@@ -18,6 +18,13 @@ namespace curvedslicer {
 ///         against mistakes, not against a concurrent process swapping the path.
 std::filesystem::path resolveOutputPath(const std::filesystem::path& path);
 
+/// The temporary file a new version of the output `path` (already resolved) is written to before
+/// it is renamed over it: "NAME.tmp-PID-N" beside it, NAME cut so the whole stays within the file
+/// system's name limit. Also removes the temporaries of `path` that killed runs left (their
+/// process no longer exists).
+/// @throws InvalidInput when the output's own name is longer than the file system allows.
+std::filesystem::path prepareTemporaryFor(const std::filesystem::path& path);
+
 /// Writes `path` atomically (onto `resolveOutputPath(path)`): `write` fills the stream of a
 /// temporary sibling file, which then replaces `path`. On any exception (from `write` or the file
 /// system) the temporary file is removed, `path` is left as it was, and the exception propagates
