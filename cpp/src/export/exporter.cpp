@@ -2,7 +2,6 @@
 #include "curvedslicer/export/exporter.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <cstdio>
@@ -11,7 +10,6 @@
 #include <set>
 #include <system_error>
 
-#include <unistd.h>
 
 #include "curvedslicer/core/atomic_file.hpp"
 #include "curvedslicer/core/error.hpp"
