@@ -10,7 +10,6 @@
 #include <set>
 #include <system_error>
 
-
 #include "curvedslicer/core/atomic_file.hpp"
 #include "curvedslicer/core/error.hpp"
 #include "curvedslicer/export/gcode_writer.hpp"
