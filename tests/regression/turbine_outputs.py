@@ -22,8 +22,8 @@ def main():
     out = os.environ["CURVEDSLICER_OUT"]
     os.makedirs(out, exist_ok=True)
     doc = FreeCAD.newDocument("Turbine")
-    _, base, blades = turbine.make_turbine_jobs(
-        doc, float(os.environ.get("CURVEDSLICER_VOXEL", "1.0")), out)
+    _, base, blades = turbine.make_turbine_jobs(doc, float(os.environ.get("CURVEDSLICER_VOXEL",
+                                                                          "1.0")))
     api.run(base)
     api.run(blades)
     for name, job in (("base", base), ("blades", blades)):
