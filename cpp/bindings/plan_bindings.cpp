@@ -45,6 +45,8 @@ py::dict estimateDict(const MotionEstimate& e) {
   d["travel_length_mm"] = e.travelLength;
   d["travel_time_s"] = e.travelTime;
   d["dwell_time_s"] = e.dwellTime;
+  d["cooling_wait_s"] = e.coolingWait;  // of dwell_time_s: waits for the minimum layer time
+  d["cooled_layers"] = e.cooledLayers;
   d["total_time_s"] = e.totalTime;
   d["wire_length_mm"] = e.wireLength;
   d["deposited_volume_mm3"] = e.depositedVolume;

@@ -165,10 +165,13 @@ int runExportCommand(const ExportArguments& args) {
       printClearance(motion);
       std::printf(
           "curvedslicer: wrote %s (%zu file%s, %zu bytes): %zu motions, %zu paths; arc time "
-          "%.0f s, total time %.0f s, wire %.2f m, deposit %.1f g\n",
+          "%.0f s, dwell %.0f s, total time %.0f s, wire %.2f m, deposit %.1f g\n",
           output.string().c_str(), result.files.size(), result.files.size() == 1 ? "" : "s",
           result.totalBytes(), result.motionCount, result.arcCount, motion.total.arcTime,
-          motion.total.totalTime, motion.total.wireLength / 1000.0, motion.total.depositedMass);
+          motion.total.dwellTime, motion.total.totalTime, motion.total.wireLength / 1000.0,
+          motion.total.depositedMass);
+      std::printf("curvedslicer: minimum layer time %.0f s: %zu layer(s) wait %.0f s in all\n",
+                  cell.process.minLayerTime, motion.total.cooledLayers, motion.total.coolingWait);
     }
     return kExitOk;
   } catch (...) {

@@ -78,11 +78,18 @@ inline bool endsLayer(const MotionPlan& motion, std::size_t i) {
 }
 
 /// Dwell (s) that belongs to point i's path end: the path dwell plus, after the last path of a
-/// layer, the layer dwell; 0 if i is no path end.
+/// layer, the layer dwell and the wait for the minimum layer time that timing gave the layer;
+/// 0 if i is no path end.
 inline double pathEndDwell(const MotionPlan& motion, const Cell& cell, std::size_t i) {
-  if (!motion.points[i].pathEnd) return 0.0;
+  const auto& p = motion.points[i];
+  if (!p.pathEnd) return 0.0;
   double dwell = cell.process.pathDwell;
-  if (endsLayer(motion, i)) dwell += cell.process.layerDwell;
+  if (endsLayer(motion, i)) {
+    dwell += cell.process.layerDwell;
+    if (p.layer >= 0 && static_cast<std::size_t>(p.layer) < motion.layers.size()) {
+      dwell += motion.layers[static_cast<std::size_t>(p.layer)].coolingWait;
+    }
+  }
   return dwell;
 }
 

@@ -797,6 +797,9 @@ ProcessDescription readProcess(Field& top, std::string_view origin) {
   // at most a day: larger is a unit slip (and would not fit a controller's timer)
   proc.layerDwell = pr.within("layer_dwell_s", 0.0, 0.0, 86400.0, "interlayer dwell in s");
   proc.pathDwell = pr.within("path_dwell_s", 0.0, 0.0, 86400.0, "dwell after each path in s");
+  proc.minLayerTime =
+      pr.within("min_layer_time_s", kDefaultMinLayerTime, 0.0, 86400.0,
+                "the shortest time a layer may take, in s (waits after a faster layer; 0 = off)");
   const double window =
       pr.number("max_torch_angle_deg", 15.0, "the largest torch angle off gravity, in degrees");
   if (!(window >= 0.0 && window <= 45.0)) {
@@ -1280,6 +1283,7 @@ std::string writeCellJson(const Cell& cell) {
                       {"deposition_efficiency", pr.depositionEfficiency},
                       {"layer_dwell_s", pr.layerDwell},
                       {"path_dwell_s", pr.pathDwell},
+                      {"min_layer_time_s", pr.minLayerTime},
                       {"max_torch_angle_deg", clean(pr.maxTorchAngle / kDeg)},
                       {"speed_unit", std::string(toString(pr.speedUnit))},
                       {"arc", arc}};
@@ -1409,6 +1413,7 @@ Cell defaultCell() {
   pr.depositionEfficiency = 1.0;
   pr.layerDwell = 60.0;
   pr.pathDwell = 0.0;
+  pr.minLayerTime = kDefaultMinLayerTime;
   pr.speedUnit = SpeedUnit::MillimetresPerSecond;
   pr.arcControl = ArcControl::ConditionFile;
   pr.arcStartCondition = 1;

@@ -151,6 +151,8 @@ void addEstimates(MotionEstimate& into, const MotionEstimate& e) {
   into.travelLength += e.travelLength;
   into.travelTime += e.travelTime;
   into.dwellTime += e.dwellTime;
+  into.coolingWait += e.coolingWait;
+  into.cooledLayers += e.cooledLayers;
   into.totalTime += e.totalTime;
   into.wireLength += e.wireLength;
   into.depositedVolume += e.depositedVolume;
@@ -207,6 +209,11 @@ MotionEstimate estimatePlan(const Plan& plan, const ProcessDescription& process,
   MotionEstimate total;
   if (layers) layers->assign(plan.layers.size(), MotionEstimate{});
   const Vec3* previousEnd = nullptr;
+  // one past the last layer with paths: that layer waits for nothing (no layer follows)
+  std::size_t lastWelded = 0;
+  for (std::size_t l = 0; l < plan.layers.size(); ++l) {
+    if (!plan.layers[l].paths.empty()) lastWelded = l + 1;
+  }
   for (std::size_t l = 0; l < plan.layers.size(); ++l) {
     MotionEstimate e;
     for (const PlanPath& path : plan.layers[l].paths) {
@@ -226,6 +233,13 @@ MotionEstimate estimatePlan(const Plan& plan, const ProcessDescription& process,
     e.dwellTime += process.layerDwell;
     e.travelTime = e.travelLength / process.travelSpeed;
     finishEstimate(e, process);
+    // a layer shorter than the minimum layer time waits the rest after its last path
+    if (e.paths > 0 && l + 1 < lastWelded && e.totalTime < process.minLayerTime) {
+      e.coolingWait = process.minLayerTime - e.totalTime;
+      e.cooledLayers = 1;
+      e.dwellTime += e.coolingWait;
+      e.totalTime = process.minLayerTime;
+    }
     if (layers) (*layers)[l] = e;
     addEstimates(total, e);
   }
@@ -885,6 +899,26 @@ MotionPlan planMotionOnLowestRiser(const Plan& plan, const Cell& givenCell,
                      "by hand (--placement cell) or use a slimmer torch envelope");
 }
 
+/// A note naming the layers that wait for the minimum layer time (none: no note).
+void noteCoolingWaits(const ProcessDescription& process, MotionPlan& motion) {
+  if (motion.total.cooledLayers == 0) return;
+  double longest = 0.0;
+  int where = -1;
+  for (std::size_t l = 0; l < motion.layers.size(); ++l) {
+    if (motion.layers[l].coolingWait > longest) {
+      longest = motion.layers[l].coolingWait;
+      where = static_cast<int>(l);
+    }
+  }
+  motion.notes.push_back("minimum layer time " + fmt(process.minLayerTime, 1) +
+                         " s: " + std::to_string(motion.total.cooledLayers) +
+                         " layer(s) take less and wait the rest after "
+                         "their last path, " +
+                         fmt(motion.total.coolingWait, 1) + " s in all, longest " +
+                         fmt(longest, 1) + " s after layer " + std::to_string(where) +
+                         " (the cell's process/min_layer_time_s; 0 turns it off)");
+}
+
 }  // namespace
 
 MotionPlan planMotion(const Plan& plan, const Cell& givenCell, const MotionOptions& options,
@@ -925,6 +959,7 @@ MotionPlan planMotion(const Plan& plan, const Cell& givenCell, const MotionOptio
   // time parameterisation (after the travel moves): times, speeds, estimates
   result.total = estimatePlan(plan, cell.process, &result.layers);
   parameteriseTime(result, cell, TimingOptions{options.timeParameterise});
+  noteCoolingWaits(cell.process, result);
   recordDeviations(result);
   progress.report(1.0, "estimates");
   return result;

@@ -22,18 +22,25 @@ std::string fmt(double value, int precision) {
 
 /// Dwell after each point (s): pathDwell at every path end, layerDwell after each layer's last
 /// path (a layer without paths: at the end of the path before it). `leading` gets the dwell of
-/// layers before the first path.
+/// layers before the first path. `closes[i]` is the layer whose last path ends at point i (-1
+/// elsewhere): where a layer shorter than the minimum layer time waits the rest.
 std::vector<double> computeDwells(const MotionPlan& motion, const ProcessDescription& process,
-                                  double& leading) {
+                                  double& leading, std::vector<int>& closes) {
   std::vector<double> dwell(motion.points.size(), 0.0);
+  closes.assign(motion.points.size(), -1);
   leading = 0.0;
   std::size_t span = 0;
   double* lastEnd = &leading;
   for (std::size_t l = 0; l < motion.layers.size(); ++l) {
+    std::size_t end = 0;
+    bool any = false;
     for (; span < motion.paths.size() && motion.paths[span].layer == static_cast<int>(l); ++span) {
-      lastEnd = &dwell[motion.paths[span].end - 1];
+      end = motion.paths[span].end - 1;
+      any = true;
+      lastEnd = &dwell[end];
       *lastEnd += process.pathDwell;
     }
+    if (any) closes[end] = static_cast<int>(l);
     *lastEnd += process.layerDwell;
   }
   return dwell;
@@ -147,6 +154,8 @@ void setEstimates(MotionPlan& motion, const ProcessDescription& process,
     total.travelLength += e.travelLength;
     total.travelTime += e.travelTime;
     total.dwellTime += e.dwellTime;
+    total.coolingWait += e.coolingWait;
+    total.cooledLayers += e.cooledLayers;
     total.totalTime += e.totalTime;
     total.wireLength += e.wireLength;
     total.depositedVolume += e.depositedVolume;
@@ -178,9 +187,23 @@ void parameteriseTime(MotionPlan& motion, const Cell& cell, const TimingOptions&
   std::vector<double> wire(layerCount, 0.0);  // mm of wire fed per layer at per-move feeds
   bool variableFeed = false;
   double leading = 0.0;
-  const std::vector<double> dwell = computeDwells(motion, cell.process, leading);
+  std::vector<int> closes;
+  const std::vector<double> dwell = computeDwells(motion, cell.process, leading, closes);
+  // When each layer's first weld point is reached: its layer time runs from there to the end
+  // of the dwell after its last path.
+  std::vector<double> layerStart(layerCount, 0.0);
+  std::vector<int> opens(motion.points.size(), -1);
+  // the last layer waits for nothing: no layer is welded onto it
+  const int lastWelded = motion.paths.empty() ? -1 : motion.paths.back().layer;
+  for (std::size_t k = 0; k < motion.paths.size(); ++k) {
+    const MotionPathSpan& span = motion.paths[k];
+    const bool first = k == 0 || motion.paths[k - 1].layer != span.layer;
+    if (first && span.layer >= 0 && span.begin < opens.size()) opens[span.begin] = span.layer;
+  }
   for (std::size_t l = 0; l < layerCount; ++l) {
     dwellOfLayer[l] = cell.process.layerDwell;
+    motion.layers[l].coolingWait = 0.0;
+    motion.layers[l].cooledLayers = 0;
   }
   for (const MotionPathSpan& span : motion.paths) {
     if (span.layer >= 0 && static_cast<std::size_t>(span.layer) < layerCount) {
@@ -196,13 +219,30 @@ void parameteriseTime(MotionPlan& motion, const Cell& cell, const TimingOptions&
     b.flags &= ~static_cast<std::uint32_t>(kMotionSpeedReduced);
     if (i == 0) {
       b.time = time;
+      if (opens[i] >= 0 && static_cast<std::size_t>(opens[i]) < layerCount) {
+        layerStart[static_cast<std::size_t>(opens[i])] = time;
+      }
       b.speed = cell.process.travelSpeed;
       continue;
     }
     const MotionPoint& a = motion.points[i - 1];
     const MoveTime move = computeMoveTime(a, b, cell, inverseSpeed, options.limitAxes);
-    time += dwell[i - 1] + move.seconds;
+    double wait = 0.0;  // for the minimum layer time, after the layer's dwells
+    if (const int closed = closes[i - 1]; closed >= 0 && closed != lastWelded) {
+      const double layerTime = time + dwell[i - 1] - layerStart[static_cast<std::size_t>(closed)];
+      if (layerTime < cell.process.minLayerTime) {
+        wait = cell.process.minLayerTime - layerTime;
+        MotionEstimate& e = motion.layers[static_cast<std::size_t>(closed)];
+        e.coolingWait = wait;
+        e.cooledLayers = 1;
+        dwellOfLayer[static_cast<std::size_t>(closed)] += wait;
+      }
+    }
+    time += dwell[i - 1] + wait + move.seconds;
     b.time = time;
+    if (opens[i] >= 0 && static_cast<std::size_t>(opens[i]) < layerCount) {
+      layerStart[static_cast<std::size_t>(opens[i])] = time;
+    }
     const double weldSpeed = b.nominalSpeed > 0.0 ? b.nominalSpeed : cell.process.weldSpeed;
     const double nominalSpeed = b.arcOn ? weldSpeed : cell.process.travelSpeed;
     b.speed =

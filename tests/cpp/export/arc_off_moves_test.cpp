@@ -183,6 +183,69 @@ TEST(ArcOffMoves, DwellsWaitAfterTheRetractWithTheTorchOffThePartInEveryFormat) 
       "gcode linuxcnc");
 }
 
+TEST(ArcOffMoves, ALayerShorterThanTheMinimumLayerTimeWaitsTheRestInEveryFormat) {
+  Cell cell = defaultCell();
+  cell.process.pathDwell = 0.0;
+  cell.process.layerDwell = 0.0;
+  cell.process.minLayerTime = 30.0;
+  const Plan plan = makeSmallPlan();  // 2 layers of 2 short paths: seconds each
+  const MotionPlan motion = planMotion(plan, cell);
+  ASSERT_EQ(motion.paths.size(), 4u);
+  ASSERT_EQ(motion.paths[1].layer, 0);
+  ASSERT_EQ(motion.paths[2].layer, 1);
+  // Layer 0 runs from the arrival at its first weld point to its last path end; it waits the
+  // rest of the 30 s after that path's retract. Layer 1 is the last: nothing is welded onto it,
+  // so it does not wait.
+  const double layerTime =
+      motion.points[motion.paths[1].end - 1].time - motion.points[motion.paths[0].begin].time;
+  ASSERT_GT(layerTime, 0.0);
+  ASSERT_LT(layerTime, 30.0);
+  const double wait = 30.0 - layerTime;
+  EXPECT_NEAR(motion.layers[0].coolingWait, wait, 1e-9);
+  EXPECT_EQ(motion.layers[1].coolingWait, 0.0);
+  EXPECT_EQ(motion.total.cooledLayers, 1u);
+  EXPECT_NEAR(motion.total.coolingWait, wait, 1e-9);
+  // the next layer's first weld is at least the minimum layer time after the first one's start
+  EXPECT_GE(motion.points[motion.paths[2].begin].time - motion.points[motion.paths[0].begin].time,
+            30.0);
+  // the wait is in the total time: the same motion without it is that much shorter
+  Cell off = cell;
+  off.process.minLayerTime = 0.0;
+  const MotionPlan plain = planMotion(plan, off);
+  EXPECT_NEAR(motion.total.totalTime - plain.total.totalTime, wait, 1e-9);
+  EXPECT_NEAR(motion.total.dwellTime - plain.total.dwellTime, wait, 1e-9);
+  EXPECT_NEAR(motion.total.totalTime, motion.points.back().time, 1e-9);
+  EXPECT_NE(std::find_if(motion.notes.begin(), motion.notes.end(),
+                         [](const std::string& n) {
+                           return n.find("minimum layer time 30.0 s: 1 layer(s)") !=
+                                  std::string::npos;
+                         }),
+            motion.notes.end());
+  // every language waits exactly there, and nowhere else; without the minimum, none waits
+  const std::size_t at = motion.paths[1].end;  // the retract after layer 0's last path
+  ASSERT_EQ(motion.points[at].kind, MoveKind::Retract);
+  const auto expectOneWait = [&](const std::vector<std::pair<std::size_t, double>>& dwells,
+                                 const std::string& format) {
+    ASSERT_EQ(dwells.size(), 1u) << format;
+    EXPECT_EQ(dwells[0].first, at) << format;
+    EXPECT_NEAR(dwells[0].second, wait, 0.01) << format;  // programs give 0.01 s or finer
+  };
+  for (ExportFormat format : kRobotFormats) {
+    const std::string name(toString(format));
+    expectOneWait(exportAndRead(motion, cell, format).dwells, name);
+    EXPECT_TRUE(exportAndRead(plain, off, format).dwells.empty()) << name;
+  }
+  expectOneWait(gcodeDwells(exportProgram(motion, cell, ExportFormat::Gcode).files[0].text, 0.001),
+                "gcode generic");
+  EXPECT_TRUE(
+      gcodeDwells(exportProgram(plain, off, ExportFormat::Gcode).files[0].text, 0.001).empty());
+  ExportOptions linuxcnc;
+  linuxcnc.gcodeDialect = GcodeDialect::LinuxCnc;
+  expectOneWait(
+      gcodeDwells(exportProgram(motion, cell, ExportFormat::Gcode, linuxcnc).files[0].text, 1.0),
+      "gcode linuxcnc");
+}
+
 TEST(ArcOffMoves, NeutralFilesNameEveryPointsKindAndTime) {
   const MotionPlan motion = makeMotionWithReducedSpeed();
   const Cell cell = defaultCell();

@@ -75,6 +75,17 @@ TEST(Cell, WriteReadRoundTrip) {
   EXPECT_DOUBLE_EQ(back.process.voltage, 19.5);
 }
 
+TEST(Cell, MinimumLayerTimeDefaultsTo30SecondsAndZeroTurnsItOff) {
+  Json j = Json::parse(writeCellJson(defaultCell()));
+  EXPECT_DOUBLE_EQ(j["process"]["min_layer_time_s"].get<double>(), 30.0);
+  j["process"]["min_layer_time_s"] = 0;
+  EXPECT_DOUBLE_EQ(parseCell(j.dump()).process.minLayerTime, 0.0);
+  j["process"]["min_layer_time_s"] = 45.5;
+  EXPECT_DOUBLE_EQ(parseCell(j.dump()).process.minLayerTime, 45.5);
+  j["process"].erase("min_layer_time_s");  // a file written before the field existed
+  EXPECT_DOUBLE_EQ(parseCell(j.dump()).process.minLayerTime, kDefaultMinLayerTime);
+}
+
 TEST(Cell, PoseRollPitchYawRoundTrip) {
   const Vec3 rpy(0.3, -1.1, 2.9);
   const Pose pose = makePose(Vec3(1, 2, 3), rpy);
@@ -113,6 +124,8 @@ TEST(Cell, EachBadFieldHasItsOwnError) {
       {"/process/speed_unit", "furlong/fortnight", "must be one of"},
       {"/process/deposition_efficiency", 1.5, "must be in (0, 1]"},
       {"/process/layer_dwell_s", -5, "must be between 0 and 86400"},
+      {"/process/min_layer_time_s", -1, "must be between 0 and 86400"},
+      {"/process/min_layer_time_s", 1e9, "must be between 0 and 86400"},
       {"/process/arc/start_condition", 0, "between 1 and 48"},
       {"/process/arc/control", "plasma", "must be one of"},
       {"/export/line_ending", "cr", "must be one of"},

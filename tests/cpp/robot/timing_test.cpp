@@ -49,6 +49,7 @@ TEST(Timing, NominalSpeedsDwellsAndTotal) {
   cell.process.weldSpeed = 5.0;
   cell.process.pathDwell = 2.0;
   cell.process.layerDwell = 10.0;
+  cell.process.minLayerTime = 0.0;  // the fixed dwells alone (minimum layer time: below)
   const MotionPlan motion = planMotion(straightPlan(11), cell);
   ASSERT_EQ(motion.paths.size(), 2u);
   const MotionPathSpan& first = motion.paths[0];

@@ -241,6 +241,10 @@ enum class ArcControl { ConditionFile, Direct };
 enum class PositionType { Pulse, Base, User };
 enum class LineEnding { Crlf, Lf };
 
+/// s, the minimum layer time of a cell file that gives none: WAAM slicers' usual interpass
+/// cooling floor for small layers
+inline constexpr double kDefaultMinLayerTime = 30.0;
+
 struct ProcessDescription {
   double weldSpeed = 8.0;             ///< mm/s, torch speed relative to the part with the arc on
   double travelSpeed = 50.0;          ///< mm/s, arc-off moves between paths
@@ -250,6 +254,10 @@ struct ProcessDescription {
   double depositionEfficiency = 1.0;  ///< (0, 1], deposited / fed mass (spatter loss)
   double layerDwell = 0.0;            ///< s, wait after each layer (interpass cooling)
   double pathDwell = 0.0;             ///< s, wait after each path
+  /// s, minimum layer time (JSON "min_layer_time_s", 0..86400, default 30; 0 = off): a layer
+  /// whose welding, travel and dwells take less waits the rest after its last path, so that a
+  /// small layer is not welded onto one still hot from the layer before (timing.hpp)
+  double minLayerTime = kDefaultMinLayerTime;
   /// rad (15°), the torch window: the largest angle of the torch off gravity the planner may use
   /// to clear deposit, table and fixture (JSON "max_torch_angle_deg", 0..45; 0 = always along
   /// gravity). GMA tolerates push/drag and work angles of about 0-15°, up to 20-25° in WAAM.

@@ -157,11 +157,14 @@ struct CollisionReport {
 
 /// Process estimates (paper §4.1 process parameters from the cell).
 struct MotionEstimate {
-  double beadLength = 0.0;       ///< mm, arc-on length
-  double arcTime = 0.0;          ///< s, beadLength / weld speed
-  double travelLength = 0.0;     ///< mm, arc-off moves between paths (straight, part frame)
-  double travelTime = 0.0;       ///< s, arc-off moves (the slower of robot and positioner)
-  double dwellTime = 0.0;        ///< s, path and layer dwells
+  double beadLength = 0.0;    ///< mm, arc-on length
+  double arcTime = 0.0;       ///< s, beadLength / weld speed
+  double travelLength = 0.0;  ///< mm, arc-off moves between paths (straight, part frame)
+  double travelTime = 0.0;    ///< s, arc-off moves (the slower of robot and positioner)
+  double dwellTime = 0.0;     ///< s, path and layer dwells (with coolingWait)
+  /// s, of dwellTime: the waits after layers shorter than the cell's minimum layer time
+  double coolingWait = 0.0;
+  std::size_t cooledLayers = 0;  ///< layers that wait for the minimum layer time
   double totalTime = 0.0;        ///< s, arc + travel + dwell
   double wireLength = 0.0;       ///< mm, wire feed · arc time
   double depositedVolume = 0.0;  ///< mm³, wire cross-section · wire length · efficiency

@@ -10,7 +10,10 @@
 // than nominal, the weld speed drops: MotionPoint::speed holds the lower speed and the point is
 // flagged kMotionSpeedReduced; consecutive reduced moves of a path become one SpeedReduction.
 // Dwells (process pathDwell after every path, layerDwell after every layer's last path) are
-// waits at the path end before the next move. MotionPoint::time is the arrival time.
+// waits at the path end before the next move. A layer whose time, from the arrival at its first
+// weld point to the end of the dwells after its last path, is below the process's minLayerTime
+// waits the rest there too (MotionEstimate::coolingWait of that layer; not the last layer welded,
+// onto which nothing is deposited). MotionPoint::time is the arrival time.
 // Estimates: per layer and in total, arcTime = the weld moves' times, travelTime = the arc-off
 // moves' times (a move counts for the layer of its end point), dwellTime = the dwells, and
 // totalTime = their sum = the last point's time + the dwell after it (to rounding); wireLength,
