@@ -2,8 +2,8 @@
 // durations against every axis's speed limit, speed reductions, dwells, estimates; on the curved
 // example and the cylinder (coarse voxels, default cell) independent checks of axis speeds, V
 // against gravity, a2 steps and one configuration per weld.
-#include "common/test_constants.hpp"
 #include "curvedslicer/robot/timing.hpp"
+#include "common/test_constants.hpp"
 
 #include <gtest/gtest.h>
 
@@ -24,8 +24,8 @@
 namespace curvedslicer {
 namespace {
 
-using testing::kPi;
 using testing::kDeg;
+using testing::kPi;
 
 /// Two layers, each one straight path of `count` points 1 mm apart along +x; V = -z.
 Plan straightPlan(int count) {
