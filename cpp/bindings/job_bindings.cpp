@@ -94,6 +94,8 @@ py::dict planStatsDict(const PlanResult& result) {
   d["seams_too_close"] = s.seamsTooClose;
   d["max_fit_deviation_mm"] = s.maxFitDeviation;
   d["deposition_fallbacks"] = s.deposition.normalFallbacks;
+  d["deposition_growth_corrections"] = s.deposition.growthCorrections;
+  d["deposition_normals_overruled"] = s.deposition.normalsOverruled;
   py::list times;
   for (const PlanStageTime& t : s.stageTimes) times.append(py::make_tuple(t.name, t.seconds));
   d["stage_times"] = times;

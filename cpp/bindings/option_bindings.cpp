@@ -235,6 +235,13 @@ void bindPathOrderFields(OptionsClass<O>& c) {
       .value("seam_separation", member(&O::seamSeparation),
              "mm between seams of consecutive layers; < 0: 2 × the bead spacing")
       .value("improvement_passes", member(&O::improvementPasses), "2-opt passes of the ordering")
+      .choice(
+          "deposition_direction", member(&O::deposition, &DepositionOptions::method),
+          [](const std::string& s) { return parseDepositionMethod(s); }, depositionMethodName,
+          "V: 'growth' (the paper's V where it follows the layer's growth direction, else that "
+          "direction) | 'nearest' (the paper's V everywhere, paper §3.2)")
+      .value("deposition_max_deviation", member(&O::deposition, &DepositionOptions::maxDeviation),
+             "rad; growth: largest angle of the paper's V from the growth direction")
       .value("contact_tolerance", member(&O::deposition, &DepositionOptions::contactTolerance),
              "mm; closer to the deposited material, V = -normal")
       .value("deposition_grid_cell", member(&O::deposition, &DepositionOptions::gridCell),

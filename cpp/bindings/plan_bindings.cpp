@@ -308,6 +308,7 @@ py::dict planSummaryPy(const std::string& planJson) {
   params["surface_method"] = p.surfaceMethod;
   params["initial_curve"] = p.initialCurve;
   if (!p.narrowStrips.empty()) params["narrow_strips"] = p.narrowStrips;
+  if (!p.depositionDirection.empty()) params["deposition_direction"] = p.depositionDirection;
   if (p.cornerAngle) params["corner_angle_deg"] = *p.cornerAngle;
   if (p.minFeatureWidth) params["min_feature_width_mm"] = *p.minFeatureWidth;
   if (p.beadWidthRange) {

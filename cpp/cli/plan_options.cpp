@@ -73,6 +73,20 @@ void addPlannerOptions(CLI::App& plan, OptionBindings<PlannerOptions>& b) {
         "MODE", [](std::string_view text, PlannerOptions& o) {
           o.narrowStrips = parseNarrowStripMode(std::string(text));
         });
+  b.add(plan, "--deposition-direction",
+        "The deposition direction V of every path point (positioner and torch\n"
+        "follow it):\n"
+        "  growth   the paper's V (towards the nearest deposited material)\n"
+        "           where it is within 30 deg of the layer's growth\n"
+        "           direction (-normal, or the layer below's V where the\n"
+        "           normal disagrees with it, e.g. on tiny layer fragments),\n"
+        "           else the growth direction\n"
+        "  nearest  the paper's V everywhere (paper section 3.2)\n"
+        "Default " +
+            std::string(depositionMethodName(PlannerOptions{}.deposition.method)) + ".",
+        "NAME", [](std::string_view text, PlannerOptions& o) {
+          o.deposition.method = parseDepositionMethod(std::string(text));
+        });
   b.add(plan, "--min-feature-width",
         "Regions narrower than one bead but at least this wide get a single\n"
         "bead on their centre line (with a note of the shortfall); narrower\n"

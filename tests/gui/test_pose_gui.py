@@ -12,6 +12,7 @@ import sys
 
 import FreeCAD
 import FreeCADGui
+import Part
 
 sys.path.insert(0, os.environ.get("CURVEDSLICER_TEST_DIR", os.path.dirname(__file__)))
 from gui_testing import TMP, check, finish, process_events  # noqa: E402
@@ -104,11 +105,20 @@ def run():
     check(min(tilts) > 45.0, "the poses tilt the table (|a1| %s°)" % [round(t, 1) for t in tilts])
     show_pose(job, "pose_lifted")
 
-    # The default cell, placement Auto: on the bare table the torch would reach the table while
-    # the first layers' edges are welded, so the part (turned to stand on its start face) goes
-    # on the lowest riser that clears; the rest on it is derived from the beads, to within the
+    # The default cell, placement Auto: a hemispherical shell (radii 30 and 40 mm) grown from its
+    # inner hemisphere, its rim on the table. The first layers grow outwards along the table, so
+    # on the bare table the torch would reach the table while they are welded; the part goes on
+    # the lowest riser that clears, and the rest on it is derived from the beads, to within the
     # paths' accuracy (test_motion_options).
-    job.CellFile = ""
+    shell = doc.addObject("Part::Feature", "Shell")
+    half = Part.makeBox(100, 100, 50, FreeCAD.Vector(-50, -50, 0))
+    shell.Shape = Part.makeSphere(40).cut(Part.makeSphere(30)).common(half)
+    inner = [i for i, f in enumerate(shell.Shape.Faces, 1)
+             if f.Surface.__class__.__name__ == "Sphere" and abs(f.Surface.Radius - 30) < 1e-6]
+    check(len(inner) == 1, "the shell has one inner spherical face (%s)" % inner)
+    doc.recompute()
+    job = api.make_job(doc, shell, start=(shell, ["Face%d" % inner[0]]), layer_thickness=1.5,
+                       voxel_size=1.0, bead_spacing=3.7)
     job.PartPlacement = "Auto"
     api.run(job)
     riser = api.motion(job)["fixture"]["riser_height_mm"]

@@ -136,6 +136,7 @@ struct PathStages {
     p.fitTolerance = o.fitTolerance;
     p.cornerAngle = o.cornerAngle;
     p.surfaceMethod = std::string(toString(o.geodesic.method));
+    p.depositionDirection = depositionMethodName(o.deposition.method);
   }
 
   double minLength;  ///< mm, shortest deposited piece
@@ -806,6 +807,9 @@ PlanLayer LayerPlanner::completeLayer(LayerDraft draft, const Progress& progress
     DepositionSupport dep;
     dep.surface = support_ ? &*support_ : nullptr;
     dep.earlierBeads = layer.index == 0;
+    // Growth: the layer below's V within two bead spacings (its beads reach s/2 to each side).
+    if (!result_.plan.layers.empty()) dep.below = &result_.plan.layers.back().paths;
+    dep.belowRadius = 2.0 * s_;
     tail_.deposit(dep, options_.deposition, layer);
   }
   if (options_.measureCoverage && draft.query) {

@@ -25,6 +25,8 @@ Json depositionReport(const DepositionStats& d) {
       {"towards_surface", d.towardsSurface},
       {"towards_beads", d.towardsBeads},
       {"normal_fallbacks", d.normalFallbacks},
+      {"growth_corrections", d.growthCorrections},
+      {"normals_overruled", d.normalsOverruled},
       {"min_distance_mm", std::isfinite(d.minDistance) ? Json(d.minDistance) : Json(nullptr)},
       {"max_distance_mm", d.maxDistance}};
 }
@@ -81,6 +83,7 @@ Json plannerInputs(const PlanParameters& p) {
                      {"initial_curve", p.initialCurve},
                      {"surface_method", p.surfaceMethod}};
   if (!p.narrowStrips.empty()) inputs["narrow_strips"] = p.narrowStrips;
+  if (!p.depositionDirection.empty()) inputs["deposition_direction"] = p.depositionDirection;
   if (p.minFeatureWidth) inputs["min_feature_width_mm"] = *p.minFeatureWidth;
   if (p.beadWidthRange) {
     inputs["bead_width_range"] = Json::array({(*p.beadWidthRange)[0], (*p.beadWidthRange)[1]});

@@ -468,10 +468,11 @@ PlanParameters readParameters(const Reader& r, const Json& pj, int version) {
   if (version == 1) {
     r.expectKeys(pj, "/parameters", required, {"narrow_strips", "corner_angle_deg"});
   } else {
-    r.expectKeys(pj, "/parameters", required,
-                 {"narrow_strips", "corner_angle_deg", "min_feature_width_mm", "bead_width_range",
-                  "connect_insets", "fill_gaps", "min_gap_area_mm2", "corner_overdeposit_mm",
-                  "corner_fill_angle_deg", "layer_tolerance_mm"});
+    r.expectKeys(
+        pj, "/parameters", required,
+        {"narrow_strips", "deposition_direction", "corner_angle_deg", "min_feature_width_mm",
+         "bead_width_range", "connect_insets", "fill_gaps", "min_gap_area_mm2",
+         "corner_overdeposit_mm", "corner_fill_angle_deg", "layer_tolerance_mm"});
   }
   PlanParameters p;
   p.layerThickness = r.nonNegative(pj["layer_thickness_mm"], "/parameters/layer_thickness_mm");
@@ -487,6 +488,15 @@ PlanParameters readParameters(const Reader& r, const Json& pj, int version) {
     if (p.narrowStrips != "centre_bead" && p.narrowStrips != "overlap") {
       r.fail("/parameters/narrow_strips", "is " + abbreviateJson(Json(p.narrowStrips)) +
                                               ": expected \"centre_bead\" or \"overlap\"");
+    }
+  }
+  if (pj.contains("deposition_direction")) {
+    p.depositionDirection =
+        r.string(pj["deposition_direction"], "/parameters/deposition_direction");
+    if (p.depositionDirection != "growth" && p.depositionDirection != "nearest") {
+      r.fail("/parameters/deposition_direction", "is " +
+                                                     abbreviateJson(Json(p.depositionDirection)) +
+                                                     ": expected \"growth\" or \"nearest\"");
     }
   }
   if (pj.contains("corner_angle_deg")) {
@@ -595,6 +605,11 @@ void appendParameters(std::string& out, const PlanParameters& p) {
     out += ",\n";
     appendKey(out, "    ", "narrow_strips");
     appendString(out, p.narrowStrips, "narrow strips");
+  }
+  if (!p.depositionDirection.empty()) {
+    out += ",\n";
+    appendKey(out, "    ", "deposition_direction");
+    appendString(out, p.depositionDirection, "deposition direction");
   }
   appendOptionalNumber("corner_angle_deg", p.cornerAngle);
   appendOptionalNumber("min_feature_width_mm", p.minFeatureWidth);

@@ -1,8 +1,10 @@
 // Deposition direction V (paper §3.2): flat first layer over a plate, concentric spherical shells,
-// earlier beads of the same layer, fallbacks and determinism.
+// earlier beads of the same layer, fallbacks and determinism; the Growth method against the
+// paper's (Nearest) where the nearest material lies beside the point.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -70,14 +72,16 @@ TEST(Deposition, FlatFirstLayerAbovePlatePointsDown) {
 }
 
 TEST(Deposition, EarlierBeadIsNearerThanAFarSubstrate) {
-  // Layer 10 mm above the plate, rings 3.7 mm apart: every ring after the first leans on the
-  // previous ring, horizontally (towards the centre).
+  // The paper's method. Layer 10 mm above the plate, rings 3.7 mm apart: every ring after the
+  // first leans on the previous ring, horizontally (towards the centre).
   const TriangleBvh plate(makePlate());
   std::vector<PlanPath> paths = makeRings(10.0, 5.0, 3.7, 3);
   DepositionSupport support;
   support.surface = &plate;
   support.earlierBeads = true;
-  const DepositionStats stats = assignDepositionDirections(paths, support);
+  DepositionOptions nearest;
+  nearest.method = DepositionMethod::Nearest;
+  const DepositionStats stats = assignDepositionDirections(paths, support, nearest);
   EXPECT_EQ(stats.towardsSurface, 60u);  // the first ring
   EXPECT_EQ(stats.towardsBeads, 120u);
   for (std::size_t k = 1; k < paths.size(); ++k) {
@@ -89,7 +93,98 @@ TEST(Deposition, EarlierBeadIsNearerThanAFarSubstrate) {
   // Without earlier beads the plate is the only material.
   std::vector<PlanPath> alone = makeRings(10.0, 5.0, 3.7, 3);
   support.earlierBeads = false;
-  EXPECT_EQ(assignDepositionDirections(alone, support).towardsSurface, 180u);
+  EXPECT_EQ(assignDepositionDirections(alone, support, nearest).towardsSurface, 180u);
+}
+
+TEST(Deposition, GrowthKeepsTheLayersNormalWhereTheNearestBeadLiesBeside) {
+  // The same rings with the default method: the earlier ring beside a point is 90° off the
+  // layer's growth direction (−normal, straight down), so V is −normal there; the first ring's
+  // V (to the plate, straight down) is the paper's and is kept.
+  const TriangleBvh plate(makePlate());
+  std::vector<PlanPath> paths = makeRings(10.0, 5.0, 3.7, 3);
+  DepositionSupport support;
+  support.surface = &plate;
+  support.earlierBeads = true;
+  const DepositionStats stats = assignDepositionDirections(paths, support);
+  EXPECT_EQ(stats.towardsSurface, 60u);
+  EXPECT_EQ(stats.towardsBeads, 120u);
+  EXPECT_EQ(stats.growthCorrections, 120u);
+  EXPECT_EQ(stats.normalsOverruled, 0u);
+  for (const PlanPath& p : paths) {
+    for (const PathPoint& q : p.points) EXPECT_LT(angleDegrees(q.deposition, -Vec3::UnitZ()), 1e-9);
+  }
+}
+
+/// A layer below: rings at z = 0 whose points all carry the deposition direction `v`.
+std::vector<PlanPath> layerBelowWith(const Vec3& v) {
+  std::vector<PlanPath> below = makeRings(0.0, 2.0, 3.7, 3);
+  for (PlanPath& p : below) {
+    for (PathPoint& q : p.points) q.deposition = v.normalized();
+  }
+  return below;
+}
+
+TEST(Deposition, GrowthTakesTheLayerBelowsDirectionOnAFragmentWithNoiseNormals) {
+  // A two-point fragment 1.5 mm above the layer below, its normals pointing down (a fragment of
+  // a layer surface whose orientation is noise), the nearest material a wall 1 mm beside it (the
+  // paper's V: sideways, +x). The layer below grew along v: within 2·s every one of its points
+  // carries v, so the weighted mean is v exactly, and V becomes v.
+  const Vec3 v = Vec3(0.0, 0.2, -1.0).normalized();
+  const std::vector<PlanPath> below = layerBelowWith(v);
+  TriMesh wall;  // x = 1, a vertical square beside the fragment
+  wall.vertices = {Vec3(1, -5, -5), Vec3(1, 5, -5), Vec3(1, 5, 5), Vec3(1, -5, 5)};
+  wall.triangles = {Vec3i(0, 1, 2), Vec3i(0, 2, 3)};
+  const TriangleBvh surface(wall);
+  const auto fragment = [] {
+    PlanPath p;
+    for (const double y : {0.0, 0.4}) {
+      PathPoint q;
+      q.position = Vec3(0.0, y, 1.5);
+      q.normal = -Vec3::UnitZ();
+      p.points.push_back(q);
+    }
+    return std::vector<PlanPath>{p};
+  };
+  DepositionSupport support;
+  support.surface = &surface;
+  support.below = &below;
+  support.belowRadius = 7.4;
+
+  std::vector<PlanPath> growth = fragment();
+  const DepositionStats stats = assignDepositionDirections(growth, support);
+  EXPECT_EQ(stats.normalsOverruled, 2u);
+  EXPECT_EQ(stats.growthCorrections, 2u);
+  for (const PathPoint& q : growth[0].points) EXPECT_LT(angleDegrees(q.deposition, v), 1e-6);
+
+  // The paper's method lays the torch along the layer, towards the wall.
+  std::vector<PlanPath> paper = fragment();
+  DepositionOptions nearest;
+  nearest.method = DepositionMethod::Nearest;
+  assignDepositionDirections(paper, support, nearest);
+  for (const PathPoint& q : paper[0].points)
+    EXPECT_LT(angleDegrees(q.deposition, Vec3::UnitX()), 1e-6);
+
+  // Beyond the radius the layer below says nothing: the growth direction is −normal (up, as the
+  // fragment's normals have it), and the wall, 90° from it, is not taken either.
+  support.belowRadius = 1.0;
+  std::vector<PlanPath> far = fragment();
+  const DepositionStats alone = assignDepositionDirections(far, support);
+  EXPECT_EQ(alone.normalsOverruled, 0u);
+  for (const PathPoint& q : far[0].points)
+    EXPECT_LT(angleDegrees(q.deposition, Vec3::UnitZ()), 1e-9);
+}
+
+TEST(Deposition, ParsesMethodNames) {
+  EXPECT_EQ(parseDepositionMethod("growth"), DepositionMethod::Growth);
+  EXPECT_EQ(parseDepositionMethod("nearest"), DepositionMethod::Nearest);
+  EXPECT_STREQ(depositionMethodName(DepositionMethod::Nearest), "nearest");
+  try {
+    parseDepositionMethod("gradient");
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("\"gradient\""), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("growth"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Deposition, SphericalShellLayersPointRadiallyInward) {

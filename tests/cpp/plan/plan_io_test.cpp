@@ -22,8 +22,9 @@ Plan makeSamplePlan() {
   Plan plan;
   plan.model = "resources/models/bunny \"closed\".stl";
   plan.start = "plane:bottom";
-  plan.parameters = {1.5,  0.5, 3.7, 2.0, 0.05, "anyangle", "accurate", "boundary", "centre_bead",
-                     22.5, {},  {},  {},  {},   {},         {},         {}};
+  plan.parameters = {
+      1.5,      0.5,  3.7, 2.0, 0.05, "anyangle", "accurate", "boundary", "centre_bead",
+      "growth", 22.5, {},  {},  {},   {},         {},         {},         {}};
   plan.parameters.minFeatureWidth = 1.85;
   plan.parameters.beadWidthRange = std::array<double, 2>{0.7, 1.3};
   plan.parameters.connectInsets = true;

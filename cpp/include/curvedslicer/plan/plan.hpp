@@ -90,6 +90,9 @@ struct PlanParameters {
   /// where paths of one level meet: "centre_bead" | "overlap"; empty for plans that do not
   /// apply it (thin wall, plans written before it existed): then not written to the file
   std::string narrowStrips;
+  /// how V was chosen: "growth" | "nearest" (paths/deposition.hpp); empty for plans written
+  /// before it existed (their V is the paper's, "nearest"): then not written to the file
+  std::string depositionDirection;
   /// degrees: turns sharper than this (within 0.2 mm) were kept as exact corners by the fit;
   /// absent in plans written before it existed (then not written to the file)
   std::optional<double> cornerAngle;
