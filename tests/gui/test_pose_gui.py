@@ -4,7 +4,8 @@ stepped to three motion points; at each, the part
 shown (PosePart) is placed by the part placement (stages/pose_placement.py: the table's frame at
 the pose times table_to_part): its lowest point lies on the table's top face and its footprint
 inside the table disc. A cell whose table_to_part lifts the part by 20 mm shows it 20 mm above
-the table. Screenshots of the pose go to the test's folder under the build tree."""
+the table. A hemispherical shell standing on its rim, placement Auto, goes on a riser and rests
+on its top. Screenshots of the pose go to the test's folder under the build tree."""
 
 import json
 import os
