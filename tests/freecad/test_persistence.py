@@ -29,6 +29,7 @@ out = {
     "has_point_spacing": "PointSpacing" in job.PropertiesList,
     "status": job.Status,
     "narrow_strips": getattr(job, "NarrowStrips", None),
+    "deposition_direction": getattr(job, "DepositionDirection", None),
     "corner_angle": (FreeCAD.Units.Quantity(job.CornerAngle).getValueAs("deg").Value
                      if "CornerAngle" in job.PropertiesList else None),
     "path_count": job.PathCount,
@@ -66,15 +67,17 @@ class TestPersistence(cs_testing.DocumentTestCase):
 
     def test_job_of_an_older_schema_is_migrated_on_load(self):
         box = self.box(10, 10, 5)
-        # Planned as a Job of the time did: narrow strips overlapping (the option did not exist).
+        # Planned as a Job of the time did: narrow strips overlapping and the paper's deposition
+        # direction everywhere (the options did not exist).
         job = api.make_job(self.doc, box, layer_thickness=2.0, voxel_size=1.0,
-                           narrow_strips="Overlap")
+                           narrow_strips="Overlap", deposition_direction="Nearest")
         api.run(job, progress=False)
         paths = job.PathCount
         self.assertGreater(paths, 0)
         job.removeProperty("PointSpacing")
         job.removeProperty("NarrowStrips")
         job.removeProperty("CornerAngle")
+        job.removeProperty("DepositionDirection")
         job.SchemaVersion = 0
         path = cs_testing.tmp_path("old_schema.FCStd")
         self.doc.saveAs(path)
@@ -86,6 +89,7 @@ class TestPersistence(cs_testing.DocumentTestCase):
         self.assertEqual(out["run_count_after_recompute"], 1)
         # The new option arrives as Overlap, so the saved plan stays what it was: no replan.
         self.assertEqual(out["narrow_strips"], "Overlap")
+        self.assertEqual(out["deposition_direction"], "Nearest")
         # The corner angle arrives as 30°, the value the fit used before it was a property.
         self.assertEqual(out["corner_angle"], 30.0)
         self.assertEqual(out["path_count"], paths)

@@ -243,6 +243,7 @@ def panel_edits_every_group(job, box):
     panel.cell_file.set_text(cell)
     check(panel.cell_status.text() == "valid cell file", "cell file status: %s"
           % panel.cell_status.text())
+    panel.deposition_direction.setCurrentIndex(job_module.DEPOSITION_DIRECTIONS.index("Nearest"))
     panel.tool_along_travel.setChecked(True)
     panel.part_placement.setCurrentIndex(job_module.PART_PLACEMENTS.index("Cell"))
     panel.clearance.set_value(15.0)
@@ -256,6 +257,7 @@ def panel_edits_every_group(job, box):
                 "InitialPlaneNormal = App.Vector(0.0, 1.0, 0.0)", "FitTolerance = 0.08",
                 "CornerAngle = 45.0",
                 "SurfaceMethod = 'Paper'", "NarrowStrips = 'Overlap'",
+                "DepositionDirection = 'Nearest'",
                 "PathDisplay = 'BSpline'", "CellFile = %r" % cell,
                 "ToolAlongTravel = True", "PartPlacement = 'Cell'", "Clearance = 15.0",
                 "AddHome = False", "AllowCollisions = True", "MergeTolerance = 0.02",
@@ -274,7 +276,8 @@ def panel_edits_every_group(job, box):
           and job.InitialPlaneNormal == FreeCAD.Vector(0, 1, 0)
           and abs(job.FitTolerance - 0.08) < 1e-12 and job.SurfaceMethod == "Paper"
           and abs(FreeCAD.Units.Quantity(job.CornerAngle).getValueAs("deg").Value - 45.0) < 1e-9
-          and job.NarrowStrips == "Overlap" and job.PathDisplay == "BSpline",
+          and job.NarrowStrips == "Overlap" and job.PathDisplay == "BSpline"
+          and job.DepositionDirection == "Nearest",
           "Apply set the path parameters")
     check(job.CellFile == cell and job.ToolAlongTravel and job.PosePoint == pose,
           "Apply set the robot parameters (cell, torch along travel, pose point %d)" % pose)

@@ -15,7 +15,7 @@ __version__ = "0.1.0"
 
 #: Version of the Job's property layout; objects saved with an older one are migrated on load
 #: (objects/job.py, JobProxy.onDocumentRestored).
-SCHEMA_VERSION = 10  # 2: paths, plan JSON, poses, thin wall; 3: NarrowStrips; 4: CornerAngle;
+SCHEMA_VERSION = 11  # 2: paths, plan JSON, poses, thin wall; 3: NarrowStrips; 4: CornerAngle;
 # 5: motion options (Clearance, AllowCollisions, AddHome, MergeTolerance, MaxA2Step, PartPlacement)
 # 6: bead coverage options (MinFeatureWidth, BeadWidthMin, BeadWidthMax, ConnectInsets,
 #    MeasureCoverage) and results (VoidShare, OverlapShare, ArcStarts, CoverageReport)
@@ -28,6 +28,8 @@ SCHEMA_VERSION = 10  # 2: paths, plan JSON, poses, thin wall; 3: NarrowStrips; 4
 #    CollisionCount (filled when the poses are next computed)
 # 10: MotionDigest (the cell and robot options the shown motion was planned with; empty in a Job
 #     from before it, which then skips that check before an export)
+# 11: DepositionDirection (Growth; a Job from before it gets Nearest, the paper's V it planned
+#     with, and keeps its digest)
 
 PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
 ICON_DIR = os.path.join(PACKAGE_DIR, "resources", "icons")

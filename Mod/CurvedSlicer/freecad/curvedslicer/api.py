@@ -92,6 +92,7 @@ def _check_job_choices(**choices):
     lists = {"method": job_module.METHODS, "grid_alignment": job_module.ALIGNMENTS,
              "surface_method": job_module.SURFACE_METHODS,
              "narrow_strips": job_module.NARROW_STRIPS,
+             "deposition_direction": job_module.DEPOSITION_DIRECTIONS,
              "initial_path": job_module.INITIAL_PATHS, "path_display": job_module.PATH_DISPLAYS}
     for keyword, value in choices.items():
         arguments.choice(value, keyword, lists[keyword])
@@ -110,7 +111,7 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
              connect_insets=defaults.CONNECT_INSETS, measure_coverage=defaults.MEASURE_COVERAGE,
              fill_gaps=defaults.FILL_GAPS, simplify_layers=defaults.SIMPLIFY_LAYERS,
              min_gap_area=None, corner_fill=defaults.CORNER_FILL,
-             corner_fill_angle=defaults.CORNER_FILL_ANGLE):
+             corner_fill_angle=defaults.CORNER_FILL_ANGLE, deposition_direction="Growth"):
     """Creates a Job for `solid` in `doc` (no computation; call run() or doc.recompute()).
 
     start: see _set_start. voxel_size None = the preference (default 1 mm). method "AnyAngle" |
@@ -131,6 +132,9 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
     ring dips into convex corners sharper than corner_fill_angle degrees), measure_coverage (void and overlap shares per
     layer); their ranges are checked when the paths are planned (InvalidInput naming the Job
     property).
+    deposition_direction "Growth" (the paper's V, towards the nearest deposited point, where it
+    lies within 30 degrees of the layer's growth direction, else that direction) | "Nearest"
+    (the paper's V everywhere).
     tool_along_travel: torch x along the travel (True) or fixed while the positioner turns.
     plan_kind "ThinWall": no volume layers; wall_surface (object or (object, [faces])) is planned
     as a thin wall from its lowest edge along wall_axis, one bead per bead_spacing; `solid` may
@@ -151,7 +155,7 @@ def make_job(doc, solid, start=None, layer_thickness=defaults.LAYER_THICKNESS, v
                        thin_wall=plan_kind == "ThinWall")
     _check_job_choices(method=method, grid_alignment=grid_alignment,
                        surface_method=surface_method, narrow_strips=narrow_strips,
-                       initial_path=initial_path, path_display=path_display)
+                       deposition_direction=deposition_direction, initial_path=initial_path, path_display=path_display)
     wall_axis = arguments.vector(wall_axis, "wall_axis")
     if initial_plane is not None:
         initial_plane = (arguments.vector(initial_plane[0], "initial_plane point"),
@@ -212,6 +216,7 @@ def _fill_job(obj, a):
     obj.CornerAngle = a["corner_angle"]
     obj.SurfaceMethod = a["surface_method"]
     obj.NarrowStrips = a["narrow_strips"]
+    obj.DepositionDirection = a["deposition_direction"]
     obj.MinFeatureWidth = (0.5 * float(bead_spacing) if min_feature_width is None
                            else float(min_feature_width))
     obj.BeadWidthMin, obj.BeadWidthMax = (float(a["bead_width_range"][0]),

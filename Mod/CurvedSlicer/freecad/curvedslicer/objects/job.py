@@ -31,6 +31,7 @@ PLAN_KINDS = paths.PLAN_KINDS
 WALL_EDGES = paths.WALL_EDGES
 SURFACE_METHODS = paths.SURFACE_METHODS
 NARROW_STRIPS = paths.NARROW_STRIPS
+DEPOSITION_DIRECTIONS = paths.DEPOSITION_DIRECTIONS
 PATH_DISPLAYS = paths.PATH_DISPLAYS
 PART_PLACEMENTS = poses.PART_PLACEMENTS
 
@@ -112,6 +113,13 @@ PROPERTIES = [
      "region, a hole's front meeting the rim's): CentreBead puts one bead on the strip's centre "
      "line, joined to the ring piece it continues, and reports it per layer; Overlap keeps the "
      "paths and their beads overlap", NARROW_STRIPS),
+    ("App::PropertyEnumeration", "DepositionDirection", "Paths",
+     "Deposition direction V of every path point, the direction the positioner turns onto "
+     "gravity: Growth keeps the paper's V (towards the nearest deposited point) where it lies "
+     "within 30 degrees of the layer's growth direction (against its normal, or the layer "
+     "below's mean V where a small layer's normal disagrees with it), else takes that direction; "
+     "Nearest keeps the paper's V everywhere, also where the nearest point is a bead beside the "
+     "path on the same layer", DEPOSITION_DIRECTIONS),
     ("App::PropertyLength", "MinFeatureWidth", "Paths",
      "Regions narrower than one bead but at least this wide get a single bead on their centre "
      "line (with a note of the shortfall); narrower ones are left out and reported, mm > 0 "
@@ -325,6 +333,9 @@ class JobProxy:
         if "NarrowStrips" in added:
             # Planned before the option existed: keep what it planned (overlapping paths).
             obj.NarrowStrips = "Overlap"
+        if "DepositionDirection" in added:
+            # Planned before the option existed: the paper's V (towards the nearest point).
+            obj.DepositionDirection = "Nearest"
         if "ConnectInsets" in added:
             # Planned before the option existed: every ring its own arc-on path.
             obj.ConnectInsets = False

@@ -32,6 +32,7 @@ PATH_DISPLAYS = ["Polyline", "BSpline"]
 SURFACE_METHODS = ["Accurate", "Paper"]
 NARROW_STRIPS = ["CentreBead", "Overlap"]
 _NARROW_STRIP_NAMES = {"CentreBead": "centre_bead", "Overlap": "overlap"}
+DEPOSITION_DIRECTIONS = ["Growth", "Nearest"]
 WALL_EDGES = ["Lowest", "Nearest"]
 
 PATH_PROPERTIES = [
@@ -165,7 +166,15 @@ def _common_parameters(job):
                                      "PointSpacing": defaults.POINT_SPACING,
                                      "FitTolerance": defaults.FIT_TOLERANCE}[name]))
     return {"bead_spacing": spacing, "point_spacing": points, "fit_tolerance": tolerance,
-            "surface_method": job.SurfaceMethod.lower()}
+            "surface_method": job.SurfaceMethod.lower(),
+            "deposition_direction": job.DepositionDirection.lower()}
+
+
+def _common_digest(common):
+    """The digest part of the common parameters: a Job migrated from before DepositionDirection
+    (Nearest) keeps its digest, so a reopened document needs no replan."""
+    return sorted((k, v) for k, v in common.items()
+                  if (k, v) != ("deposition_direction", "nearest"))
 
 
 def path_inputs(job):
@@ -187,7 +196,7 @@ def path_inputs(job):
         if edge == "lowest" and axis == (0.0, 0.0, 0.0):
             raise InvalidInput("wall axis is zero: (0, 0, 0); set WallAxis to the up direction, "
                                "e.g. (0, 0, 1)")
-        digest = _digest(["ThinWall", surface_digest, deflection, sorted(common.items()), edge,
+        digest = _digest(["ThinWall", surface_digest, deflection, _common_digest(common), edge,
                           axis, point] + corner_part)
 
         def plan(progress):
@@ -211,7 +220,7 @@ def path_inputs(job):
     curve, curve_digest = _initial_curve(job, deflection)
     narrow = _NARROW_STRIP_NAMES[job.NarrowStrips]
     coverage, coverage_part = _coverage_options(job)
-    parts = ["CurvedLayers", job.InputsDigest, sorted(common.items()), curve_digest]
+    parts = ["CurvedLayers", job.InputsDigest, _common_digest(common), curve_digest]
     if narrow != "overlap":  # a Job saved before the option (migrated as Overlap) keeps its digest
         parts.append(narrow)
     digest = _digest(parts + corner_part + coverage_part)

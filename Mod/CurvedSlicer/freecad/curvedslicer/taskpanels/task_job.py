@@ -216,6 +216,13 @@ class TaskPanelJob:
         self.surface_method.setToolTip("Surface geodesic field: Accurate, or Paper (the paper's "
                                        "search, eq. 15)")
         f.addRow("Surface method", self.surface_method)
+        self.deposition_direction = combo(job_module.DEPOSITION_DIRECTIONS,
+                                          job.DepositionDirection)
+        self.deposition_direction.setToolTip(
+            "Deposition direction V, turned onto gravity by the positioner: Growth keeps the "
+            "paper's V (towards the nearest deposited point) within 30 degrees of the layer's "
+            "growth direction, else takes that direction; Nearest keeps the paper's V everywhere")
+        f.addRow("Deposition direction", self.deposition_direction)
         self.path_display = combo(job_module.PATH_DISPLAYS, job.PathDisplay)
         f.addRow("Display", self.path_display)
         self.initial_group = QtGui.QGroupBox("Initial path (curved layers)")
@@ -488,6 +495,7 @@ class TaskPanelJob:
             "InitialPlaneNormal": self.initial_normal,
             "InitialSurface": (self.initial_surface.value(), self.initial_surface.code(d)),
             "SurfaceMethod": self.surface_method.currentText(),
+            "DepositionDirection": self.deposition_direction.currentText(),
             "NarrowStrips": self.narrow_strips.currentText(),
             "MinFeatureWidth": self.min_feature_width.value(),
             "BeadWidthMin": self.bead_width_min.value(),
