@@ -115,6 +115,11 @@ def main():
           "program %s (%d files); saved %s"
           % (base.PathCount, PAPER_BASE_PATHS, blades.LayerCount, PAPER_BLADE_LAYERS,
              blades.PathCount, program, len(exported["files"]), path))
+    print("turbine: collisions %d; largest torch angle off gravity %.1f deg, largest gravity "
+          "deviation of the deposit %.1f deg; risers: base %.1f mm, blades %.1f mm"
+          % (summary["collisions"], summary["max_torch_angle_deg"],
+             summary["max_gravity_deviation_deg"], summary["riser_height_mm"]["base"],
+             summary["riser_height_mm"]["blades"]))
     ok = abs(base.PathCount - PAPER_BASE_PATHS) <= 2 and \
         abs(blades.LayerCount - PAPER_BLADE_LAYERS) <= 1
     return 0 if ok else 1

@@ -116,7 +116,7 @@ class TestCoverage(cs_testing.DocumentTestCase):
         self.assertEqual((job.BeadWidthMin, job.BeadWidthMax), (1.0, 1.0))
         self.assertTrue(job.MeasureCoverage)
         self.assertEqual(job.SchemaVersion, job_module.SCHEMA_VERSION)
-        self.assertEqual(job_module.SCHEMA_VERSION, 10)
+        self.assertEqual(job_module.SCHEMA_VERSION, 11)
 
     def test_schema_6_job_keeps_its_plan_without_gap_fill(self):
         job = self.job()

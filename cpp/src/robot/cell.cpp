@@ -808,6 +808,15 @@ ProcessDescription readProcess(Field& top, std::string_view origin) {
             "20-25; use e.g. 15 (0 keeps the torch along gravity)");
   }
   proc.maxTorchAngle = window * kDeg;
+  const double deviation = pr.number("max_gravity_deviation_deg", 10.0,
+                                     "the largest deposition direction off gravity the planner "
+                                     "may use to clear the torch, in degrees");
+  if (!(deviation >= 0.0 && deviation <= 45.0)) {
+    pr.fail("max_gravity_deviation_deg", "must be in [0, 45] degrees", formatNumber(deviation),
+            "a GMA bead tolerates a few degrees off flat; use e.g. 10 (0 keeps the deposition "
+            "direction on gravity)");
+  }
+  proc.maxGravityDeviation = deviation * kDeg;
   proc.speedUnit = pr.choice<SpeedUnit>("speed_unit",
                                         {{"mm/s", SpeedUnit::MillimetresPerSecond},
                                          {"cm/min", SpeedUnit::CentimetresPerMinute},
@@ -1285,6 +1294,7 @@ std::string writeCellJson(const Cell& cell) {
                       {"path_dwell_s", pr.pathDwell},
                       {"min_layer_time_s", pr.minLayerTime},
                       {"max_torch_angle_deg", clean(pr.maxTorchAngle / kDeg)},
+                      {"max_gravity_deviation_deg", clean(pr.maxGravityDeviation / kDeg)},
                       {"speed_unit", std::string(toString(pr.speedUnit))},
                       {"arc", arc}};
   if (!pr.beadModel.empty()) j["process"]["bead_model"] = beadModelJson(pr.beadModel);

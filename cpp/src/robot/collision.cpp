@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <sstream>
 
 #include "curvedslicer/core/error.hpp"
@@ -23,7 +24,8 @@ namespace detail {
 // ---- one torch pose -------------------------------------------------------------------------
 
 struct TorchChecker::Fcl {
-  std::vector<std::shared_ptr<fcl::Capsuled>> capsules;  // envelope sections, then arm links
+  // envelope sections (capsules, the nozzle a cylinder), then arm links (capsules)
+  std::vector<std::shared_ptr<fcl::CollisionGeometryd>> shapes;
   std::shared_ptr<fcl::Cylinderd> table;
   fcl::Transform3d tableInPart = fcl::Transform3d::Identity();
   std::shared_ptr<fcl::Cylinderd> riser;  // null without a riser
@@ -149,12 +151,21 @@ std::vector<Vec3> armPointsInBase(const RobotDescription& robot, const JointVect
 
 }  // namespace
 
-/// The cone of the torch envelope covered by capsules along the axis (heights above the TCP):
-/// four quarters, each with the cone's largest radius over it; one capsule for a cylinder. The
-/// lowest capsule's round end reaches exactly the nozzle, the highest's the top.
+/// The cone of the torch envelope covered along the axis (heights above the TCP): four
+/// quarters, each a capsule with the cone's largest radius over it (one capsule for a
+/// cylinder), the lowest starting one radius above the nozzle, and below it the nozzle: a
+/// cylinder with the cone's largest radius there, from the nozzle face up to where the
+/// capsule's axis starts (a
+/// capsule's round end reaching the face would leave the face's rim out; one reaching below it
+/// would hit the beads beside the wire). The highest capsule's round end reaches the top.
 std::vector<TorchChecker::Section> envelopeSections(const TorchEnvelope& torch) {
   const int n = torch.topRadius == torch.radius ? 1 : 4;
   std::vector<TorchChecker::Section> sections;
+  // the lowest capsule's radius, and the cone's largest radius below where its axis starts
+  const double lowest = std::max(torch.radius, torch.radius + (torch.topRadius - torch.radius) / n);
+  const double nozzle =
+      std::max(torch.radius, torch.radius + (torch.topRadius - torch.radius) * lowest / torch.length);
+  sections.push_back({torch.stickout, torch.stickout + lowest, nozzle, true});
   for (int k = 0; k < n; ++k) {
     const double h0 = torch.stickout + torch.length * k / n;
     const double h1 = torch.stickout + torch.length * (k + 1) / n;
@@ -177,8 +188,13 @@ TorchChecker::TorchChecker(const Cell& cell, const CollisionGeometry& geometry,
       fixture_(geometry.fixture),
       fcl_(std::make_unique<Fcl>()) {
   for (const Section& section : sections_) {
-    fcl_->capsules.push_back(
-        std::make_shared<fcl::Capsuled>(section.radius, section.to - section.from));
+    if (section.flat) {
+      fcl_->shapes.push_back(
+          std::make_shared<fcl::Cylinderd>(section.radius, section.to - section.from));
+    } else {
+      fcl_->shapes.push_back(
+          std::make_shared<fcl::Capsuled>(section.radius, section.to - section.from));
+    }
   }
   // the arm's links between the points armPointsInBase lists
   const ArmEnvelope& arm = cell.robot.links;
@@ -191,7 +207,7 @@ TorchChecker::TorchChecker(const Cell& cell, const CollisionGeometry& geometry,
     // the links' lengths do not depend on the joints: taken at the zero pose
     const std::vector<Vec3> points = armPointsInBase(cell.robot, JointVector{});
     for (const Link& link : links_) {
-      fcl_->capsules.push_back(std::make_shared<fcl::Capsuled>(
+      fcl_->shapes.push_back(std::make_shared<fcl::Capsuled>(
           link.radius, (points[link.to] - points[link.from]).norm()));
     }
   }
@@ -234,7 +250,88 @@ TorchChecker::TorchChecker(const Cell& cell, const CollisionGeometry& geometry,
 TorchChecker::~TorchChecker() = default;
 
 TorchChecker::Capsule TorchChecker::section(std::size_t k) const {
-  return {k, sections_[k].radius};
+  return {k, sections_[k].radius, sections_[k].flat};
+}
+
+namespace {
+
+/// Signed distance (mm, negative inside) of `x` from the solid cylinder of `radius` about the
+/// axis from `b` to `t`.
+double solidCylinderDistance(const Vec3& x, const Vec3& b, const Vec3& t, double radius) {
+  const Vec3 axis = t - b;
+  const double length = axis.norm();
+  const Vec3 u = length > 1e-12 ? Vec3(axis / length) : Vec3(Vec3::UnitZ());
+  const double h = (x - b).dot(u);
+  const double dr = (x - b - h * u).norm() - radius;
+  const double dh = std::max(-h, h - length);
+  if (dr <= 0.0 && dh <= 0.0) return std::max(dr, dh);
+  return std::hypot(std::max(dr, 0.0), std::max(dh, 0.0));
+}
+
+/// The least signed distance of segment [p, q] from that cylinder: the signed distance of a
+/// convex solid is convex, so along the segment it has one minimum (golden-section search).
+double segmentCylinderDistance(const Vec3& p, const Vec3& q, const Vec3& b, const Vec3& t,
+                               double radius) {
+  const auto at = [&](double s) { return solidCylinderDistance(p + s * (q - p), b, t, radius); };
+  constexpr double kGolden = 0.6180339887498949;
+  double lo = 0.0, hi = 1.0;
+  double x1 = hi - kGolden * (hi - lo), x2 = lo + kGolden * (hi - lo);
+  double f1 = at(x1), f2 = at(x2);
+  for (int k = 0; k < 60 && (hi - lo) * (q - p).norm() > 1e-7; ++k) {
+    if (f1 < f2) {
+      hi = x2, x2 = x1, f2 = f1, x1 = hi - kGolden * (hi - lo), f1 = at(x1);
+    } else {
+      lo = x1, x1 = x2, f1 = f2, x2 = lo + kGolden * (hi - lo), f2 = at(x2);
+    }
+  }
+  return std::min({at(0.0), at(1.0), f1, f2});
+}
+
+}  // namespace
+
+double TorchChecker::reachInto(const Capsule& c, const Vec3& b, const Vec3& t,
+                               const std::function<double(const Vec3&)>& distance) const {
+  if (!c.flat) return capsuleReach(b, t, c.radius, distance);
+  // the cylinder's surface: its two end discs and its side, every mm along the axis and every
+  // 15° around, each ring from the axis out to the rim (the solids are convex: a cylinder that
+  // reaches into one has a sample point of its surface in it, up to the sampling)
+  const Vec3 axis = t - b;
+  const double length = axis.norm();
+  const Vec3 u = length > 1e-12 ? Vec3(axis / length) : Vec3(Vec3::UnitZ());
+  const Vec3 e1 = u.unitOrthogonal();
+  const Vec3 e2 = u.cross(e1);
+  double reach = -kInf;
+  const int rings = std::max(1, static_cast<int>(std::ceil(length)));
+  const int radial = std::max(1, static_cast<int>(std::ceil(c.radius)));
+  for (int k = 0; k <= rings; ++k) {
+    const Vec3 centre = b + axis * (static_cast<double>(k) / rings);
+    const bool end = k == 0 || k == rings;
+    reach = std::max(reach, -distance(centre));
+    for (int j = 0; j < 24; ++j) {
+      const double phi = 2.0 * 3.14159265358979323846 * j / 24;
+      const Vec3 out = std::cos(phi) * e1 + std::sin(phi) * e2;
+      for (int i = end ? 1 : radial; i <= radial; ++i) {
+        reach = std::max(reach, -distance(centre + out * (c.radius * i / radial)));
+      }
+    }
+  }
+  return reach;
+}
+
+TorchHit TorchChecker::checkDepositCylinder(const Capsule& c, const Vec3& bottom, const Vec3& top,
+                                            bool firstOnly) const {
+  // the cylinder lies inside the capsule of its axis and radius: the beads within that reach
+  // are the candidates, each measured exactly
+  TorchHit worst;
+  const double beadRadius = deposit_.beadRadius();
+  deposit_.forEachWithin(bottom, top, c.radius, [&](std::size_t s, double) {
+    const DepositSegment& bead = deposit_.segments()[s];
+    const double depth = beadRadius - segmentCylinderDistance(bead.a, bead.b, bottom, top, c.radius);
+    if (depth <= 0.0 || (worst.collides() && depth <= worst.depth)) return true;
+    worst = {TorchHit::Object::Deposit, depth, s};
+    return !firstOnly;
+  });
+  return worst;
 }
 
 TorchHit TorchChecker::checkCapsule(const Capsule& c, const Vec3& bottom, const Vec3& top) const {
@@ -261,9 +358,12 @@ bool TorchChecker::collides(const Vec3& tip, const Vec3& up) const {
     const Vec3 top = tip + sections_[k].to * up;
     const Capsule c = section(k);
     if (checkTable(c, bottom, top).collides() || checkFixture(c, bottom, top).collides() ||
-        checkBody(c, bottom, top).collides() ||
-        (segmentNearBox(bottom, top, deposit_.extent(), c.radius + deposit_.beadRadius()) &&
-         deposit_.anyWithin(bottom, top, sections_[k].radius))) {
+        checkBody(c, bottom, top).collides()) {
+      return true;
+    }
+    if (!segmentNearBox(bottom, top, deposit_.extent(), c.radius + deposit_.beadRadius())) continue;
+    if (c.flat ? checkDepositCylinder(c, bottom, top, true).collides()
+               : deposit_.anyWithin(bottom, top, sections_[k].radius)) {
       return true;
     }
   }
@@ -291,12 +391,23 @@ TorchHit TorchChecker::checkDeposit(const Capsule& c, const Vec3& bottom, const 
   if (!segmentNearBox(bottom, top, deposit_.extent(), c.radius + deposit_.beadRadius())) {
     return {};
   }
+  if (c.flat) {
+    const TorchHit hit = checkDepositCylinder(c, bottom, top, false);
+    if (!hit.collides()) return {};
+    const DepositSegment& bead = deposit_.segments()[hit.segment];
+    const fcl::Capsuled beadShape(deposit_.beadRadius(), (bead.b - bead.a).norm());
+    if (fclPenetration(fcl_->shapes[c.shape].get(), alongSegment(bottom, top), &beadShape,
+                       alongSegment(bead.a, bead.b)) < 0.0) {
+      return {};  // grazing contact FCL does not confirm
+    }
+    return hit;
+  }
   // exact capsule distances find the nearest bead; FCL confirms the contact and its depth
   const DepositHit near = deposit_.nearest(bottom, top, c.radius);
   if (!near.found()) return {};
   const DepositSegment& bead = deposit_.segments()[near.segment];
   const fcl::Capsuled beadShape(deposit_.beadRadius(), (bead.b - bead.a).norm());
-  const double depth = fclPenetration(fcl_->capsules[c.shape].get(), alongSegment(bottom, top),
+  const double depth = fclPenetration(fcl_->shapes[c.shape].get(), alongSegment(bottom, top),
                                       &beadShape, alongSegment(bead.a, bead.b));
   if (depth < 0.0) return {};  // grazing contact FCL does not confirm
   // the depth of two capsules in closed form (FCL 0.7's capsule/capsule contact depth is not
@@ -314,17 +425,23 @@ TorchHit TorchChecker::checkTable(const Capsule& c, const Vec3& bottom, const Ve
   const double radial =
       pointSegmentDistance(Vec3::Zero(), Vec3(b.x(), b.y(), 0.0), Vec3(t.x(), t.y(), 0.0));
   if (radial - radius > tableRadius_) return {};
-  const double fclDepth = fclPenetration(fcl_->capsules[c.shape].get(), alongSegment(bottom, top),
+  const double fclDepth = fclPenetration(fcl_->shapes[c.shape].get(), alongSegment(bottom, top),
                                          fcl_->table.get(), fcl_->tableInPart);
   if (fclDepth < 0.0) return {};
   // depth: how far the envelope reaches below the table surface over the disc (axis sampled
   // every mm); FCL's capsule/cylinder depth is the EPA translation, which can be the disc's
   // radius for a torch lying across it. At the rim only, FCL's value.
   double depth = -kInf;
-  const int n = std::max(1, static_cast<int>(std::ceil((t - b).norm())));
-  for (int k = 0; k <= n; ++k) {
-    const Vec3 x = b + (t - b) * (static_cast<double>(k) / n);
-    if (x.head<2>().norm() <= tableRadius_) depth = std::max(depth, radius - x.z());
+  if (c.flat) {
+    depth = reachInto(c, b, t, [&](const Vec3& x) {
+      return x.head<2>().norm() <= tableRadius_ ? x.z() : kInf;
+    });
+  } else {
+    const int n = std::max(1, static_cast<int>(std::ceil((t - b).norm())));
+    for (int k = 0; k <= n; ++k) {
+      const Vec3 x = b + (t - b) * (static_cast<double>(k) / n);
+      if (x.head<2>().norm() <= tableRadius_) depth = std::max(depth, radius - x.z());
+    }
   }
   return {TorchHit::Object::Table, depth > 0.0 ? depth : fclDepth, 0};
 }
@@ -338,11 +455,11 @@ TorchHit TorchChecker::checkBody(const Capsule& c, const Vec3& bottom, const Vec
   const double radial =
       pointSegmentDistance(Vec3::Zero(), Vec3(b.x(), b.y(), 0.0), Vec3(t.x(), t.y(), 0.0));
   if (radial - c.radius > bodyRadius_) return {};
-  const double reach = capsuleReach(b, t, c.radius, [&](const Vec3& x) {
+  const double reach = reachInto(c, b, t, [&](const Vec3& x) {
     return cylinderDistance(x, bodyRadius_, bodyBottom_, bodyTop_);
   });
   if (reach <= -1e-9) return {};
-  const double fclDepth = fclPenetration(fcl_->capsules[c.shape].get(), alongSegment(bottom, top),
+  const double fclDepth = fclPenetration(fcl_->shapes[c.shape].get(), alongSegment(bottom, top),
                                          fcl_->body.get(), fcl_->bodyInPart);
   if (fclDepth < 0.0) return {};
   return {TorchHit::Object::PositionerBody, reach > 0.0 ? reach : fclDepth, 0};
@@ -363,7 +480,7 @@ TorchHit TorchChecker::checkFixture(const Capsule& c, const Vec3& bottom, const 
                            const fcl::Transform3d& pose, double reach) {
     if (reach <= -1e-9) return;
     const double fclDepth =
-        fclPenetration(fcl_->capsules[c.shape].get(), alongSegment(bottom, top), shape, pose);
+        fclPenetration(fcl_->shapes[c.shape].get(), alongSegment(bottom, top), shape, pose);
     if (fclDepth < 0.0) return;
     const double depth = reach > 0.0 ? reach : fclDepth;
     if (!worst.collides() || depth > worst.depth) worst = {object, depth, 0};
@@ -372,14 +489,14 @@ TorchHit TorchChecker::checkFixture(const Capsule& c, const Vec3& bottom, const 
     const double r = 0.5 * fixture_.riserDiameter, h = fixture_.riserHeight;
     confirm(
         TorchHit::Object::Riser, fcl_->riser.get(), fcl_->riserInPart,
-        capsuleReach(b, t, radius, [&](const Vec3& x) { return cylinderDistance(x, r, 0.0, h); }));
+        reachInto(c, b, t, [&](const Vec3& x) { return cylinderDistance(x, r, 0.0, h); }));
   }
   if (fcl_->substrate) {
     const double half = 0.5 * fixture_.substrateSize;
     const double z0 = fixture_.riserHeight, z1 = fixture_.top();
     confirm(
         TorchHit::Object::Substrate, fcl_->substrate.get(), fcl_->substrateInPart,
-        capsuleReach(b, t, radius, [&](const Vec3& x) { return plateDistance(x, half, z0, z1); }));
+        reachInto(c, b, t, [&](const Vec3& x) { return plateDistance(x, half, z0, z1); }));
   }
   return worst;
 }
@@ -532,7 +649,8 @@ CollisionObstacle obstacleOf(const TorchHit& hit) {
 
 /// What would clear the remaining collisions: a riser as deep as the deepest reach into the
 /// table (placement auto), a wider torch window against the deposit, the fixture smaller.
-std::string collisionAdvice(const MotionPlan& motion, double maxTorchAngle) {
+std::string collisionAdvice(const MotionPlan& motion, const ProcessDescription& process) {
+  const double maxTorchAngle = process.maxTorchAngle;
   double table = 0.0;
   bool deposit = false, fixture = false, body = false;
   for (const CollisionReport& c : motion.collisions) {
@@ -556,6 +674,11 @@ std::string collisionAdvice(const MotionPlan& motion, double maxTorchAngle) {
                   " deg, at most 45), change the path order"
             : "change the path order");
   }
+  if ((deposit || fixture) && process.maxGravityDeviation < 0.785) {
+    add("allow a larger gravity deviation (the cell's process/max_gravity_deviation_deg, now " +
+        collisionFmt(process.maxGravityDeviation * 180.0 / 3.14159265358979323846, 1) +
+        " deg, at most 45)");
+  }
   if (fixture) add("use a narrower riser or a smaller substrate plate (positioner/fixture)");
   if (body) {
     add("raise the part further from the table (a riser) or check the positioner's body radius "
@@ -564,7 +687,8 @@ std::string collisionAdvice(const MotionPlan& motion, double maxTorchAngle) {
   return advice + (advice.empty() ? "" : ", ") + "use a slimmer torch envelope";
 }
 
-void reportCollisions(MotionPlan& motion, const MotionOptions& options, double maxTorchAngle) {
+void reportCollisions(MotionPlan& motion, const MotionOptions& options,
+                      const ProcessDescription& process) {
   if (motion.collisions.empty()) return;
   std::string list;
   for (std::size_t k = 0; k < std::min(kNamedCollisions, motion.collisions.size()); ++k) {
@@ -578,7 +702,7 @@ void reportCollisions(MotionPlan& motion, const MotionOptions& options, double m
   const std::string text = std::string(arm ? "torch or robot arm collide" : "torch collides") +
                            " on " + std::to_string(motion.collisions.size()) + " move(s): " + list;
   if (!options.allowCollisions) {
-    throw InvalidInput(text + "; " + collisionAdvice(motion, maxTorchAngle) +
+    throw InvalidInput(text + "; " + collisionAdvice(motion, process) +
                        ", or allow collisions (--allow-collisions) to export anyway");
   }
   motion.warnings.push_back(text + " (allowed: --allow-collisions)");
@@ -669,7 +793,7 @@ void checkMotionCollisions(MotionPlan& motion, const Cell& cell, const Collision
     }
   }
   progress.report(1.0, "collisions");
-  reportCollisions(motion, options, cell.process.maxTorchAngle);
+  reportCollisions(motion, options, cell.process);
 }
 
 }  // namespace curvedslicer

@@ -170,6 +170,14 @@ DepositHit DepositIndex::nearest(const Vec3& p, const Vec3& q, double reach) con
   return best;
 }
 
+void DepositIndex::forEachWithin(const Vec3& p, const Vec3& q, double reach,
+                                 const std::function<bool(std::size_t, double)>& visit) const {
+  visitCandidates(p, q, reach, [&](std::size_t s) {
+    const double d = segmentDistance(p, q, segments_[s].a, segments_[s].b) - radius_;
+    return d >= reach || visit(s, d);
+  });
+}
+
 bool DepositIndex::anyWithin(const Vec3& p, const Vec3& q, double reach, DepositHit* hit) const {
   bool found = false;
   visitCandidates(p, q, reach, [&](std::size_t s) {

@@ -14,6 +14,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "curvedslicer/core/types.hpp"
@@ -60,6 +61,12 @@ class DepositIndex {
   /// True when some bead's surface lies closer than `reach` to segment [p, q] (stops at the
   /// first one; `hit` gets it).
   bool anyWithin(const Vec3& p, const Vec3& q, double reach, DepositHit* hit = nullptr) const;
+
+  /// Calls `visit(segment, distance)` for every bead whose surface lies closer than `reach` to
+  /// segment [p, q] (`distance`: that surface distance), in no particular order, until `visit`
+  /// returns false.
+  void forEachWithin(const Vec3& p, const Vec3& q, double reach,
+                     const std::function<bool(std::size_t, double)>& visit) const;
 
   const std::vector<DepositSegment>& segments() const { return segments_; }
   double beadRadius() const { return radius_; }

@@ -328,11 +328,17 @@ void appendPathPoints(int l, int p, const std::vector<detail::AngleSample>& samp
   }
 }
 
+/// Per plan layer, path and point: the V the positioner turns onto gravity instead of the plan's
+/// (zero where it keeps the plan's); see gravityDeviationTargets.
+using DeviationTargets = std::vector<std::vector<std::vector<Vec3>>>;
+
 /// Positioner angles (eq. 16) along every path, continuous from one path to the next. a2 is
 /// blended at a rate of at most a quarter of the rotation's speed limit at weld speed (rad/mm).
+/// `targets` (optional) replaces V where the torch needs a gravity deviation to clear.
 void planPositionerAngles(const Plan& plan, const Cell& cell, const Vec3& gravity,
                           const MotionOptions& options, const Progress& progress,
-                          MotionPlan& result, WarningLog& warnings) {
+                          MotionPlan& result, WarningLog& warnings,
+                          const DeviationTargets* targets = nullptr) {
   progress.report(0.0, "positioner angles");
   const std::size_t pathTotal = std::max<std::size_t>(1, plan.pathCount());
   const double a2Rate = 0.25 * cell.positioner.rotation.limit.maxSpeed / cell.process.weldSpeed;
@@ -342,7 +348,8 @@ void planPositionerAngles(const Plan& plan, const Cell& cell, const Vec3& gravit
   for (std::size_t l = 0; l < plan.layers.size(); ++l) {
     for (std::size_t p = 0; p < plan.layers[l].paths.size(); ++p) {
       std::vector<detail::AngleSample> samples = detail::sampleDepositions(
-          plan.layers[l].paths[p], cell.positioner, gravity, options, merged);
+          plan.layers[l].paths[p], cell.positioner, gravity, options, merged,
+          targets != nullptr ? &(*targets)[l][p] : nullptr);
       detail::planPathAngles(cell.positioner, gravity, a2Rate, samples, refA1, refA2, haveRef,
                              options);
       for (const auto& s : samples) inserted += s.inserted ? 1 : 0;
@@ -800,6 +807,67 @@ void noteTorchTilts(const detail::TorchTiltSummary& tilt, const ProcessDescripti
                          mm(process.maxTorchAngle / kDeg) + " deg, process/max_torch_angle_deg)");
 }
 
+// ---- gravity deviation --------------------------------------------------------------------
+
+/// rad (1°): how far inside the torch window a torch that needed a gravity deviation is left,
+/// so that the torch search, run again on the turned part, finds its clearing direction within
+/// the window despite its finite set of directions.
+constexpr double kDeviationMargin = 0.0174532925199433;
+
+/// Where the torch pass with the torch and gravity deviation windows together tilted a torch
+/// further than the torch window, the V for the positioner: the V it aligned turned by the
+/// excess (plus kDeviationMargin, at most the gravity deviation window) towards the torch's
+/// lean, so that gravity in the part frame moves towards the torch and the same torch
+/// direction relative to the part lies within the torch window off gravity. The tilts are
+/// smooth along a path (at most kTiltRate), so are these deviations. Empty when no torch needs
+/// one.
+DeviationTargets gravityDeviationTargets(const Plan& plan, const MotionPlan& motion,
+                                         const ProcessDescription& process) {
+  const double start = std::max(0.0, process.maxTorchAngle - kDeviationMargin);
+  std::size_t points = 0;
+  DeviationTargets targets(plan.layers.size());
+  for (std::size_t l = 0; l < plan.layers.size(); ++l) {
+    targets[l].resize(plan.layers[l].paths.size());
+    for (std::size_t p = 0; p < plan.layers[l].paths.size(); ++p) {
+      targets[l][p].assign(plan.layers[l].paths[p].points.size(), Vec3::Zero());
+    }
+  }
+  for (const MotionPoint& m : motion.points) {
+    if (m.kind != MoveKind::Path || (m.flags & kMotionInserted) || m.torchAngle <= start) continue;
+    std::vector<Vec3>& path = targets[static_cast<std::size_t>(m.layer)]
+                                     [static_cast<std::size_t>(m.path)];
+    if (m.index < 0 || static_cast<std::size_t>(m.index) >= path.size()) continue;  // closing move
+    const double deviation = std::min(process.maxGravityDeviation, m.torchAngle - start);
+    const Vec3 up = -m.usedDeposition.normalized();
+    const Vec3 toward = m.torchLean - up * up.dot(m.torchLean);
+    if (!(toward.norm() > 1e-12)) continue;
+    path[static_cast<std::size_t>(m.index)] =
+        -detail::tiltedTorchUp(up, deviation * toward.normalized());
+    ++points;
+  }
+  if (points == 0) targets.clear();
+  return targets;
+}
+
+/// The note of the gravity deviations used to clear the torch (none: no note).
+void noteGravityDeviations(const MotionPlan& motion, const ProcessDescription& process,
+                           MotionPlan& result) {
+  std::size_t count = 0;
+  double largest = 0.0;
+  for (const MotionPoint& m : motion.points) {
+    if (m.kind != MoveKind::Path || !(m.flags & kMotionGravityDeviated)) continue;
+    ++count;
+    largest = std::max(largest, m.residual);
+  }
+  if (count == 0) return;
+  result.notes.push_back("deposition direction turned off gravity on " + std::to_string(count) +
+                         " path point(s) where no torch angle within the torch window clears: "
+                         "largest " +
+                         mm(largest / kDeg) + " deg (gravity deviation window " +
+                         mm(process.maxGravityDeviation / kDeg) +
+                         " deg, process/max_gravity_deviation_deg)");
+}
+
 /// Per layer and in total the largest torch angle and gravity deviation of the path points.
 void recordDeviations(MotionPlan& result) {
   for (const MotionPoint& m : result.points) {
@@ -941,16 +1009,42 @@ MotionPlan planMotion(const Plan& plan, const Cell& givenCell, const MotionOptio
   result.notes = givenCell.notes;
   if (!placement.note.empty()) result.notes.push_back(placement.note);
   result.points.reserve(plan.pointCount() + plan.pathCount());
+  const std::vector<std::string> cellNotes = result.notes;
   WarningLog warnings;
-  planPositionerAngles(plan, cell, gravity, options, progress.sub(0.0, 0.4), result, warnings);
+  planPositionerAngles(plan, cell, gravity, options, progress.sub(0.0, 0.3), result, warnings);
   assignWeldProcess(plan, cell, result, warnings);
   const TravelSetup travel = travelSetupOf(cell);
   const double beadRadius = depositBeadRadius(plan.parameters);
   validateCollisionGeometry(travel.geometry, beadRadius);
-  const detail::TorchTiltSummary tilt =
-      detail::planTorchTilts(result, cell, travel.geometry, gravity, beadRadius,
-                             cell.process.maxTorchAngle, progress.sub(0.35, 0.4));
+  // The torch window and the gravity deviation window together bound how far the torch may
+  // lean against the part; where it leans further than the torch window, the positioner turns
+  // V off gravity by the excess (gravityDeviationTargets) and the torch is searched again.
+  const ProcessDescription& process = cell.process;
+  detail::TorchTiltSummary tilt = detail::planTorchTilts(
+      result, cell, travel.geometry, gravity, beadRadius,
+      process.maxTorchAngle + process.maxGravityDeviation, progress.sub(0.3, 0.35),
+      process.maxTorchAngle);
+  const DeviationTargets targets =
+      process.maxGravityDeviation > 0.0 && tilt.maxAngle > process.maxTorchAngle
+          ? gravityDeviationTargets(plan, result, process)
+          : DeviationTargets{};
+  if (!targets.empty() || tilt.maxAngle > process.maxTorchAngle) {
+    MotionPlan turned;
+    turned.tableToPart = result.tableToPart;
+    turned.fixture = result.fixture;
+    turned.notes = cellNotes;
+    turned.points.reserve(result.points.size());
+    WarningLog turnedWarnings;
+    planPositionerAngles(plan, cell, gravity, options, progress.sub(0.35, 0.37), turned,
+                         turnedWarnings, targets.empty() ? nullptr : &targets);
+    assignWeldProcess(plan, cell, turned, turnedWarnings);
+    tilt = detail::planTorchTilts(turned, cell, travel.geometry, gravity, beadRadius,
+                                  process.maxTorchAngle, progress.sub(0.37, 0.4));
+    result = std::move(turned);
+    warnings = std::move(turnedWarnings);
+  }
   noteTorchTilts(tilt, cell.process, result);
+  noteGravityDeviations(result, cell.process, result);
   RobotKinematicsPass(cell, gravity, options, result, warnings).run(progress.sub(0.4, 0.95));
   result.nearSingularBand = options.nearSingularBand;
   planArcOffMoves(plan, cell, travel, options, result, progress.sub(0.95, 0.95));

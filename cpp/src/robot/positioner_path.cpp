@@ -324,7 +324,8 @@ AngleSample interpolateSample(const PositionerDescription& pos, const Vec3& grav
   s.index = a.index;
   s.inserted = true;
   s.arc = (1.0 - t) * a.arc + t * b.arc;
-  s.flags = kMotionInserted | (a.flags & b.flags & kMotionSmoothed);
+  s.flags = kMotionInserted | (a.flags & b.flags & kMotionSmoothed) |
+            ((a.flags | b.flags) & kMotionGravityDeviated);
   alignSample(pos, gravity, s, options);
   return s;
 }
@@ -387,10 +388,18 @@ bool insertSamples(const PositionerDescription& pos, const Vec3& gravity,
 
 std::vector<AngleSample> sampleDepositions(const PlanPath& path, const PositionerDescription& pos,
                                            const Vec3& gravity, const MotionOptions& options,
-                                           std::size_t& merged) {
+                                           std::size_t& merged, const std::vector<Vec3>* targets) {
   std::vector<const PathPoint*> pts;
   for (const PathPoint& pt : path.points) pts.push_back(&pt);
   std::vector<Vec3> used = smoothDepositions(pts, path.closed, options);
+  std::vector<bool> deviated(pts.size(), false);
+  if (targets != nullptr) {
+    for (std::size_t k = 0; k < pts.size() && k < targets->size(); ++k) {
+      if ((*targets)[k].isZero()) continue;
+      used[k] = (*targets)[k].normalized();
+      deviated[k] = true;
+    }
+  }
   const std::size_t count = pts.size();
   std::vector<AngleSample> samples;
   samples.reserve(count + 1);
@@ -404,7 +413,11 @@ std::vector<AngleSample> sampleDepositions(const PlanPath& path, const Positione
     if (!samples.empty()) {
       s.arc = samples.back().arc + (s.position - samples.back().position).norm();
     }
-    if (angleBetween(s.v, s.deposition) > 1e-12) s.flags |= kMotionSmoothed;
+    if (deviated[k]) {
+      s.flags |= kMotionGravityDeviated;
+    } else if (angleBetween(s.v, s.deposition) > 1e-12) {
+      s.flags |= kMotionSmoothed;
+    }
     alignSample(pos, gravity, s, options);
     samples.push_back(s);
   };

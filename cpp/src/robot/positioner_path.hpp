@@ -32,10 +32,14 @@ struct AngleSample {
 
 /// The path's points as welded (a closed path ends on point 0 again), V smoothed, consecutive
 /// points closer than options.mergeTolerance merged (the first of them kept; an open path keeps
-/// its last point). `merged` counts the points dropped.
+/// its last point). `merged` counts the points dropped. `targets`, when given (one per path
+/// point, zero = none), replaces the smoothed V the positioner turns onto gravity at the points
+/// it names (the gravity deviation that lets the torch clear; kMotionGravityDeviated); the plan
+/// V stays the sample's `deposition`, so the residual measures the deviation.
 std::vector<AngleSample> sampleDepositions(const PlanPath& path, const PositionerDescription& pos,
                                            const Vec3& gravity, const MotionOptions& options,
-                                           std::size_t& merged);
+                                           std::size_t& merged,
+                                           const std::vector<Vec3>* targets = nullptr);
 
 /// Positioner angles along one path. `a2Rate` (rad/mm) bounds how fast a2 may move along the
 /// path where it is blended; `refA1/refA2/haveRef` carry the end of the previous path.

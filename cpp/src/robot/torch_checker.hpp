@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -58,21 +59,34 @@ class TorchChecker {
   /// deepest hit; none when the cell does not give the arm (checksArm()).
   TorchHit checkArm(const JointVector& joints, double a1, double a2) const;
 
-  /// One capsule of the envelope: its axis from `from` to `to` mm above the TCP, its radius.
+  /// One piece of the envelope: its axis from `from` to `to` mm above the TCP, its radius; a
+  /// capsule, or a cylinder with flat ends (`flat`: the nozzle, whose face and rim no capsule
+  /// covers without reaching below the face).
   struct Section {
     double from = 0.0;
     double to = 0.0;
     double radius = 0.0;
+    bool flat = false;
   };
 
  private:
   struct Fcl;
-  /// A capsule of the torch or the arm: its FCL shape (index into Fcl::capsules: the envelope's
-  /// sections, then the arm's links) and radius; its axis bottom-top is given in the part frame.
+  /// A capsule (or, `flat`, a cylinder) of the torch or the arm: its FCL shape (index into
+  /// Fcl::shapes: the envelope's sections, then the arm's links) and radius; its axis
+  /// bottom-top is given in the part frame.
   struct Capsule {
     std::size_t shape = 0;
     double radius = 0.0;
+    bool flat = false;
   };
+  /// The deepest reach (mm) of the piece into the solid of signed distance `distance` (table
+  /// frame; `b`, `t` its axis there): a capsule's axis samples, a cylinder's surface samples.
+  double reachInto(const Capsule& c, const Vec3& b, const Vec3& t,
+                   const std::function<double(const Vec3&)>& distance) const;
+  /// The deepest bead a cylinder piece reaches into (exact: the bead radius less the least
+  /// signed distance of the bead's axis from the cylinder); `firstOnly` stops at the first.
+  TorchHit checkDepositCylinder(const Capsule& c, const Vec3& bottom, const Vec3& top,
+                                bool firstOnly) const;
   TorchHit checkDeposit(const Capsule& c, const Vec3& bottom, const Vec3& top) const;
   TorchHit checkTable(const Capsule& c, const Vec3& bottom, const Vec3& top) const;
   TorchHit checkFixture(const Capsule& c, const Vec3& bottom, const Vec3& top) const;

@@ -45,11 +45,12 @@ Vec3 leanAt(const Vec3& lean, const Vec3& up) {
 class TiltPass {
  public:
   TiltPass(MotionPlan& motion, const Cell& cell, const CollisionGeometry& geometry,
-           const Vec3& gravity, double beadRadius, double maxAngle)
+           const Vec3& gravity, double beadRadius, double maxAngle, double fallbackAngle)
       : motion_(motion),
         cell_(cell),
         gravity_(gravity),
         maxAngle_(maxAngle),
+        fallbackAngle_(std::clamp(fallbackAngle, 0.0, maxAngle)),
         rings_(std::max(1, static_cast<int>(std::ceil(maxAngle / kRingStep - 1e-9)))),
         deposit_(bounds(motion), beadRadius, 2.0 * (geometry.torch.radius + beadRadius)),
         checker_(cell, geometry, deposit_) {}
@@ -135,17 +136,26 @@ class TiltPass {
   /// (and no lean) when none at the window's angle does.
   Vec3 search(const TorchFrame& f, const Vec3& preferred, bool& cleared) const {
     Vec3 want = preferred.isZero() ? Vec3(Vec3::Zero()) : orthogonalUnit(preferred, f.up);
-    // the window's ring first: where nothing clears there, smaller tilts are not tried; its
-    // clearing direction guides the smaller rings (tried nearest it first) when nothing else does
-    const int widest = clearingDirection(f, maxAngle_, want);
+    // the window's ring first: where nothing clears there, smaller tilts are not tried (but the
+    // fallback window's ring, where it is smaller: leaning further may meet something else);
+    // its clearing direction guides the smaller rings (tried nearest it first) when nothing
+    // else does
+    double top = maxAngle_;
+    int widest = clearingDirection(f, top, want);
+    if (widest < 0 && fallbackAngle_ > 0.0 && fallbackAngle_ < maxAngle_) {
+      top = fallbackAngle_;
+      widest = clearingDirection(f, top, want);
+    }
     cleared = widest >= 0;
     if (!cleared) return Vec3::Zero();
     if (want.isZero()) want = direction(f, widest);
-    for (int ring = 1; ring <= rings_; ++ring) {
-      const int j = ring < rings_ ? clearingDirection(f, ringAngle(ring), want) : widest;
+    const int last = std::clamp(static_cast<int>(std::ceil(top / maxAngle_ * rings_ - 1e-9)), 1,
+                                rings_);
+    for (int ring = 1; ring <= last; ++ring) {
+      const int j = ring < last ? clearingDirection(f, ringAngle(ring), want) : widest;
       if (j < 0) continue;
       const Vec3 d = direction(f, j);
-      double lo = ringAngle(ring - 1), hi = ringAngle(ring);
+      double lo = ringAngle(ring - 1), hi = ring < last ? ringAngle(ring) : top;
       for (int halving = 0; halving < 2; ++halving) {
         const double mid = 0.5 * (lo + hi);
         (collides(f, mid * d) ? lo : hi) = mid;
@@ -164,6 +174,7 @@ class TiltPass {
   const Cell& cell_;
   const Vec3 gravity_;
   const double maxAngle_;
+  const double fallbackAngle_;
   const int rings_;
   DepositIndex deposit_;
   TorchChecker checker_;
@@ -270,8 +281,10 @@ void TiltPass::planPath(const MotionPathSpan& span) {
 
 TorchTiltSummary planTorchTilts(MotionPlan& motion, const Cell& cell,
                                 const CollisionGeometry& geometry, const Vec3& gravity,
-                                double beadRadius, double maxAngle, const Progress& progress) {
-  return TiltPass(motion, cell, geometry, gravity, beadRadius, maxAngle).run(progress);
+                                double beadRadius, double maxAngle, const Progress& progress,
+                                double fallbackAngle) {
+  return TiltPass(motion, cell, geometry, gravity, beadRadius, maxAngle, fallbackAngle)
+      .run(progress);
 }
 
 }  // namespace curvedslicer::detail

@@ -9,8 +9,9 @@
 //      envelope against the deposit up to that point (the welded segments of earlier paths and
 //      of the path before the point) and the table and fixture (robot/torch_checker.hpp);
 //   2. for a point that collides, tilts of the torch axis about its tip are tried in rings of
-//      16 directions: first the window's angle, where nothing clears the point keeps its torch
-//      along gravity (the collision check then names it); else rings of growing angle (steps of
+//      16 directions: first the window's angle (and where nothing clears there, a smaller
+//      fallback window's), where nothing clears the point keeps its torch along gravity (the
+//      collision check then names it); else rings of growing angle (steps of
 //      at most 2.5°), the directions nearest a wanted one tried first and the first that clears
 //      taken: the previous point's tilt, or without one the middle of the longest run of
 //      clearing directions at the window's angle (farthest from what the torch hits); the first
@@ -55,11 +56,14 @@ struct TorchTiltSummary {
 };
 
 /// Sets MotionPoint::torchTilt, torchAngle, travelAngle, workAngle and kMotionTorchTilted of the
-/// weld points of `motion` (see the file comment); `maxAngle` (rad) is the torch window, 0
-/// leaves every torch along gravity. `gravity` is unit, world frame. Cancelled when `progress`
-/// asks (stage "torch angles").
+/// weld points of `motion` (see the file comment); `maxAngle` (rad) is the largest tilt, 0
+/// leaves every torch along gravity; where nothing clears at `maxAngle`, a smaller
+/// `fallbackAngle` (> 0) is tried as the widest ring instead (the torch window, when `maxAngle`
+/// adds the gravity deviation window to it). `gravity` is unit, world frame. Cancelled when
+/// `progress` asks (stage "torch angles").
 TorchTiltSummary planTorchTilts(MotionPlan& motion, const Cell& cell,
                                 const CollisionGeometry& geometry, const Vec3& gravity,
-                                double beadRadius, double maxAngle, const Progress& progress = {});
+                                double beadRadius, double maxAngle, const Progress& progress = {},
+                                double fallbackAngle = 0.0);
 
 }  // namespace curvedslicer::detail

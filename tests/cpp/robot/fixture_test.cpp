@@ -208,14 +208,16 @@ TEST(Fixture, TorchBesideANarrowRiserIsFree) {
   }
 }
 
-/// One ring of radius 40 mm at part z = 0 deposited inwards and 10° down (V = −cos10° r̂ −
-/// sin10° z): a part's first layer meeting the table steeply, its torch lying 10° above the table
-/// outwards. Layer thickness 1.5 mm, bead spacing 3.7 mm.
+/// One ring of radius 40 mm at part z = 0 deposited inwards and 10° up (V = −cos10° r̂ +
+/// sin10° z): a part's first layer meeting the table steeply, its torch lying 10° below the
+/// table's plane outwards, so that no torch angle within the default torch and gravity
+/// deviation windows (25° together) lifts it above the table. Layer thickness 1.5 mm, bead
+/// spacing 3.7 mm.
 Plan steepRing() {
   Plan plan;
   plan.parameters.layerThickness = 1.5;
   plan.parameters.beadSpacing = 3.7;
-  const double tilt = 10.0 * kPi / 180.0;
+  const double tilt = -10.0 * kPi / 180.0;
   PlanLayer layer;
   PlanPath path;
   path.closed = true;
@@ -262,7 +264,11 @@ double coneClearance(const MotionPlan& motion, const TorchEnvelope& torch,
 }
 
 TEST(Fixture, AutoRaisesTheLowestRiserThatClearsTheTable) {
-  const Cell cell = defaultCell();
+  // the torch held along the deposition direction (torch and gravity deviation windows 0: with
+  // the default 25° together the torch clears the table here by leaning), so only a riser clears
+  Cell cell = defaultCell();
+  cell.process.maxTorchAngle = 0.0;
+  cell.process.maxGravityDeviation = 0.0;
   const Plan plan = steepRing();
   // resting on the table, the torch reaches into it
   MotionOptions rest;

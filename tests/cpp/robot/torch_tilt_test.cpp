@@ -3,13 +3,17 @@
 // wall by the smallest angle that clears (checked against a second computation of the envelope's
 // lowest capsule against the wall's beads, and by sampling the torch cone itself); a wall too
 // close for the torch window, or a window of 0, stays a collision that names the window; the
-// window is a cell field with errors naming it; the angles reach the CSV.
+// window is a cell field with errors naming it; the angles reach the CSV. Beyond the torch
+// window, the positioner turns the deposition direction off gravity (within the gravity
+// deviation window) so that the torch, within its window off gravity, leans far enough against
+// the part; the deviation is checked from the robot's poses alone.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <tuple>
 
 #include "common/test_constants.hpp"
 #include "curvedslicer/core/error.hpp"
@@ -54,8 +58,11 @@ Plan pathBesideAWall(double offset) {
 
 /// Second computation of the planner's torch model against the wall: the lowest capsule of the
 /// default cell's cone (radius 15.625 mm, axis 30.625 to 111.25 mm above the TCP; the higher
-/// capsules stay above the wall), leaning by `angle` straight away from the wall, sampled every
-/// 0.05 mm along its axis against every wall bead's axis. True when it clears every bead.
+/// capsules stay above the wall), sampled every 0.05 mm along its axis against every wall bead's
+/// axis, and the nozzle below it (a flat-ended cylinder of the cone's radius at 30.625 mm,
+/// 13.008 mm, from the nozzle face 15 mm above the TCP up to 30.625 mm; against a bead's axis,
+/// a line along x, its distance is that of the rectangle it projects to in the y-z plane),
+/// leaning by `angle` straight away from the wall. True when both clear every bead.
 bool capsuleClearsWall(double offset, double angle) {
   const double radius = 15.625;
   for (double h = 30.625; h <= 111.25; h += 0.05) {
@@ -64,6 +71,15 @@ bool capsuleClearsWall(double offset, double angle) {
     for (int l = 0; l < 30; ++l) {
       if (std::hypot(y, z - 1.5 * (l + 1)) < radius + kBeadRadius) return false;
     }
+  }
+  const double nozzle = 12.5 + 12.5 * 15.625 / 385.0;
+  const double uy = std::sin(angle), uz = std::cos(angle);  // up the torch
+  for (int l = 0; l < 30; ++l) {
+    // the bead's axis relative to the nozzle face's centre, along and across the torch axis
+    const double dy = -offset - 15.0 * uy, dz = 1.5 * (l + 1) - 1.5 - 15.0 * uz;
+    const double along = dy * uy + dz * uz, across = std::abs(dy * uz - dz * uy);
+    const double outside = std::max({0.0, -along, along - 15.625});
+    if (std::hypot(std::max(0.0, across - nozzle), outside) < kBeadRadius) return false;
   }
   return true;
 }
@@ -153,13 +169,67 @@ TEST(TorchTilt, PathBesideATallWallIsWeldedLeaningAwayByTheSmallestAngle) {
             std::string::npos);
 }
 
-TEST(TorchTilt, WallBeyondTheWindowOrAWindowOfZeroStaysACollisionNamingTheWindow) {
-  // 8 mm from the wall the capsule needs about 18°: more than the 15° window
+/// The angle (rad) between the plan's V at a weld point of the wall test (straight down in the
+/// part frame) and gravity, from the robot's TCP poses alone: the part's rotation in the world is
+/// toolInWorld · toolInPart⁻¹.
+double gravityDeviationOf(const MotionPoint& m, const Cell& cell) {
+  const Mat3 partInWorld = m.toolInWorld.linear() * m.toolInPart.linear().transpose();
+  const Vec3 v = partInWorld * Vec3(0, 0, -1);
+  return std::acos(std::clamp(v.dot(cell.gravity.normalized()), -1.0, 1.0));
+}
+
+TEST(TorchTilt, PathBeyondTheTorchWindowIsClearedByAGravityDeviation) {
+  constexpr double kOffset = 8.0;  // the nozzle needs about 22.5°: more than the 15° window
+  const double needed = smallestClearingLean(kOffset);
+  ASSERT_GT(needed, 15.0 * kDegree);
+  ASSERT_LT(needed, 25.0 * kDegree);
+  const Cell cell = defaultCell();
+  ASSERT_NEAR(cell.process.maxGravityDeviation, 10.0 * kDegree, 1e-12);
+  const MotionPlan motion = planMotion(pathBesideAWall(kOffset), cell);
+  EXPECT_TRUE(motion.collisions.empty());
+  const MotionPathSpan& weld = motion.paths.back();
+  double largest = 0.0;
+  for (std::size_t k = weld.begin; k < weld.end; ++k) {
+    const MotionPoint& m = motion.points[k];
+    SCOPED_TRACE("point " + std::to_string(m.index));
+    EXPECT_TRUE(m.flags & kMotionGravityDeviated);
+    // the torch within its window off gravity, the deposit within its window off gravity
+    EXPECT_LE(m.torchAngle, cell.process.maxTorchAngle + 1e-9);
+    EXPECT_LE(m.residual, cell.process.maxGravityDeviation + 1e-9);
+    // the deviation recorded is the one the robot's poses show, and only as large as needed
+    // (the excess over the window plus the 1° margin, within the search's resolution)
+    const double deviation = gravityDeviationOf(m, cell);
+    EXPECT_NEAR(m.residual, deviation, 1e-6);
+    EXPECT_GE(deviation, needed - cell.process.maxTorchAngle - 1e-6);
+    EXPECT_LE(deviation, needed - cell.process.maxTorchAngle + 1.0 * kDegree + 0.7 * kDegree);
+    // relative to the part the torch leans away from the wall by at least the clearing angle,
+    // and the torch cone itself clears every bead
+    const Vec3 up = -m.toolInPart.linear().col(2);
+    EXPECT_GT(up.y(), 0.0);
+    EXPECT_GE(std::atan2(up.y(), up.z()), needed - 1e-6);
+    EXPECT_GE(wallConeClearance(cell.tool.envelope, m.toolInPart.translation(), up), 0.0);
+    largest = std::max(largest, m.residual);
+  }
+  EXPECT_NEAR(motion.layers.back().maxGravityDeviation, largest, 1e-12);
+  EXPECT_LT(motion.layers.front().maxGravityDeviation, 1e-6);  // the wall itself: on gravity
+  const bool noted = std::any_of(motion.notes.begin(), motion.notes.end(), [](const auto& n) {
+    return n.find("deposition direction turned off gravity on") != std::string::npos &&
+           n.find("process/max_gravity_deviation_deg") != std::string::npos;
+  });
+  EXPECT_TRUE(noted);
+}
+
+TEST(TorchTilt, WallBeyondTheWindowsOrWindowsOfZeroStaysACollisionNamingTheWindows) {
+  // 8 mm from the wall the nozzle needs about 22.5°: more than the 15° torch window alone; 3 mm
+  // from it about 37.5°: more than both windows together
   ASSERT_GT(smallestClearingLean(8.0), 15.0 * kDegree);
-  for (const auto& [offset, window] : {std::pair{8.0, 15.0}, std::pair{12.0, 0.0}}) {
+  ASSERT_GT(smallestClearingLean(3.0), 25.0 * kDegree);
+  for (const auto& [offset, window, deviation] :
+       {std::tuple{8.0, 15.0, 0.0}, std::tuple{3.0, 15.0, 10.0}, std::tuple{12.0, 0.0, 0.0}}) {
     SCOPED_TRACE("offset " + std::to_string(offset));
     Cell cell = defaultCell();
     cell.process.maxTorchAngle = window * kDegree;
+    cell.process.maxGravityDeviation = deviation * kDegree;
     try {
       planMotion(pathBesideAWall(offset), cell);
       ADD_FAILURE() << "no collision reported";
@@ -170,13 +240,22 @@ TEST(TorchTilt, WallBeyondTheWindowOrAWindowOfZeroStaysACollisionNamingTheWindow
                           std::string(window == 0.0 ? "0.0" : "15.0") + " deg"),
                 std::string::npos)
           << text;
+      if (deviation > 0.0) {
+        EXPECT_NE(text.find("allow a larger gravity deviation (the cell's "
+                            "process/max_gravity_deviation_deg, now 10.0 deg"),
+                  std::string::npos)
+            << text;
+      }
     }
     MotionOptions options;
     options.allowCollisions = true;
     const MotionPlan motion = planMotion(pathBesideAWall(offset), cell, options);
     EXPECT_FALSE(motion.collisions.empty());
-    // a tilt that does not clear is not made: the torch stays along gravity
-    for (const MotionPoint& m : motion.points) EXPECT_EQ(m.torchAngle, 0.0);
+    // a tilt that does not clear is not made: the torch stays along gravity, V on gravity
+    for (const MotionPoint& m : motion.points) {
+      EXPECT_EQ(m.torchAngle, 0.0);
+      EXPECT_FALSE(m.flags & kMotionGravityDeviated);
+    }
   }
 }
 
@@ -195,6 +274,23 @@ TEST(TorchTilt, TheWindowIsACellFieldWithErrorsNamingIt) {
       EXPECT_NE(text.find("/process/max_torch_angle_deg"), std::string::npos) << text;
       EXPECT_NE(text.find("must be in [0, 45] degrees"), std::string::npos) << text;
       EXPECT_NE(text.find(bad == 50.0 ? "50" : "-1"), std::string::npos) << text;
+    }
+  }
+  cell["process"]["max_torch_angle_deg"] = 15;
+  EXPECT_EQ(cell["process"]["max_gravity_deviation_deg"], 10.0);
+  cell["process"]["max_gravity_deviation_deg"] = 5;
+  EXPECT_NEAR(parseCell(cell.dump(), "cell.json").process.maxGravityDeviation, 5.0 * kDegree,
+              1e-12);
+  for (const double bad : {46.0, -2.0}) {
+    cell["process"]["max_gravity_deviation_deg"] = bad;
+    try {
+      parseCell(cell.dump(), "cell.json");
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const InvalidInput& e) {
+      const std::string text = e.what();
+      EXPECT_NE(text.find("/process/max_gravity_deviation_deg"), std::string::npos) << text;
+      EXPECT_NE(text.find("must be in [0, 45] degrees"), std::string::npos) << text;
+      EXPECT_NE(text.find(bad == 46.0 ? "46" : "-2"), std::string::npos) << text;
     }
   }
 }

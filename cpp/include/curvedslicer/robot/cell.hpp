@@ -262,6 +262,13 @@ struct ProcessDescription {
   /// to clear deposit, table and fixture (JSON "max_torch_angle_deg", 0..45; 0 = always along
   /// gravity). GMA tolerates push/drag and work angles of about 0-15°, up to 20-25° in WAAM.
   double maxTorchAngle = 0.261799387799;
+  /// rad (10°), the gravity deviation window: where no torch angle within the torch window
+  /// clears the deposit, the table or the fixture, the positioner may turn the deposition
+  /// direction up to this far off gravity, towards the torch's lean, so that the torch, still
+  /// within the torch window off gravity, leans this much further against the part (JSON
+  /// "max_gravity_deviation_deg", 0..45; 0 = V always on gravity where the positioner can turn
+  /// it there). A few degrees off flat do not spoil a GMA bead; 10° is a common bound.
+  double maxGravityDeviation = 0.174532925199;
   SpeedUnit speedUnit = SpeedUnit::MillimetresPerSecond;  ///< unit the controller expects
   ArcControl arcControl = ArcControl::ConditionFile;
   int arcStartCondition = 1;  ///< ASF#(n) condition-file number

@@ -9,8 +9,10 @@
 //   torch     the cell's cone (TorchEnvelope: from `stickout` above the TCP, the nozzle, with
 //             `radius` there, to `stickout + length` with `topRadius`) covered by four capsules
 //             along the torch axis, each with the cone's largest radius over its quarter (a
-//             cylinder envelope, radius == topRadius, is one capsule); the round ends of the
-//             lowest and highest reach exactly the nozzle and the top;
+//             cylinder envelope, radius == topRadius, is one capsule); the lowest's axis starts
+//             one radius above the nozzle, and below it the nozzle is a flat-ended cylinder of
+//             the cone's radius there, from the nozzle face up (a round end would miss the
+//             face's rim); the highest capsule's round end reaches the top;
 //   table     a cylinder (disc) of the positioner table: top face at the table frame's origin,
 //             normal along its z axis, tableRadius and tableThickness (PositionerGeometry);
 //   fixture   the riser (a cylinder on the table top) and the substrate plate (a box on the
@@ -19,7 +21,8 @@
 // arc-off moves at samples no further apart than half the envelope radius, linear in the part
 // frame (joint-interpolated for moves from or to the home pose, through forward kinematics).
 // Broad phase: the deposit in a uniform grid of chunked segments with exact segment distances
-// (robot/deposit_index); narrow phase and contacts: FCL (capsule/capsule, capsule/cylinder).
+// (robot/deposit_index); narrow phase and contacts: FCL (capsule/capsule, capsule/cylinder,
+// cylinder/capsule for the nozzle, whose distance to a bead is also computed exactly).
 //
 // Preconditions: the motion comes from planMotion (toolInPart, a1/a2, joints set). Cost: about a
 // microsecond per weld point plus the samples of arc-off moves (tests/bench/README.md).

@@ -61,6 +61,8 @@ enum MotionFlag : std::uint32_t {
   kMotionNearSingular = 1u << 10,  ///< V inside the near-singular band (a2 blended, rate bounded)
   kMotionCollision = 1u << 11,     ///< the move arriving here collides (--allow-collisions)
   kMotionTorchTilted = 1u << 12,   ///< torch tilted off gravity to clear deposit, table, fixture
+  kMotionGravityDeviated = 1u << 13,  ///< V turned off gravity (within the cell's gravity
+                                      ///< deviation window) so that the torch clears
 };
 
 /// What a motion point is. Path points are the plan's points (welded except the path's first);

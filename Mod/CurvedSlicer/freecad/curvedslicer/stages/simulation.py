@@ -150,7 +150,7 @@ def update_simulation(job, group, objects, motion, index, part_placement):
 #: MotionFlag bits (robot/motion.hpp) by name, for display.
 MOTION_FLAGS = ["singular", "tilt limited", "rotation limited", "a2 rate limited", "smoothed",
                 "configuration change", "wrist singular", "robot limit", "speed reduced",
-                "inserted", "near singular", "collision"]
+                "inserted", "near singular", "collision", "torch tilted", "gravity deviated"]
 #: IK branch bits of MotionPoint::configuration.
 CONFIGURATION_BITS = [(1, "back", "front"), (2, "elbow down", "elbow up"),
                       (4, "wrist flip", "no flip")]
