@@ -157,11 +157,12 @@ def make_turbine_jobs(doc, voxel=1.0):
                         wall_surface=parts["BaseOuterSurface"], wall_axis=(0, 0, 1),
                         bead_spacing=1.65, point_spacing=2.0, voxel_size=voxel,
                         tool_along_travel=False, name="BaseJob")
-    # The base flares out at its foot: its first layers are welded with the table tilted so far
-    # that the default cell's torch envelope reaches the table top (about 10 mm) when the part
-    # rests on the table. On a real cell the part sits on a substrate or riser (set the cell's
-    # positioner/table_to_part and PartPlacement Cell); the example keeps the default cell and
-    # lists those moves as warnings instead of refusing the program.
+    # The base flares out at its foot, whose wall leaves the plate at about 11°: its first beads
+    # are welded with the table tilted so far that the torch, leaning against the part by as
+    # much as the torch and gravity deviation windows allow (15° + 10°), still reaches into the
+    # plate the part stands on (the table here; a riser or substrate plate as wide as the foot
+    # is hit the same way, and a narrower one would not carry the foot). The example lists those
+    # moves as warnings instead of refusing the program (docs/METHODS.md, "Gravity deviation").
     base.AllowCollisions = True
     # The paper deposits every blade section as closed contour rings (fig. 18). On these 10 mm
     # blades a ring's two sides come 2.6-3.6 mm apart (under 0.95 x 3.7 mm) over most of the
@@ -173,10 +174,6 @@ def make_turbine_jobs(doc, voxel=1.0):
                           narrow_strips="Overlap", min_feature_width=BLADE_MIN_FEATURE_WIDTH,
                           min_gap_area=BLADE_MIN_GAP_AREA, corner_fill=True,
                           corner_fill_angle=BLADE_CORNER_FILL_ANGLE)
-    # The blades' Job is placed on its own (resting on the table, without the base under it), so
-    # the steep tilts of the overhanging blade tips bring the table to the torch on a few arc-off
-    # moves: listed as warnings here, for the same reason as the base above.
-    blades.AllowCollisions = True
     return parts, base, blades
 
 

@@ -886,9 +886,13 @@ MotionPlan planMotionOnLowestRiser(const Plan& plan, const Cell& givenCell,
   constexpr double kMargin = 2.0;  // mm above the deepest reach into the table
   Cell cell = givenCell;
   FixtureGeometry& fixture = cell.positioner.fixture;
-  fixture.riserDiameter =
-      riserDiameterFor(plan, cell, placePart(plan, cell, PartPlacement::Rest).tableToPart);
+  const Pose restPose = placePart(plan, cell, PartPlacement::Rest).tableToPart;
+  fixture.riserDiameter = riserDiameterFor(plan, cell, restPose);
   const double firstDiameter = fixture.riserDiameter;
+  // without a substrate plate the riser's top carries the first layer's beads laid on it: it is
+  // never narrowed below them
+  const double support = fixture.hasSubstrate() ? 0.0 : supportDiameterFor(plan, restPose);
+  const double narrowest = std::max(0.25 * firstDiameter, support);
   MotionOptions trial = options;
   trial.placement = PartPlacement::Rest;
   trial.allowCollisions = true;  // to see every collision of a trial height
@@ -915,13 +919,14 @@ MotionPlan planMotionOnLowestRiser(const Plan& plan, const Cell& givenCell,
       continue;
     }
     // a riser this placement chose (the cell gives none) is narrowed by the torch's deepest
-    // reach into it, down to a quarter of its first width: the part's edge then overhangs it
+    // reach into it, down to a quarter of its first width and never below the beads it carries:
+    // a part standing on it with a raised start surface (a mandrel) or a plate then overhangs it
     const int riserHit = deepestHit(motion, CollisionObstacle::Riser);
     const double narrowed =
         riserHit < 0 ? 0.0
                      : fixture.riserDiameter - 2.0 * (motion.collisions[riserHit].depth + kMargin);
-    if (riserHit >= 0 && !(givenCell.positioner.fixture.riserDiameter > 0.0) &&
-        narrowed >= 0.25 * firstDiameter && !options.allowCollisions) {
+    const bool choosesRiser = !(givenCell.positioner.fixture.riserDiameter > 0.0);
+    if (riserHit >= 0 && choosesRiser && narrowed >= narrowest && !options.allowCollisions) {
       fixture.riserDiameter = narrowed;
       continue;
     }
@@ -931,15 +936,25 @@ MotionPlan planMotionOnLowestRiser(const Plan& plan, const Cell& givenCell,
       if (hit < 0 || options.allowCollisions) continue;
       const CollisionReport& c = motion.collisions[hit];
       const bool riser = obstacle == CollisionObstacle::Riser;
-      throw InvalidInput("part placement auto: on a riser of " + mm(fixture.riserHeight) +
-                         " mm the torch hits " + (riser ? "the riser" : "the substrate plate") +
-                         " at " + describeMove(motion, c.point) + " by " + mm(c.depth) +
-                         " mm, which no riser height clears; give " +
-                         (riser ? "a narrower riser (positioner/fixture riser_diameter_mm, now " +
-                                      mm(fixture.riserDiameter) + " mm)"
-                                : "a smaller plate (positioner/fixture substrate_size_mm, now " +
-                                      mm(fixture.substrateSize) + " mm)") +
-                         ", or allow collisions (--allow-collisions) to export anyway");
+      const bool carried = riser && choosesRiser && support > 0.0 &&
+                           fixture.riserDiameter - 2.0 * (c.depth + kMargin) < support;
+      throw InvalidInput(
+          "part placement auto: on a riser of " + mm(fixture.riserHeight) + " mm the torch hits " +
+          (riser ? "the riser" : "the substrate plate") + " at " + describeMove(motion, c.point) +
+          " by " + mm(c.depth) + " mm, which no riser height clears" +
+          (carried ? " and a narrower riser would not carry the first layer's beads laid on it (" +
+                         mm(support) + " mm across)"
+                   : std::string()) +
+          "; give " +
+          (carried ? std::string("a substrate plate that carries them on a narrower riser "
+                                 "(positioner/fixture substrate_size_mm and riser_diameter_mm), "
+                                 "a wider torch or gravity deviation window "
+                                 "(process/max_torch_angle_deg, max_gravity_deviation_deg)")
+           : riser ? "a narrower riser (positioner/fixture riser_diameter_mm, now " +
+                         mm(fixture.riserDiameter) + " mm)"
+                   : "a smaller plate (positioner/fixture substrate_size_mm, now " +
+                         mm(fixture.substrateSize) + " mm)") +
+          ", or allow collisions (--allow-collisions) to export anyway");
     }
     const bool raised = fixture.riserHeight > givenCell.positioner.fixture.riserHeight;
     const std::string note =

@@ -216,6 +216,28 @@ double riserDiameterFor(const Plan& plan, const Cell& cell, const Pose& tableToP
   return std::min(2.0 * radius + bead, 2.0 * cell.positioner.geometry.tableRadius);
 }
 
+double supportDiameterFor(const Plan& plan, const Pose& tableToPart) {
+  for (const PlanLayer& layer : plan.layers) {
+    double lowest = kInf;
+    for (const PlanPath& path : layer.paths) {
+      for (const PathPoint& point : path.points) {
+        lowest = std::min(lowest, (tableToPart * point.position).z());
+      }
+    }
+    if (!(lowest < kInf)) continue;
+    const double reach = std::max(plan.parameters.layerThickness, 0.0) + 1e-9;
+    double radius = 0.0;
+    for (const PlanPath& path : layer.paths) {
+      for (const PathPoint& point : path.points) {
+        const Vec3 x = tableToPart * point.position;
+        if (x.z() <= lowest + reach) radius = std::max(radius, std::hypot(x.x(), x.y()));
+      }
+    }
+    return 2.0 * radius + std::max(plan.parameters.beadSpacing, 0.0);
+  }
+  return 0.0;
+}
+
 Cell withPartPlacement(Cell cell, const Pose& tableToPart) {
   cell.positioner.tableToPart = tableToPart;
   return cell;

@@ -304,6 +304,40 @@ TEST(Fixture, AutoRaisesTheLowestRiserThatClearsTheTable) {
               raised.fixture.riserHeight, 1e-9);
 }
 
+/// A closed ring of `radius` mm at part height `z` (V down), for the support diameter below.
+PlanPath ringAt(double radius, double z) {
+  PlanPath path;
+  path.closed = true;
+  for (int i = 0; i < 36; ++i) {
+    const double phi = 2 * kPi * i / 36;
+    PathPoint p;
+    p.position = Vec3(radius * std::cos(phi), radius * std::sin(phi), z);
+    p.deposition = -Vec3::UnitZ();
+    p.normal = Vec3::UnitZ();
+    path.points.push_back(p);
+  }
+  return path;
+}
+
+TEST(Fixture, TheRiserCarriesTheBeadsLaidOnIt) {
+  // the first layer's beads within one layer thickness (1.5 mm) of its lowest lie on the riser
+  // top; those higher up rest on a raised start surface (a mandrel): 2 x 30 mm + a 4 mm bead
+  Plan plan = flatRing();
+  EXPECT_NEAR(supportDiameterFor(plan, Pose::Identity()), 64.0, 1e-9);
+  plan.layers[0].paths.push_back(ringAt(45.0, 1.4));  // on the riser too
+  plan.layers[0].paths.push_back(ringAt(60.0, 10.0));  // on the mandrel
+  EXPECT_NEAR(supportDiameterFor(plan, Pose::Identity()), 94.0, 1e-9);
+  // about the table's rotation axis, where the part stands (moved 5 mm off it)
+  Pose moved = Pose::Identity();
+  moved.translation() = Vec3(5.0, 0.0, 0.0);
+  EXPECT_NEAR(supportDiameterFor(plan, moved), 104.0, 1e-9);
+  // an empty first layer: the next carries the part; no points at all: nothing to carry
+  Plan later = flatRing();
+  later.layers.insert(later.layers.begin(), PlanLayer{});
+  EXPECT_NEAR(supportDiameterFor(later, Pose::Identity()), 64.0, 1e-9);
+  EXPECT_EQ(supportDiameterFor(Plan{}, Pose::Identity()), 0.0);
+}
+
 TEST(Fixture, AutoKeepsTheCellsFixtureWhenNothingCollides) {
   Cell cell = defaultCell();
   cell.positioner.fixture = FixtureGeometry{0.0, 0.0, 10.0, 100.0};

@@ -251,9 +251,11 @@ struct MotionPlan {
 /// reaches into the table, raises the riser by the deepest reach plus 2 mm and plans again (at
 /// most 12 times); a riser it chose itself (the cell gives no riser diameter) that the torch
 /// reaches into is narrowed by twice the deepest reach plus 2 mm, down to a quarter of its first
-/// width (the part's edge then overhangs it, on its substrate). The note names the riser chosen.
-/// A torch that hits the cell's own riser or plate is not cleared so: InvalidInput names the
-/// move and the smaller riser or plate that would help.
+/// width and, without a substrate plate, never below the first layer's beads laid on its top
+/// (supportDiameterFor: a part on a raised start surface, a mandrel, may overhang it). The note
+/// names the riser chosen. A torch that hits the cell's own riser or plate, or a riser that
+/// cannot be narrowed further, is not cleared so: InvalidInput names the move and what would
+/// help (a smaller riser or plate, a plate carrying the part on a narrower riser, wider windows).
 MotionPlan planMotion(const Plan& plan, const Cell& cell, const MotionOptions& options = {},
                       const Progress& progress = {});
 

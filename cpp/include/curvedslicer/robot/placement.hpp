@@ -58,6 +58,12 @@ PartPlacementResult placePart(const Plan& plan, const Cell& cell, PartPlacement 
 /// first layer's weld points plus a bead width (the part's footprint), at most the table's.
 double riserDiameterFor(const Plan& plan, const Cell& cell, const Pose& tableToPart);
 
+/// Diameter (mm) about the rotation axis that a riser without a substrate plate must cover to
+/// carry the part at `tableToPart`: the first layer's weld points within one layer thickness
+/// of its lowest (the beads laid on the riser's top itself; a first layer on a raised start
+/// surface, e.g. a mandrel, rests on that) plus a bead width; 0 for a plan without points.
+double supportDiameterFor(const Plan& plan, const Pose& tableToPart);
+
 /// `cell` with the part placement `tableToPart` (e.g. MotionPlan::tableToPart): the cell the
 /// motion was planned in, for writers and readers that use the positioner's kinematics with
 /// the part (the G-code header and machine coordinates).
