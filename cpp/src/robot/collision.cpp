@@ -324,13 +324,20 @@ TorchHit TorchChecker::checkDepositCylinder(const Capsule& c, const Vec3& bottom
   // are the candidates, each measured exactly
   TorchHit worst;
   const double beadRadius = deposit_.beadRadius();
+  const Vec3 axis = top - bottom;
+  const double length = axis.norm();
+  const Vec3 u = length > 1e-12 ? Vec3(axis / length) : Vec3(Vec3::UnitZ());
   deposit_.forEachWithin(bottom, top, c.radius, [&](std::size_t s, double) {
     const DepositSegment& bead = deposit_.segments()[s];
+    // a bead wholly below the nozzle face or above the cylinder's top by more than its radius
+    // cannot touch it (most candidates: the beads under the torch)
+    const double ha = (bead.a - bottom).dot(u), hb = (bead.b - bottom).dot(u);
+    if (std::max(ha, hb) <= -beadRadius || std::min(ha, hb) >= length + beadRadius) return true;
     const double depth = beadRadius - segmentCylinderDistance(bead.a, bead.b, bottom, top, c.radius);
     if (depth <= 0.0 || (worst.collides() && depth <= worst.depth)) return true;
     worst = {TorchHit::Object::Deposit, depth, s};
     return !firstOnly;
-  });
+  }, u, u.dot(bottom) - beadRadius);
   return worst;
 }
 

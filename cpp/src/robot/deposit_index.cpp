@@ -113,9 +113,9 @@ void DepositIndex::add(const DepositSegment& segment, bool newPath) {
   }
 }
 
-template <typename Visit>
-void DepositIndex::visitCandidates(const Vec3& p, const Vec3& q, double reach,
-                                   Visit&& visit) const {
+template <typename Visit, typename Keep>
+void DepositIndex::visitCandidates(const Vec3& p, const Vec3& q, double reach, Visit&& visit,
+                                   Keep&& keep) const {
   Aabb box;
   box.extend(p);
   box.extend(q);
@@ -138,6 +138,10 @@ void DepositIndex::visitCandidates(const Vec3& p, const Vec3& q, double reach,
         const std::vector<std::uint32_t>& list = cells_[cellIndex(x, y, z)];
         if (list.empty()) continue;
         const Vec3 centre = origin_ + (Vec3(x, y, z) + Vec3::Constant(0.5)) * cell_;
+        Aabb cellBox;  // the cell grown by the bead radius: what its segments' axes may reach
+        cellBox.extend(centre - Vec3::Constant(0.5 * cell_ + radius_));
+        cellBox.extend(centre + Vec3::Constant(0.5 * cell_ + radius_));
+        if (!keep(cellBox)) continue;
         if (pointSegmentDistance(centre, p, q) > cellCull) continue;
         for (std::uint32_t id : list) {
           if (stamp_[id] == query_) continue;
@@ -146,6 +150,7 @@ void DepositIndex::visitCandidates(const Vec3& p, const Vec3& q, double reach,
           if (chunk.first >= visible_) continue;
           // sphere cull: every point of the chunk lies within `bound` of the box centre
           const double bound = 0.5 * chunk.box.diagonal();
+          if (!keep(chunk.box)) continue;
           if (pointSegmentDistance(chunk.box.center(), p, q) - bound - radius_ >= reach) continue;
           const std::size_t end = std::min(chunk.first + chunk.count, visible_);
           for (std::size_t s = chunk.first; s < end; ++s) {
@@ -171,11 +176,21 @@ DepositHit DepositIndex::nearest(const Vec3& p, const Vec3& q, double reach) con
 }
 
 void DepositIndex::forEachWithin(const Vec3& p, const Vec3& q, double reach,
-                                 const std::function<bool(std::size_t, double)>& visit) const {
-  visitCandidates(p, q, reach, [&](std::size_t s) {
-    const double d = segmentDistance(p, q, segments_[s].a, segments_[s].b) - radius_;
-    return d >= reach || visit(s, d);
-  });
+                                 const std::function<bool(std::size_t, double)>& visit,
+                                 const Vec3& above, double level) const {
+  const bool cut = !above.isZero();
+  visitCandidates(
+      p, q, reach,
+      [&](std::size_t s) {
+        const DepositSegment& g = segments_[s];
+        if (cut && std::max(above.dot(g.a), above.dot(g.b)) < level) return true;
+        const double d = segmentDistance(p, q, g.a, g.b) - radius_;
+        return d >= reach || visit(s, d);
+      },
+      [&](const Aabb& box) {
+        // the box's highest point along `above`
+        return !cut || above.dot(box.center()) + 0.5 * above.cwiseAbs().dot(box.size()) >= level;
+      });
 }
 
 bool DepositIndex::anyWithin(const Vec3& p, const Vec3& q, double reach, DepositHit* hit) const {

@@ -64,9 +64,11 @@ class DepositIndex {
 
   /// Calls `visit(segment, distance)` for every bead whose surface lies closer than `reach` to
   /// segment [p, q] (`distance`: that surface distance), in no particular order, until `visit`
-  /// returns false.
+  /// returns false. With a unit `above` (not zero), beads whose axis lies wholly below the plane
+  /// above · x = level (by whole chunks, then segment by segment) are skipped.
   void forEachWithin(const Vec3& p, const Vec3& q, double reach,
-                     const std::function<bool(std::size_t, double)>& visit) const;
+                     const std::function<bool(std::size_t, double)>& visit,
+                     const Vec3& above = Vec3::Zero(), double level = 0.0) const;
 
   const std::vector<DepositSegment>& segments() const { return segments_; }
   double beadRadius() const { return radius_; }
@@ -84,7 +86,13 @@ class DepositIndex {
     Aabb box;  // of the segment end points
   };
   template <typename Visit>
-  void visitCandidates(const Vec3& p, const Vec3& q, double reach, Visit&& visit) const;
+  void visitCandidates(const Vec3& p, const Vec3& q, double reach, Visit&& visit) const {
+    visitCandidates(p, q, reach, visit, [](const Aabb&) { return true; });
+  }
+  /// As above; chunks whose box `keep` refuses are skipped.
+  template <typename Visit, typename Keep>
+  void visitCandidates(const Vec3& p, const Vec3& q, double reach, Visit&& visit,
+                       Keep&& keep) const;
   bool cellRange(const Aabb& box, Vec3i& lo, Vec3i& hi) const;
   std::size_t cellIndex(int x, int y, int z) const {
     return (static_cast<std::size_t>(z) * dims_.y() + static_cast<std::size_t>(y)) * dims_.x() +

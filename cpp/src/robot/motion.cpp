@@ -1054,7 +1054,7 @@ MotionPlan planMotion(const Plan& plan, const Cell& givenCell, const MotionOptio
                          turnedWarnings, targets.empty() ? nullptr : &targets);
     assignWeldProcess(plan, cell, turned, turnedWarnings);
     tilt = detail::planTorchTilts(turned, cell, travel.geometry, gravity, beadRadius,
-                                  process.maxTorchAngle, progress.sub(0.37, 0.4));
+                                  process.maxTorchAngle, progress.sub(0.37, 0.4), 0.0, &result);
     result = std::move(turned);
     warnings = std::move(turnedWarnings);
   }

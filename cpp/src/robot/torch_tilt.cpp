@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <utility>
 #include <vector>
@@ -55,9 +56,18 @@ class TiltPass {
         deposit_(bounds(motion), beadRadius, 2.0 * (geometry.torch.radius + beadRadius)),
         checker_(cell, geometry, deposit_) {}
 
+  /// Torch angles taken over from `earlier` (a pass over the same plan) for every path whose
+  /// points and positioner angles are the same there: its search would find the same leans.
+  void reuse(const MotionPlan* earlier) { earlier_ = earlier; }
+
   TorchTiltSummary run(const Progress& progress) {
     progress.report(0.0, "torch angles");
     for (std::size_t s = 0; s < motion_.paths.size(); ++s) {
+      if (takeOver(s)) {
+        progress.report(static_cast<double>(s + 1) / static_cast<double>(motion_.paths.size()),
+                        "torch angles");
+        continue;
+      }
       planPath(motion_.paths[s]);
       progress.report(static_cast<double>(s + 1) / static_cast<double>(motion_.paths.size()),
                       "torch angles");
@@ -166,6 +176,8 @@ class TiltPass {
   }
 
   void planPath(const MotionPathSpan& span);
+  bool takeOver(std::size_t s);
+  void addPathDeposit(const MotionPathSpan& span, std::vector<std::size_t>* visible);
   std::vector<Vec3> spread(const MotionPathSpan& span, const std::vector<TorchFrame>& frames,
                            const std::vector<Vec3>& need) const;
   void record(std::size_t k, const TorchFrame& f, const Vec3& lean);
@@ -179,7 +191,59 @@ class TiltPass {
   DepositIndex deposit_;
   TorchChecker checker_;
   TorchTiltSummary summary_;
+  const MotionPlan* earlier_ = nullptr;
 };
+
+/// Adds the welded segments of a path to the deposit; `visible` (optional) gets, per point,
+/// how many segments it sees (those before it).
+void TiltPass::addPathDeposit(const MotionPathSpan& span, std::vector<std::size_t>* visible) {
+  bool first = true;
+  for (std::size_t k = span.begin; k < span.end; ++k) {
+    if (visible != nullptr) (*visible)[k - span.begin] = deposit_.segments().size();
+    const MotionPoint& m = motion_.points[k];
+    if (k > span.begin && m.arcOn) {
+      deposit_.add({motion_.points[k - 1].position, m.position, m.layer, m.path}, first);
+      first = false;
+    }
+  }
+}
+
+bool TiltPass::takeOver(std::size_t s) {
+  if (earlier_ == nullptr || s >= earlier_->paths.size()) return false;
+  const MotionPathSpan& span = motion_.paths[s];
+  const MotionPathSpan& old = earlier_->paths[s];
+  if (old.layer != span.layer || old.path != span.path ||
+      old.end - old.begin != span.end - span.begin) {
+    return false;
+  }
+  constexpr std::uint32_t kPositionerFlags = kMotionGravityDeviated | kMotionInserted;
+  for (std::size_t i = 0; i < span.end - span.begin; ++i) {
+    const MotionPoint& a = motion_.points[span.begin + i];
+    const MotionPoint& b = earlier_->points[old.begin + i];
+    if (a.a1 != b.a1 || a.a2 != b.a2 || a.position != b.position ||
+        (a.flags & kPositionerFlags) != (b.flags & kPositionerFlags) ||
+        b.torchAngle > maxAngle_ + 1e-12) {  // a lean beyond this pass's window is searched
+      return false;
+    }
+  }
+  addPathDeposit(span, nullptr);
+  for (std::size_t i = 0; i < span.end - span.begin; ++i) {
+    const MotionPoint& b = earlier_->points[old.begin + i];
+    const double angle = b.torchAngle;
+    MotionPoint& m = motion_.points[span.begin + i];
+    m.torchLean = b.torchLean;
+    m.torchAngle = angle;
+    m.travelAngle = b.travelAngle;
+    m.workAngle = b.workAngle;
+    m.flags = (m.flags & ~static_cast<std::uint32_t>(kMotionTorchTilted)) |
+              (b.flags & kMotionTorchTilted);
+    if (angle > 0.0) {
+      ++summary_.tilted;
+      summary_.maxAngle = std::max(summary_.maxAngle, angle);
+    }
+  }
+  return true;
+}
 
 /// Each lean spreads to the path's neighbours, shrinking by kTiltRate per mm of path: a point
 /// that needs a lean of its own keeps it (it was searched so that it clears there), any other
@@ -232,15 +296,7 @@ void TiltPass::record(std::size_t k, const TorchFrame& f, const Vec3& lean) {
 void TiltPass::planPath(const MotionPathSpan& span) {
   // the whole path's segments go into the deposit now; each point sees those before it
   std::vector<std::size_t> visible(span.end - span.begin);
-  bool first = true;
-  for (std::size_t k = span.begin; k < span.end; ++k) {
-    visible[k - span.begin] = deposit_.segments().size();
-    const MotionPoint& m = motion_.points[k];
-    if (k > span.begin && m.arcOn) {
-      deposit_.add({motion_.points[k - 1].position, m.position, m.layer, m.path}, first);
-      first = false;
-    }
-  }
+  addPathDeposit(span, &visible);
   std::vector<TorchFrame> frames;
   frames.reserve(span.end - span.begin);
   for (std::size_t k = span.begin; k < span.end; ++k) frames.push_back(frameAt(k, span));
@@ -282,9 +338,10 @@ void TiltPass::planPath(const MotionPathSpan& span) {
 TorchTiltSummary planTorchTilts(MotionPlan& motion, const Cell& cell,
                                 const CollisionGeometry& geometry, const Vec3& gravity,
                                 double beadRadius, double maxAngle, const Progress& progress,
-                                double fallbackAngle) {
-  return TiltPass(motion, cell, geometry, gravity, beadRadius, maxAngle, fallbackAngle)
-      .run(progress);
+                                double fallbackAngle, const MotionPlan* earlier) {
+  TiltPass pass(motion, cell, geometry, gravity, beadRadius, maxAngle, fallbackAngle);
+  pass.reuse(earlier);
+  return pass.run(progress);
 }
 
 }  // namespace curvedslicer::detail

@@ -59,11 +59,14 @@ struct TorchTiltSummary {
 /// weld points of `motion` (see the file comment); `maxAngle` (rad) is the largest tilt, 0
 /// leaves every torch along gravity; where nothing clears at `maxAngle`, a smaller
 /// `fallbackAngle` (> 0) is tried as the widest ring instead (the torch window, when `maxAngle`
-/// adds the gravity deviation window to it). `gravity` is unit, world frame. Cancelled when
-/// `progress` asks (stage "torch angles").
+/// adds the gravity deviation window to it). `gravity` is unit, world frame. `earlier`
+/// (optional): a pass over the same plan whose leans are taken over for every path with the
+/// same points, positioner angles and flags there and leans within `maxAngle` (the search would
+/// find them again; the pass after a gravity deviation searches only the paths it turned).
+/// Cancelled when `progress` asks (stage "torch angles").
 TorchTiltSummary planTorchTilts(MotionPlan& motion, const Cell& cell,
                                 const CollisionGeometry& geometry, const Vec3& gravity,
                                 double beadRadius, double maxAngle, const Progress& progress = {},
-                                double fallbackAngle = 0.0);
+                                double fallbackAngle = 0.0, const MotionPlan* earlier = nullptr);
 
 }  // namespace curvedslicer::detail
