@@ -163,8 +163,8 @@ std::vector<TorchChecker::Section> envelopeSections(const TorchEnvelope& torch) 
   std::vector<TorchChecker::Section> sections;
   // the lowest capsule's radius, and the cone's largest radius below where its axis starts
   const double lowest = std::max(torch.radius, torch.radius + (torch.topRadius - torch.radius) / n);
-  const double nozzle =
-      std::max(torch.radius, torch.radius + (torch.topRadius - torch.radius) * lowest / torch.length);
+  const double nozzle = std::max(
+      torch.radius, torch.radius + (torch.topRadius - torch.radius) * lowest / torch.length);
   sections.push_back({torch.stickout, torch.stickout + lowest, nozzle, true});
   for (int k = 0; k < n; ++k) {
     const double h0 = torch.stickout + torch.length * k / n;
@@ -327,17 +327,21 @@ TorchHit TorchChecker::checkDepositCylinder(const Capsule& c, const Vec3& bottom
   const Vec3 axis = top - bottom;
   const double length = axis.norm();
   const Vec3 u = length > 1e-12 ? Vec3(axis / length) : Vec3(Vec3::UnitZ());
-  deposit_.forEachWithin(bottom, top, c.radius, [&](std::size_t s, double) {
-    const DepositSegment& bead = deposit_.segments()[s];
-    // a bead wholly below the nozzle face or above the cylinder's top by more than its radius
-    // cannot touch it (most candidates: the beads under the torch)
-    const double ha = (bead.a - bottom).dot(u), hb = (bead.b - bottom).dot(u);
-    if (std::max(ha, hb) <= -beadRadius || std::min(ha, hb) >= length + beadRadius) return true;
-    const double depth = beadRadius - segmentCylinderDistance(bead.a, bead.b, bottom, top, c.radius);
-    if (depth <= 0.0 || (worst.collides() && depth <= worst.depth)) return true;
-    worst = {TorchHit::Object::Deposit, depth, s};
-    return !firstOnly;
-  }, u, u.dot(bottom) - beadRadius);
+  deposit_.forEachWithin(
+      bottom, top, c.radius,
+      [&](std::size_t s, double) {
+        const DepositSegment& bead = deposit_.segments()[s];
+        // a bead wholly below the nozzle face or above the cylinder's top by more than its radius
+        // cannot touch it (most candidates: the beads under the torch)
+        const double ha = (bead.a - bottom).dot(u), hb = (bead.b - bottom).dot(u);
+        if (std::max(ha, hb) <= -beadRadius || std::min(ha, hb) >= length + beadRadius) return true;
+        const double depth =
+            beadRadius - segmentCylinderDistance(bead.a, bead.b, bottom, top, c.radius);
+        if (depth <= 0.0 || (worst.collides() && depth <= worst.depth)) return true;
+        worst = {TorchHit::Object::Deposit, depth, s};
+        return !firstOnly;
+      },
+      u, u.dot(bottom) - beadRadius);
   return worst;
 }
 
@@ -440,9 +444,8 @@ TorchHit TorchChecker::checkTable(const Capsule& c, const Vec3& bottom, const Ve
   // radius for a torch lying across it. At the rim only, FCL's value.
   double depth = -kInf;
   if (c.flat) {
-    depth = reachInto(c, b, t, [&](const Vec3& x) {
-      return x.head<2>().norm() <= tableRadius_ ? x.z() : kInf;
-    });
+    depth = reachInto(
+        c, b, t, [&](const Vec3& x) { return x.head<2>().norm() <= tableRadius_ ? x.z() : kInf; });
   } else {
     const int n = std::max(1, static_cast<int>(std::ceil((t - b).norm())));
     for (int k = 0; k <= n; ++k) {
@@ -494,16 +497,14 @@ TorchHit TorchChecker::checkFixture(const Capsule& c, const Vec3& bottom, const 
   };
   if (fcl_->riser) {
     const double r = 0.5 * fixture_.riserDiameter, h = fixture_.riserHeight;
-    confirm(
-        TorchHit::Object::Riser, fcl_->riser.get(), fcl_->riserInPart,
-        reachInto(c, b, t, [&](const Vec3& x) { return cylinderDistance(x, r, 0.0, h); }));
+    confirm(TorchHit::Object::Riser, fcl_->riser.get(), fcl_->riserInPart,
+            reachInto(c, b, t, [&](const Vec3& x) { return cylinderDistance(x, r, 0.0, h); }));
   }
   if (fcl_->substrate) {
     const double half = 0.5 * fixture_.substrateSize;
     const double z0 = fixture_.riserHeight, z1 = fixture_.top();
-    confirm(
-        TorchHit::Object::Substrate, fcl_->substrate.get(), fcl_->substrateInPart,
-        reachInto(c, b, t, [&](const Vec3& x) { return plateDistance(x, half, z0, z1); }));
+    confirm(TorchHit::Object::Substrate, fcl_->substrate.get(), fcl_->substrateInPart,
+            reachInto(c, b, t, [&](const Vec3& x) { return plateDistance(x, half, z0, z1); }));
   }
   return worst;
 }

@@ -347,9 +347,9 @@ void planPositionerAngles(const Plan& plan, const Cell& cell, const Vec3& gravit
   bool haveRef = false;
   for (std::size_t l = 0; l < plan.layers.size(); ++l) {
     for (std::size_t p = 0; p < plan.layers[l].paths.size(); ++p) {
-      std::vector<detail::AngleSample> samples = detail::sampleDepositions(
-          plan.layers[l].paths[p], cell.positioner, gravity, options, merged,
-          targets != nullptr ? &(*targets)[l][p] : nullptr);
+      std::vector<detail::AngleSample> samples =
+          detail::sampleDepositions(plan.layers[l].paths[p], cell.positioner, gravity, options,
+                                    merged, targets != nullptr ? &(*targets)[l][p] : nullptr);
       detail::planPathAngles(cell.positioner, gravity, a2Rate, samples, refA1, refA2, haveRef,
                              options);
       for (const auto& s : samples) inserted += s.inserted ? 1 : 0;
@@ -834,8 +834,8 @@ DeviationTargets gravityDeviationTargets(const Plan& plan, const MotionPlan& mot
   }
   for (const MotionPoint& m : motion.points) {
     if (m.kind != MoveKind::Path || (m.flags & kMotionInserted) || m.torchAngle <= start) continue;
-    std::vector<Vec3>& path = targets[static_cast<std::size_t>(m.layer)]
-                                     [static_cast<std::size_t>(m.path)];
+    std::vector<Vec3>& path =
+        targets[static_cast<std::size_t>(m.layer)][static_cast<std::size_t>(m.path)];
     if (m.index < 0 || static_cast<std::size_t>(m.index) >= path.size()) continue;  // closing move
     const double deviation = std::min(process.maxGravityDeviation, m.torchAngle - start);
     const Vec3 up = -m.usedDeposition.normalized();
@@ -1035,10 +1035,10 @@ MotionPlan planMotion(const Plan& plan, const Cell& givenCell, const MotionOptio
   // lean against the part; where it leans further than the torch window, the positioner turns
   // V off gravity by the excess (gravityDeviationTargets) and the torch is searched again.
   const ProcessDescription& process = cell.process;
-  detail::TorchTiltSummary tilt = detail::planTorchTilts(
-      result, cell, travel.geometry, gravity, beadRadius,
-      process.maxTorchAngle + process.maxGravityDeviation, progress.sub(0.3, 0.35),
-      process.maxTorchAngle);
+  detail::TorchTiltSummary tilt =
+      detail::planTorchTilts(result, cell, travel.geometry, gravity, beadRadius,
+                             process.maxTorchAngle + process.maxGravityDeviation,
+                             progress.sub(0.3, 0.35), process.maxTorchAngle);
   const DeviationTargets targets =
       process.maxGravityDeviation > 0.0 && tilt.maxAngle > process.maxTorchAngle
           ? gravityDeviationTargets(plan, result, process)

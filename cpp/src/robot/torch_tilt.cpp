@@ -159,8 +159,8 @@ class TiltPass {
     cleared = widest >= 0;
     if (!cleared) return Vec3::Zero();
     if (want.isZero()) want = direction(f, widest);
-    const int last = std::clamp(static_cast<int>(std::ceil(top / maxAngle_ * rings_ - 1e-9)), 1,
-                                rings_);
+    const int last =
+        std::clamp(static_cast<int>(std::ceil(top / maxAngle_ * rings_ - 1e-9)), 1, rings_);
     for (int ring = 1; ring <= last; ++ring) {
       const int j = ring < last ? clearingDirection(f, ringAngle(ring), want) : widest;
       if (j < 0) continue;

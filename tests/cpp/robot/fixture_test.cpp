@@ -324,7 +324,7 @@ TEST(Fixture, TheRiserCarriesTheBeadsLaidOnIt) {
   // top; those higher up rest on a raised start surface (a mandrel): 2 x 30 mm + a 4 mm bead
   Plan plan = flatRing();
   EXPECT_NEAR(supportDiameterFor(plan, Pose::Identity()), 64.0, 1e-9);
-  plan.layers[0].paths.push_back(ringAt(45.0, 1.4));  // on the riser too
+  plan.layers[0].paths.push_back(ringAt(45.0, 1.4));   // on the riser too
   plan.layers[0].paths.push_back(ringAt(60.0, 10.0));  // on the mandrel
   EXPECT_NEAR(supportDiameterFor(plan, Pose::Identity()), 94.0, 1e-9);
   // about the table's rotation axis, where the part stands (moved 5 mm off it)
