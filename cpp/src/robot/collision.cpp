@@ -255,24 +255,20 @@ TorchChecker::Capsule TorchChecker::section(std::size_t k) const {
 
 namespace {
 
-/// Signed distance (mm, negative inside) of `x` from the solid cylinder of `radius` about the
-/// axis from `b` to `t`.
-double solidCylinderDistance(const Vec3& x, const Vec3& b, const Vec3& t, double radius) {
+/// The least signed distance (mm, negative inside) of segment [p, q] from the solid cylinder of
+/// `radius` about the axis from `b` to `t` (cylinderDistance in the cylinder's own frame): the
+/// signed distance of a convex solid is convex, so along the segment it has one minimum
+/// (golden-section search).
+double segmentCylinderDistance(const Vec3& p, const Vec3& q, const Vec3& b, const Vec3& t,
+                               double radius) {
   const Vec3 axis = t - b;
   const double length = axis.norm();
   const Vec3 u = length > 1e-12 ? Vec3(axis / length) : Vec3(Vec3::UnitZ());
-  const double h = (x - b).dot(u);
-  const double dr = (x - b - h * u).norm() - radius;
-  const double dh = std::max(-h, h - length);
-  if (dr <= 0.0 && dh <= 0.0) return std::max(dr, dh);
-  return std::hypot(std::max(dr, 0.0), std::max(dh, 0.0));
-}
-
-/// The least signed distance of segment [p, q] from that cylinder: the signed distance of a
-/// convex solid is convex, so along the segment it has one minimum (golden-section search).
-double segmentCylinderDistance(const Vec3& p, const Vec3& q, const Vec3& b, const Vec3& t,
-                               double radius) {
-  const auto at = [&](double s) { return solidCylinderDistance(p + s * (q - p), b, t, radius); };
+  const auto at = [&](double s) {
+    const Vec3 x = p + s * (q - p) - b;
+    const double h = x.dot(u);
+    return cylinderDistance(Vec3((x - h * u).norm(), 0.0, h), radius, 0.0, length);
+  };
   constexpr double kGolden = 0.6180339887498949;
   double lo = 0.0, hi = 1.0;
   double x1 = hi - kGolden * (hi - lo), x2 = lo + kGolden * (hi - lo);
