@@ -210,6 +210,17 @@ TorchChecker::TorchChecker(const Cell& cell, const CollisionGeometry& geometry,
       fcl_->shapes.push_back(std::make_shared<fcl::Capsuled>(
           link.radius, (points[link.to] - points[link.from]).norm()));
     }
+    // the wrist centre and the flange in the tool frame (the wrist centre lies on joint 6's
+    // axis, so its place in the flange frame is that of the zero pose): on the tool's z axis,
+    // the wrist link is a capsule at fixed heights above the TCP
+    const Pose toolInBase = computeFlangePose(cell.robot, JointVector{}) * cell.tool.tcp;
+    const Pose baseToTool = toolInBase.inverse();
+    const Vec3 wristInTool = baseToTool * points[6];
+    const Vec3 flangeInTool = baseToTool * points[7];
+    if (wristInTool.head<2>().norm() < 1e-6 && flangeInTool.head<2>().norm() < 1e-6) {
+      const double a = -flangeInTool.z(), b = -wristInTool.z();
+      wrist_ = {std::min(a, b), std::max(a, b), arm.wrist, false};
+    }
   }
   fcl_->table =
       std::make_shared<fcl::Cylinderd>(geometry.table.tableRadius, geometry.table.tableThickness);
@@ -375,6 +386,18 @@ bool TorchChecker::collides(const Vec3& tip, const Vec3& up) const {
     }
   }
   return false;
+}
+
+bool TorchChecker::collidesWithWrist(const Vec3& tip, const Vec3& up) const {
+  if (collides(tip, up)) return true;
+  if (!wristOnAxis()) return false;
+  const Vec3 bottom = tip + wrist_.from * up;
+  const Vec3 top = tip + wrist_.to * up;
+  const Capsule c{sections_.size() + links_.size() - 1, wrist_.radius, false};
+  return checkTable(c, bottom, top).collides() || checkFixture(c, bottom, top).collides() ||
+         checkBody(c, bottom, top).collides() ||
+         (segmentNearBox(bottom, top, deposit_.extent(), c.radius + deposit_.beadRadius()) &&
+          deposit_.anyWithin(bottom, top, c.radius));
 }
 
 TorchHit TorchChecker::checkArm(const JointVector& joints, double a1, double a2) const {

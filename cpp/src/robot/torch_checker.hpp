@@ -51,6 +51,16 @@ class TorchChecker {
   /// clears a pose check() rejects). For searches that try many poses.
   bool collides(const Vec3& tip, const Vec3& up) const;
 
+  /// collides(), and the arm's wrist link where it lies on the torch axis: a straight torch whose
+  /// TCP is on the flange's axis puts the wrist centre and the flange at fixed heights above the
+  /// TCP whatever the joints and the turn about the torch axis (wristOnAxis()). For the searches
+  /// of torch angle and gravity deviation, which choose the torch axis before the joints exist.
+  bool collidesWithWrist(const Vec3& tip, const Vec3& up) const;
+
+  /// Whether collidesWithWrist() checks a wrist: the cell gives the arm and its wrist link lies
+  /// on the torch axis.
+  bool wristOnAxis() const { return wrist_.radius > 0.0; }
+
   /// Whether the cell gives the arm's link capsules (robot/link_capsules_mm), so checkArm() checks.
   bool checksArm() const { return !links_.empty(); }
 
@@ -107,6 +117,7 @@ class TorchChecker {
   const DepositIndex& deposit_;
   std::vector<Section> sections_;
   std::vector<Link> links_;  // empty when the cell does not give the arm
+  Section wrist_;            // the wrist link above the TCP; radius 0 when not on the axis
   double bodyTop_ = 0.0;     // table z of the body's top (the table's underside), mm
   double bodyBottom_ = 0.0;  // table z of the body's bottom (the tilt axis), mm
   double bodyRadius_ = 0.0;  // 0: no body

@@ -100,7 +100,7 @@ class TiltPass {
   }
 
   bool collides(const TorchFrame& f, const Vec3& lean) const {
-    return checker_.collides(f.tip, tiltedTorchUp(f.up, lean));
+    return checker_.collidesWithWrist(f.tip, tiltedTorchUp(f.up, lean));
   }
 
   /// Direction j of a ring: unit, orthogonal to the torch axis.

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <tuple>
 
@@ -20,6 +21,7 @@
 #include "curvedslicer/export/neutral_writer.hpp"
 #include "curvedslicer/robot/cell.hpp"
 #include "curvedslicer/robot/motion.hpp"
+#include "curvedslicer/robot/robot_kinematics.hpp"
 #include "robot_test_support.hpp"
 
 namespace curvedslicer {
@@ -256,6 +258,70 @@ TEST(TorchTilt, WallBeyondTheWindowsOrWindowsOfZeroStaysACollisionNamingTheWindo
       EXPECT_EQ(m.torchAngle, 0.0);
       EXPECT_FALSE(m.flags & kMotionGravityDeviated);
     }
+  }
+}
+
+/// Clearance (mm) of the arm's wrist capsule (wrist centre to flange, the cell's wrist radius)
+/// from the table disc's top face and rim, from the robot's joints by forward kinematics: over
+/// the disc the axis point's height less the radius, beside it its distance from the rim's top
+/// edge less the radius (the axis sampled every 0.5 mm; the capsule stays above the table's
+/// plane here).
+double wristClearanceOfTable(const MotionPoint& m, const Cell& cell, const Pose& tableToPart) {
+  const ArmPoints arm = computeArmPoints(cell.robot, m.joints);
+  const Pose partFromWorld = m.toolInPart * m.toolInWorld.inverse();
+  const Pose toTable = tableToPart * partFromWorld * cell.robot.base;
+  const Vec3 a = toTable * arm.wrist, b = toTable * arm.flange;
+  const double rim = cell.positioner.geometry.tableRadius, radius = cell.robot.links.wrist;
+  double clearance = std::numeric_limits<double>::infinity();
+  for (int k = 0; k <= 200; ++k) {
+    const Vec3 x = a + (b - a) * (k / 200.0);
+    const double rho = x.head<2>().norm();
+    const double d = rho <= rim ? x.z() : std::hypot(rho - rim, std::max(x.z(), 0.0));
+    clearance = std::min(clearance, d - radius);
+  }
+  return clearance;
+}
+
+TEST(TorchTilt, TheSearchLeansTheTorchForTheWristToo) {
+  // A path 30 mm above the table, 50 mm from its centre, whose V points outwards 5° below the
+  // table plane: the table tilts to about 85°, and the torch along gravity lies 5° above the
+  // table top, across it. The torch clears it (its envelope is at most 25 mm wide and 30 mm up
+  // at the nozzle), but the wrist, 400 to 500 mm up the straight torch with its 86 mm radius,
+  // would reach into the table's rim; the torch search leans the torch until the wrist clears,
+  // checked here from the joints.
+  Plan plan;
+  plan.parameters.beadSpacing = 2.0 * kBeadRadius;
+  plan.parameters.layerThickness = 1.5;
+  PlanLayer layer;
+  layer.paths.push_back(straightPath(Vec3(50, -10, 30), Vec3(50, 10, 30)));
+  const Vec3 v(std::cos(5 * kDegree), 0.0, -std::sin(5 * kDegree));
+  for (PathPoint& q : layer.paths.back().points) q.deposition = v, q.normal = -v;
+  plan.layers.push_back(layer);
+  const Cell cell = defaultCell();
+  ASSERT_GT(cell.robot.links.wrist, 0.0);
+  // the premise, without the planner: along -V, the cone (stickout 15, radius <= 25) stays above
+  // the table and the wrist capsule does not
+  const Vec3 up = -v;
+  const TorchEnvelope& torch = cell.tool.envelope;
+  for (double t = torch.stickout; t <= torch.stickout + torch.length; t += 1.0) {
+    ASSERT_GT(30.0 + t * up.z() - torch.topRadius * std::sqrt(1 - up.z() * up.z()), 0.0);
+  }
+  // the flange, 48 mm beside the rim and 65 mm above the table: 81 mm from the rim's edge
+  const Vec3 flange = Vec3(50, 0, 30) + 400.0 * up;
+  const double rim = cell.positioner.geometry.tableRadius;
+  ASSERT_LT(std::hypot(flange.head<2>().norm() - rim, flange.z()), cell.robot.links.wrist);
+  MotionOptions options;
+  options.placement = PartPlacement::Cell;  // the path stays 30 mm above the table
+  const MotionPlan motion = planMotion(plan, cell, options);
+  EXPECT_TRUE(motion.collisions.empty());
+  const MotionPathSpan& weld = motion.paths.back();
+  for (std::size_t k = weld.begin; k < weld.end; ++k) {
+    const MotionPoint& m = motion.points[k];
+    SCOPED_TRACE("point " + std::to_string(m.index));
+    EXPECT_TRUE(m.flags & kMotionTorchTilted);
+    EXPECT_GT(m.torchAngle, 0.0);
+    EXPECT_LE(m.torchAngle, cell.process.maxTorchAngle + 1e-9);
+    EXPECT_GE(wristClearanceOfTable(m, cell, motion.tableToPart), 0.0);
   }
 }
 
