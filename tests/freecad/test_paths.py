@@ -181,7 +181,13 @@ class TestPoses(PathTestCase):
         # weld points (kind 0 = path; the program starts and ends at the cell's home pose)
         welds = [i for i in range(count) if int(motion["kind"][i]) == 0]
         self.assertEqual(int(motion["kind"][0]), 4)  # home
-        for index in (welds[0], welds[len(welds) // 3], welds[len(welds) // 2], welds[-1]):
+        # Beads 0 and 1 (1.2 and 2.3 mm up the 45 degree wall, nearer the plate than the bead
+        # before them or farther by less than half a bead) are laid onto the plate: no tilt.
+        first = api.set_pose(job, welds[0])[0]
+        self.assertLess(abs(first), 1.0)
+        above = [i for i in welds if int(motion["layer"][i]) >= 2]
+        self.assertGreater(len(above), 20)
+        for index in (above[0], above[len(above) // 3], above[len(above) // 2], above[-1]):
             a1, a2 = api.set_pose(job, index)
             self.assertAlmostEqual(a1, math.degrees(motion["a1"][index]), places=9)
             self.assertAlmostEqual(a2, math.degrees(motion["a2"][index]), places=9)

@@ -174,7 +174,10 @@ DepositionStats assignDepositionDirections(std::vector<PlanPath>& paths,
       }
       Vec3 beadPoint;
       double beadDistance = kInf;
-      if (beads.nearest(q.position, best, beadPoint, beadDistance) && beadDistance < best) {
+      const double margin =
+          growth && support.surfaceIsSubstrate && onSurface ? support.substrateMargin : 0.0;
+      if (beads.nearest(q.position, best, beadPoint, beadDistance) &&
+          beadDistance + margin < best) {
         best = beadDistance;
         target = beadPoint;
         onSurface = false;
@@ -188,7 +191,7 @@ DepositionStats assignDepositionDirections(std::vector<PlanPath>& paths,
         continue;
       }
       q.deposition = (target - q.position).normalized();
-      if (growth)
+      if (growth && !(onSurface && support.surfaceIsSubstrate))
         q.deposition = growthOrNearest(q, q.deposition, below, options.maxDeviation, stats);
       (onSurface ? stats.towardsSurface : stats.towardsBeads) += 1;
       stats.minDistance = std::min(stats.minDistance, best);

@@ -1648,12 +1648,38 @@ std::vector<Polyline> pathLines(const PlanLayer& layer) {
   return lines;
 }
 
+/// The substrate a wall grown from its lowest edge stands on: the plane through the edge's
+/// lowest point normal to the axis, as a square reaching a surface's size beyond it on every
+/// side (the wall's beads find their nearest plate point inside it). Empty for an edge chosen
+/// by a point, whose substrate is not known.
+TriMesh wallSubstrate(const TriMesh& surface, const Polyline& edge,
+                      const ThinWallOptions& options) {
+  TriMesh plate;
+  if (options.edge != WallEdgeKind::LowestAlongAxis) return plate;
+  const Vec3 axis = options.axis.normalized();
+  double level = kInf;
+  for (const Vec3& p : edge.points) level = std::min(level, p.dot(axis));
+  const Vec3 e1 = axis.unitOrthogonal();
+  const Vec3 e2 = axis.cross(e1);
+  double lo1 = kInf, hi1 = -kInf, lo2 = kInf, hi2 = -kInf;
+  for (const Vec3& p : surface.vertices) {
+    lo1 = std::min(lo1, p.dot(e1)), hi1 = std::max(hi1, p.dot(e1));
+    lo2 = std::min(lo2, p.dot(e2)), hi2 = std::max(hi2, p.dot(e2));
+  }
+  const double margin = std::max({hi1 - lo1, hi2 - lo2, 1.0});
+  lo1 -= margin, hi1 += margin, lo2 -= margin, hi2 += margin;
+  const auto at = [&](double u, double v) { return Vec3(level * axis + u * e1 + v * e2); };
+  plate.vertices = {at(lo1, lo2), at(hi1, lo2), at(hi1, hi2), at(lo1, hi2)};
+  plate.triangles = {Vec3i(0, 1, 2), Vec3i(0, 2, 3)};
+  return plate;
+}
+
 /// One bead of the wall (a plan layer) from its iso-lines: fit, order, deposition on the beads
 /// before it.
 PlanLayer planWallBead(std::size_t k, double value, const std::vector<Polyline>& lines,
                        const TriangleBvh& bvh, const WallGrowth& growthDirection,
-                       const ThinWallOptions& options, LayerTail& tail,
-                       std::vector<Polyline>& previousBeads) {
+                       const ThinWallOptions& options, const TriangleBvh& substrate,
+                       LayerTail& tail, std::vector<Polyline>& previousBeads) {
   PlanLayer layer;
   layer.index = static_cast<int>(k);
   layer.height = value;
@@ -1672,6 +1698,9 @@ PlanLayer planWallBead(std::size_t k, double value, const std::vector<Polyline>&
   DepositionSupport dep;
   dep.curves = previousBeads;
   dep.earlierBeads = true;
+  dep.surface = &substrate;
+  dep.surfaceIsSubstrate = true;
+  dep.substrateMargin = 0.5 * options.beadSpacing;
   tail.deposit(dep, options.deposition, layer);
   if (!layer.paths.empty()) previousBeads = pathLines(layer);
   return layer;
@@ -1727,6 +1756,7 @@ PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options, 
   // Every bead's iso-line in one pass over the surface.
   const std::vector<std::vector<Polyline>> levelLines =
       timer.run(kIso, [&] { return extractIsoLines(gdtc.mesh, gdtc.distance, values); });
+  const TriangleBvh substrate(wallSubstrate(surface, edge, options));
   LayerTail tail(stages, result.stats, timer, "bead");
   std::vector<Polyline> previousBeads = {edge};
   for (std::size_t k = 0; k < values.size(); ++k) {
@@ -1734,7 +1764,7 @@ PlanResult planThinWall(const TriMesh& surface, const ThinWallOptions& options, 
         progress.sub(0.5 + 0.5 * k / values.size(), 0.5 + 0.5 * (k + 1) / values.size());
     beadProgress.report(0.0, kStages[kIso]);
     plan.layers.push_back(planWallBead(k, values[k], levelLines[k], bvh, WallGrowth{gdtc}, options,
-                                       tail, previousBeads));
+                                       substrate, tail, previousBeads));
     beadProgress.report(1.0, kStages[kDeposition]);
   }
   finishStats(result, timer);

@@ -260,6 +260,62 @@ TEST(Planner, ThinWallBeadsAlongCylinder) {
   EXPECT_LT(angleDegrees(down.plan.layers[0].paths[0].points[0].deposition, Vec3::UnitZ()), 1.0);
 }
 
+/// The side of a cone standing on the plate z = 0: its wall leaves the lower rim (radius r0)
+/// inwards at `slopeDeg` above the plate, `length` mm along the wall; rows along it.
+TriMesh makeConeSide(double r0, double slopeDeg, double length, int segments, int rows) {
+  TriMesh mesh;
+  const double c = std::cos(slopeDeg * kPi / 180.0), s = std::sin(slopeDeg * kPi / 180.0);
+  for (int j = 0; j <= rows; ++j) {
+    const double t = length * j / rows;
+    for (int i = 0; i < segments; ++i) {
+      const double a = 2.0 * kPi * i / segments;
+      mesh.vertices.emplace_back((r0 - t * c) * std::cos(a), (r0 - t * c) * std::sin(a), t * s);
+    }
+  }
+  const auto id = [segments](int i, int j) { return j * segments + (i % segments); };
+  for (int j = 0; j < rows; ++j) {
+    for (int i = 0; i < segments; ++i) {
+      mesh.triangles.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      mesh.triangles.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  }
+  return mesh;
+}
+
+TEST(Planner, ThinWallBeadsNearThePlateAreLaidOntoIt) {
+  // A wall leaving the plate at 10° (the turbine base's foot lies at 4-6°): bead k sits
+  // z = t sin 10° above the plate, t = 1.65 (k + 1) along the wall, and 1.65 mm from the bead
+  // (or edge) before it. The plate is a support (the paper's first case): under Nearest it
+  // carries the beads with z < 1.65 (k <= 4); under Growth also those farther from it by less
+  // than half a bead, z <= 1.65 + 0.825 (k <= 7). Every other bead leans on the one before it:
+  // V along the wall, outwards and down.
+  const double slope = 10.0;
+  const TriMesh wall = makeConeSide(60.0, slope, 20.0, 240, 40);
+  const double c = std::cos(slope * kPi / 180.0), s = std::sin(slope * kPi / 180.0);
+  for (const DepositionMethod method : {DepositionMethod::Growth, DepositionMethod::Nearest}) {
+    SCOPED_TRACE(method == DepositionMethod::Growth ? "growth" : "nearest");
+    ThinWallOptions options;
+    options.beadSpacing = 1.65;
+    options.deposition.method = method;
+    const Plan plan = planThinWall(wall, options).plan;
+    ASSERT_EQ(plan.layers.size(), 12u);  // t = 1.65 … 19.8 mm
+    const int lastOnPlate = method == DepositionMethod::Growth ? 7 : 4;
+    for (std::size_t k = 0; k < plan.layers.size(); ++k) {
+      ASSERT_EQ(plan.layers[k].paths.size(), 1u);
+      for (const PathPoint& q : plan.layers[k].paths[0].points) {
+        const double t = 1.65 * (k + 1);
+        ASSERT_NEAR(q.position.z(), t * s, 0.02);
+        const Vec3 out = Vec3(q.position.x(), q.position.y(), 0.0).normalized();
+        const Vec3 expected =
+            static_cast<int>(k) <= lastOnPlate ? Vec3(0, 0, -1) : Vec3(c * out + Vec3(0, 0, -s));
+        // 1.5°: the bead before is a polyline of 2 mm chords on a 58 mm radius; a chord turns
+        // up to 1° from the tangent at the point, and so does the nearest point's direction
+        ASSERT_LT(angleDegrees(q.deposition, expected), 1.5) << "bead " << k;
+      }
+    }
+  }
+}
+
 TEST(Planner, RejectsNonPositiveBeadSpacing) {
   const std::vector<LayerSurface> layers = {makeLayer(1, 1.5, makeFlatPatch(0, 9, 0, 9, 1, 9, 9))};
   PlannerOptions options;

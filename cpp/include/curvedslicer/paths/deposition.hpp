@@ -70,6 +70,14 @@ struct DepositionSupport {
   std::vector<Polyline> curves;
   /// Beads of this layer deposited earlier (the paths before the current one) count too.
   bool earlierBeads = false;
+  /// The surface is the substrate the part stands on (a thin wall's plate): V towards it is
+  /// kept under Growth too, since a bead that lies nearer the substrate than any bead before it
+  /// rests on the substrate, whatever the wall's growth direction.
+  bool surfaceIsSubstrate = false;
+  /// mm, surfaceIsSubstrate: the substrate is taken while it is at most this much farther than
+  /// the nearest earlier bead or curve (a bead of width w laid at the tip spreads w/2 towards
+  /// the substrate: it rests on it as well as on the bead beside it).
+  double substrateMargin = 0.0;
   /// The layer below with its deposition directions (Growth); nullptr or empty: none (the first
   /// layer), the growth direction is then −normal.
   const std::vector<PlanPath>* below = nullptr;
