@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -41,12 +42,16 @@ LayerSurface makeLayer(int index, double level, TriMesh mesh) {
 
 /// The side of a cylinder of radius r around the z axis, z in [0, height], open at both ends,
 /// normals outward.
-TriMesh makeCylinderSide(double r, double height, int segments, int rows) {
+/// A surface of revolution about z, open at both ends: rows + 1 rings of `segments` vertices,
+/// ring j of radius and height ring(j).
+template <class Ring>
+TriMesh makeRevolvedSide(int segments, int rows, Ring&& ring) {
   TriMesh mesh;
   for (int j = 0; j <= rows; ++j) {
+    const auto [r, z] = ring(j);
     for (int i = 0; i < segments; ++i) {
       const double a = 2.0 * kPi * i / segments;
-      mesh.vertices.emplace_back(r * std::cos(a), r * std::sin(a), height * j / rows);
+      mesh.vertices.emplace_back(r * std::cos(a), r * std::sin(a), z);
     }
   }
   const auto id = [segments](int i, int j) { return j * segments + (i % segments); };
@@ -57,6 +62,10 @@ TriMesh makeCylinderSide(double r, double height, int segments, int rows) {
     }
   }
   return mesh;
+}
+
+TriMesh makeCylinderSide(double r, double height, int segments, int rows) {
+  return makeRevolvedSide(segments, rows, [&](int j) { return std::pair(r, height * j / rows); });
 }
 
 void expectMessage(const std::function<void()>& f, const std::string& needle) {
@@ -263,23 +272,11 @@ TEST(Planner, ThinWallBeadsAlongCylinder) {
 /// The side of a cone standing on the plate z = 0: its wall leaves the lower rim (radius r0)
 /// inwards at `slopeDeg` above the plate, `length` mm along the wall; rows along it.
 TriMesh makeConeSide(double r0, double slopeDeg, double length, int segments, int rows) {
-  TriMesh mesh;
   const double c = std::cos(slopeDeg * kPi / 180.0), s = std::sin(slopeDeg * kPi / 180.0);
-  for (int j = 0; j <= rows; ++j) {
+  return makeRevolvedSide(segments, rows, [&](int j) {
     const double t = length * j / rows;
-    for (int i = 0; i < segments; ++i) {
-      const double a = 2.0 * kPi * i / segments;
-      mesh.vertices.emplace_back((r0 - t * c) * std::cos(a), (r0 - t * c) * std::sin(a), t * s);
-    }
-  }
-  const auto id = [segments](int i, int j) { return j * segments + (i % segments); };
-  for (int j = 0; j < rows; ++j) {
-    for (int i = 0; i < segments; ++i) {
-      mesh.triangles.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
-      mesh.triangles.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
-    }
-  }
-  return mesh;
+    return std::pair(r0 - t * c, t * s);
+  });
 }
 
 TEST(Planner, ThinWallBeadsNearThePlateAreLaidOntoIt) {
